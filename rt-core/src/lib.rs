@@ -1,0 +1,12 @@
+//! UPM real-time core.
+//!
+//! `solver` turns desired per-part forces and curls into the rotation
+//! intensities of one closed plate motion (Reznik & Canny 1998, §2–3).
+//! Everything on the hot path is allocation-free after construction.
+
+pub mod solver;
+
+pub use solver::{
+    CurlConstraint, ForceConstraint, Problem, SolveError, Solution, Solver, SolverCapacity,
+    SolverParams,
+};

@@ -1,0 +1,44 @@
+//! Build A and b of Eq. 10 and 12.
+//!
+//! Row order (DESIGN.md §2): x rows of every force-constrained part, then
+//! their y rows, then one curl row per curl point. A is stored row-major
+//! (m rows × n centers), which is Aᵀ column-major: what the QR wants.
+
+use super::field::unit_tangent;
+use super::{Problem, SolveError};
+
+/// Fills `rows[..m*n]` and `b[..m]`; returns m. `b` is scaled by N/μmg.
+pub(crate) fn assemble(problem: &Problem<'_>, rows: &mut [f64], b: &mut [f64]) -> Result<usize, SolveError> {
+    let n = problem.centers.len();
+    let scale = n as f64 / problem.mu_m_g;
+    let mf = problem.force_rows();
+    let mut i = 0;
+    for part in problem.parts {
+        let Some(f) = part.force else { continue };
+        let (x_row, rest) = rows[i * n..].split_at_mut(n);
+        let y_row = &mut rest[(mf - 1) * n..mf * n];
+        for (j, &c) in problem.centers.iter().enumerate() {
+            let (t, _) = unit_tangent(part.position, c);
+            x_row[j] = t[0];
+            y_row[j] = t[1];
+        }
+        b[i] = scale * f[0];
+        b[mf + i] = scale * f[1];
+        i += 1;
+    }
+    let mut i = 2 * mf;
+    for q in problem.curls {
+        let row = &mut rows[i * n..(i + 1) * n];
+        for (j, &c) in problem.centers.iter().enumerate() {
+            let (_, r) = unit_tangent(q.position, c);
+            row[j] = 1.0 / r;
+        }
+        b[i] = scale * q.curl;
+        i += 1;
+    }
+    let m = i;
+    if rows[..m * n].iter().chain(&b[..m]).any(|v| !v.is_finite()) {
+        return Err(SolveError::Overflow);
+    }
+    Ok(m)
+}

@@ -1,0 +1,177 @@
+//! Force synthesis: desired per-part forces and curls → rotation
+//! intensities k_j of one closed plate motion (paper §2–3, DESIGN.md §2).
+//!
+//! [`Solver::new`] allocates every buffer once for a [`SolverCapacity`];
+//! [`Solver::solve`] then allocates nothing, runs single-threaded
+//! (`Par::Seq`, bit-identical for the same input) and does bounded work:
+//!
+//! 1. validate and assemble A (m × n) and b;
+//! 2. column-pivoted QR → rank, κ₂ estimate, exact minimum-norm K;
+//! 3. if K is inside |k_j| ≤ k_max, full rank and κ₂ ≤ `max_condition`:
+//!    done (exact path);
+//! 4. otherwise bounded least squares by ADMM, at most
+//!    `bounded_max_iterations` iterations (see `bounded.rs` for the flops);
+//! 5. achieved forces/curls, residual, priorities and play order.
+
+mod assemble;
+mod bounded;
+mod condition;
+mod error;
+pub mod field;
+mod min_norm;
+mod order;
+mod params;
+mod problem;
+mod solution;
+mod validate;
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+
+pub use error::SolveError;
+pub use params::{SolverCapacity, SolverParams};
+pub use problem::{CurlConstraint, ForceConstraint, Problem};
+pub use solution::{SolveMethod, Solution};
+
+use bounded::{BoundedBuffers, BoundedInput};
+use min_norm::QrBuffers;
+
+/// The allocation-free force-synthesis solver.
+pub struct Solver {
+    cap: SolverCapacity,
+    params: SolverParams,
+    rows: Vec<f64>,
+    b: Vec<f64>,
+    residual: Vec<f64>,
+    qr: QrBuffers,
+    bounded: BoundedBuffers,
+    exact_k: Vec<f64>,
+    cond_v: Vec<f64>,
+    cond_w: Vec<f64>,
+    mem: MemBuffer,
+}
+
+impl core::fmt::Debug for Solver {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Solver").field("cap", &self.cap).field("params", &self.params).finish_non_exhaustive()
+    }
+}
+
+impl Solver {
+    /// faer-style scratch requirement of one solve at this capacity.
+    pub fn scratch(cap: SolverCapacity) -> StackReq {
+        let (m, n) = (cap.max_rows(), cap.centers);
+        StackReq::any_of(&[min_norm::min_norm_scratch(m, n), bounded::bounded_scratch(m, n)])
+    }
+
+    /// Allocates everything a solve of up to `cap` will need.
+    pub fn new(cap: SolverCapacity, params: SolverParams) -> Self {
+        let (m, n) = (cap.max_rows(), cap.centers);
+        Self {
+            cap,
+            params,
+            rows: vec![0.0; m * n],
+            b: vec![0.0; m],
+            residual: vec![0.0; m],
+            qr: QrBuffers::new(m, n),
+            bounded: BoundedBuffers::new(m, n),
+            exact_k: vec![0.0; n],
+            cond_v: vec![0.0; m.min(n)],
+            cond_w: vec![0.0; m.min(n)],
+            mem: MemBuffer::new(Self::scratch(cap)),
+        }
+    }
+
+    pub fn capacity(&self) -> SolverCapacity {
+        self.cap
+    }
+
+    pub fn params(&self) -> &SolverParams {
+        &self.params
+    }
+
+    /// A [`Solution`] with enough room for any problem this solver accepts.
+    pub fn new_solution(&self) -> Solution {
+        Solution::with_capacity(self.cap)
+    }
+
+    /// Solve one problem into `out` (which must come from
+    /// [`Solver::new_solution`] or have at least the same capacity).
+    pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
+        validate::validate_problem(problem, &self.cap, &self.params)?;
+        let n = problem.centers.len();
+        let m = assemble::assemble(problem, &mut self.rows, &mut self.b)?;
+        let stack = MemStack::new(&mut self.mem);
+
+        out.k.clear();
+        out.k.resize(n, 0.0);
+        out.iterations = 0;
+        if m == 0 {
+            out.method = SolveMethod::Trivial;
+            out.rank = 0;
+            out.condition = 1.0;
+        } else {
+            let summary = min_norm::min_norm_solve(
+                &self.rows,
+                &self.b,
+                m,
+                n,
+                self.params.rank_tolerance,
+                &mut self.qr,
+                &mut self.exact_k,
+                stack,
+            );
+            out.rank = summary.rank;
+            out.condition = if summary.rank < summary.dim {
+                f64::INFINITY
+            } else {
+                condition::condition_estimate(
+                    min_norm::r_factor(&self.qr, summary),
+                    self.params.condition_iterations,
+                    &mut self.cond_v,
+                    &mut self.cond_w,
+                )
+            };
+            let exact_ok = summary.rank == summary.dim
+                && out.condition <= self.params.max_condition
+                && self.exact_k[..n].iter().all(|k| k.abs() <= problem.k_max);
+            if exact_ok {
+                out.k.copy_from_slice(&self.exact_k[..n]);
+                out.method = SolveMethod::Exact;
+            } else {
+                if summary.rank < summary.dim {
+                    self.exact_k[..n].fill(0.0);
+                }
+                let input = BoundedInput {
+                    rows: &self.rows,
+                    b: &self.b,
+                    m,
+                    n,
+                    k_max: problem.k_max,
+                    warm: &self.exact_k[..n],
+                    tikhonov: self.params.tikhonov,
+                    max_iterations: self.params.bounded_max_iterations,
+                    tolerance: self.params.bounded_tolerance,
+                };
+                out.iterations = bounded::bounded_solve(&input, &mut self.bounded, &mut out.k, stack);
+                out.method = SolveMethod::BoundedLeastSquares;
+            }
+        }
+        // A bound counts as active within a relative 1e-9 of k_max.
+        out.saturated = out.k.iter().any(|k| k.abs() >= problem.k_max * (1.0 - 1e-9));
+
+        bounded::mat_vec(&self.rows, m, n, &out.k, &mut self.residual);
+        let r2: f64 = self.residual[..m].iter().zip(&self.b[..m]).map(|(ak, b)| (ak - b) * (ak - b)).sum();
+        out.residual = r2.sqrt() * problem.mu_m_g / n as f64;
+
+        out.achieved_forces.clear();
+        out.achieved_forces.extend(
+            problem.parts.iter().map(|p| field::cycle_force(&out.k, problem.centers, problem.mu_m_g, p.position)),
+        );
+        out.achieved_curls.clear();
+        out.achieved_curls.extend(
+            problem.curls.iter().map(|q| field::cycle_curl(&out.k, problem.centers, problem.mu_m_g, q.position)),
+        );
+        order::play_order(problem, &out.k, &mut out.priority, &mut out.order);
+        Ok(())
+    }
+}

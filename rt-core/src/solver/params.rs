@@ -1,0 +1,58 @@
+//! Solver tunables and capacities (faer style: a `Params` struct with defaults).
+
+/// Largest problem a [`crate::Solver`] accepts; fixed at construction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolverCapacity {
+    pub parts: usize,
+    pub curls: usize,
+    pub centers: usize,
+}
+
+impl SolverCapacity {
+    /// The product's guaranteed capacity.
+    pub const DEFAULT: Self = Self { parts: 64, curls: 16, centers: 192 };
+
+    pub fn max_rows(&self) -> usize {
+        2 * self.parts + self.curls
+    }
+}
+
+impl Default for SolverCapacity {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Numerical tunables. Defaults are what the tests and benchmarks use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverParams {
+    /// Pivots below `rank_tolerance · |R₀₀|` count as rank loss.
+    pub rank_tolerance: f64,
+    /// Above this estimated κ₂ the exact min-norm path is not trusted.
+    pub max_condition: f64,
+    /// A constrained point closer than this to a center is an input error (m).
+    pub min_center_distance: f64,
+    /// Power/inverse iterations for the κ₂ estimate (fixed: bounded work).
+    pub condition_iterations: usize,
+    /// Iteration cap of the bounded least-squares fallback (ADMM).
+    pub bounded_max_iterations: usize,
+    /// Stop ADMM when primal and dual residuals fall below this (relative).
+    pub bounded_tolerance: f64,
+    /// Tikhonov weight (relative to ‖A‖²_F / N) that picks the smallest K
+    /// among equally good bounded solutions.
+    pub tikhonov: f64,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        Self {
+            rank_tolerance: 1e-12,
+            max_condition: 1e10,
+            min_center_distance: 1e-6,
+            condition_iterations: 12,
+            bounded_max_iterations: 2000,
+            bounded_tolerance: 1e-11,
+            tikhonov: 1e-10,
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! The solver's answer, in buffers preallocated at construction.
+
+use super::SolverCapacity;
+
+/// Which path produced `k`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolveMethod {
+    /// Consistent, well conditioned, inside the bounds: the exact
+    /// minimum-norm (or, overdetermined, least-squares) K from a QR of A.
+    Exact,
+    /// Bounded least squares |k_j| ≤ k_max (ADMM, Tikhonov tie-break).
+    BoundedLeastSquares,
+    /// No constraint rows: K = 0.
+    Trivial,
+}
+
+/// Output of one solve. Vectors never grow past their construction capacity,
+/// so refilling them allocates nothing.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    pub(crate) k: Vec<f64>,
+    pub(crate) order: Vec<u16>,
+    pub(crate) priority: Vec<f64>,
+    pub(crate) achieved_forces: Vec<[f64; 2]>,
+    pub(crate) achieved_curls: Vec<f64>,
+    /// ‖A·K − b‖ scaled back to force units (μmg/N).
+    pub residual: f64,
+    /// Numerical rank of A (column-pivoted QR).
+    pub rank: usize,
+    /// Estimated 2-norm condition number of A (∞ when rank-deficient).
+    pub condition: f64,
+    /// True when a bound |k_j| = k_max is active.
+    pub saturated: bool,
+    pub method: SolveMethod,
+    /// ADMM iterations spent (0 on the exact path).
+    pub iterations: usize,
+}
+
+impl Solution {
+    pub fn with_capacity(cap: SolverCapacity) -> Self {
+        Self {
+            k: Vec::with_capacity(cap.centers),
+            order: Vec::with_capacity(cap.centers),
+            priority: Vec::with_capacity(cap.centers),
+            achieved_forces: Vec::with_capacity(cap.parts),
+            achieved_curls: Vec::with_capacity(cap.curls),
+            residual: 0.0,
+            rank: 0,
+            condition: 1.0,
+            saturated: false,
+            method: SolveMethod::Trivial,
+            iterations: 0,
+        }
+    }
+
+    /// Rotation intensity per center, in input order.
+    pub fn k(&self) -> &[f64] {
+        &self.k
+    }
+    /// Center indices in play order (descending priority).
+    pub fn order(&self) -> &[u16] {
+        &self.order
+    }
+    /// ρ_j = |k_j| / min_i |P_i − C_j| per center, in input order.
+    pub fn priority(&self) -> &[f64] {
+        &self.priority
+    }
+    /// Average force the model predicts at every part (constrained or not).
+    pub fn achieved_forces(&self) -> &[[f64; 2]] {
+        &self.achieved_forces
+    }
+    /// Curl the model predicts at every curl point.
+    pub fn achieved_curls(&self) -> &[f64] {
+        &self.achieved_curls
+    }
+}

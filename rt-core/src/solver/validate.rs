@@ -1,0 +1,82 @@
+//! Input checks that run before any arithmetic, so nothing downstream sees
+//! NaN, infinities or a singular field.
+
+use super::{Problem, SolveError, SolverCapacity, SolverParams};
+
+fn finite2(p: [f64; 2]) -> bool {
+    p[0].is_finite() && p[1].is_finite()
+}
+
+pub(crate) fn validate_problem(
+    problem: &Problem<'_>,
+    cap: &SolverCapacity,
+    params: &SolverParams,
+) -> Result<(), SolveError> {
+    if !(problem.mu_m_g.is_finite() && problem.mu_m_g > 0.0) {
+        return Err(SolveError::InvalidMuMg);
+    }
+    if !(problem.k_max.is_finite() && problem.k_max > 0.0 && problem.k_max <= 1.0) {
+        return Err(SolveError::InvalidKMax);
+    }
+    if problem.centers.is_empty() {
+        return Err(SolveError::NoCenters);
+    }
+    if problem.centers.len() > cap.centers {
+        return Err(SolveError::TooManyCenters { given: problem.centers.len(), capacity: cap.centers });
+    }
+    if problem.parts.len() > cap.parts {
+        return Err(SolveError::TooManyParts { given: problem.parts.len(), capacity: cap.parts });
+    }
+    if problem.curls.len() > cap.curls {
+        return Err(SolveError::TooManyCurls { given: problem.curls.len(), capacity: cap.curls });
+    }
+    for (center, &c) in problem.centers.iter().enumerate() {
+        if !finite2(c) {
+            return Err(SolveError::NonFiniteCenter { center });
+        }
+    }
+    for (part, p) in problem.parts.iter().enumerate() {
+        if !finite2(p.position) {
+            return Err(SolveError::NonFinitePartPosition { part });
+        }
+        if let Some(f) = p.force {
+            if !finite2(f) {
+                return Err(SolveError::NonFinitePartForce { part });
+            }
+        }
+        if let Some(center) = nearest_too_close(p.position, problem.centers, params)? {
+            return Err(SolveError::PartOnCenter { part, center });
+        }
+    }
+    for (curl, q) in problem.curls.iter().enumerate() {
+        if !finite2(q.position) {
+            return Err(SolveError::NonFiniteCurlPosition { curl });
+        }
+        if !q.curl.is_finite() {
+            return Err(SolveError::NonFiniteCurl { curl });
+        }
+        if let Some(center) = nearest_too_close(q.position, problem.centers, params)? {
+            return Err(SolveError::CurlOnCenter { curl, center });
+        }
+    }
+    Ok(())
+}
+
+/// First center within `min_center_distance` of `p`; overflow if the
+/// distance itself is not representable.
+fn nearest_too_close(
+    p: [f64; 2],
+    centers: &[[f64; 2]],
+    params: &SolverParams,
+) -> Result<Option<usize>, SolveError> {
+    for (j, &c) in centers.iter().enumerate() {
+        let r = (p[0] - c[0]).hypot(p[1] - c[1]);
+        if !r.is_finite() {
+            return Err(SolveError::Overflow);
+        }
+        if r < params.min_center_distance {
+            return Ok(Some(j));
+        }
+    }
+    Ok(None)
+}
