@@ -10,3 +10,8 @@ pub use solver::{
     CurlConstraint, ForceConstraint, Problem, SolveError, Solution, Solver, SolverCapacity,
     SolverParams,
 };
+
+/// The driver boundary (read → update → write) every plate driver implements.
+pub mod driver;
+/// Closed plate motion: slot waveforms, limits, sampling, rig kinematics.
+pub mod motion;

@@ -1,0 +1,1 @@
+//! Driver trait: see issue 3 (owned by the motion/simulator work).
