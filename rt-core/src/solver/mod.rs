@@ -9,8 +9,8 @@
 //! 2. column-pivoted QR → rank, κ₂ estimate, exact minimum-norm K;
 //! 3. if K is inside |k_j| ≤ k_max, full rank and κ₂ ≤ `max_condition`:
 //!    done (exact path);
-//! 4. otherwise bounded least squares by ADMM, at most
-//!    `bounded_max_iterations` iterations (see `bounded.rs` for the flops);
+//! 4. otherwise bounded least squares by a feasible active-set method,
+//!    at most `bounded_max_iterations` iterations (flops in `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
 
 mod assemble;
@@ -89,6 +89,37 @@ impl Solver {
         &self.params
     }
 
+    /// Run two full-capacity solves (exact and bounded path) on the calling
+    /// thread. faer's gemm kernel allocates a 4 MiB thread-local buffer on a
+    /// thread's first use; a real-time thread calls this once at start-up so
+    /// that no later solve allocates. Returns false if a warm-up solve failed.
+    pub fn warm_up(&mut self) -> bool {
+        let cap = self.cap;
+        let mut out = self.new_solution();
+        let mut centers = vec![[0.0; 2]; cap.centers];
+        for (j, c) in centers.iter_mut().enumerate() {
+            let a = j as f64 * 2.399_963; // golden angle: spread, never repeated
+            let r = 2.0 + 0.5 * ((j as f64) * 0.37).sin();
+            *c = [r * a.cos(), r * a.sin()];
+        }
+        let mut ok = true;
+        for force in [1e-4, 10.0] {
+            let parts: Vec<_> = (0..cap.parts)
+                .map(|i| {
+                    let a = i as f64 * 2.399_963;
+                    let r = 0.8 * ((i as f64 + 0.5) / cap.parts as f64).sqrt();
+                    ForceConstraint { position: [r * a.cos(), r * a.sin()], force: Some([force, -force]) }
+                })
+                .collect();
+            let curls: Vec<_> = (0..cap.curls)
+                .map(|i| CurlConstraint { position: [0.05 * i as f64, 0.9], curl: force })
+                .collect();
+            let problem = Problem { mu_m_g: 1.0, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls };
+            ok &= self.solve(&problem, &mut out).is_ok();
+        }
+        ok
+    }
+
     /// A [`Solution`] with enough room for any problem this solver accepts.
     pub fn new_solution(&self) -> Solution {
         Solution::with_capacity(self.cap)
@@ -105,6 +136,7 @@ impl Solver {
         out.k.clear();
         out.k.resize(n, 0.0);
         out.iterations = 0;
+        out.converged = true;
         if m == 0 {
             out.method = SolveMethod::Trivial;
             out.rank = 0;
@@ -138,21 +170,18 @@ impl Solver {
                 out.k.copy_from_slice(&self.exact_k[..n]);
                 out.method = SolveMethod::Exact;
             } else {
-                if summary.rank < summary.dim {
-                    self.exact_k[..n].fill(0.0);
-                }
                 let input = BoundedInput {
                     rows: &self.rows,
                     b: &self.b,
                     m,
                     n,
                     k_max: problem.k_max,
-                    warm: &self.exact_k[..n],
                     tikhonov: self.params.tikhonov,
                     max_iterations: self.params.bounded_max_iterations,
-                    tolerance: self.params.bounded_tolerance,
                 };
-                out.iterations = bounded::bounded_solve(&input, &mut self.bounded, &mut out.k, stack);
+                let report = bounded::bounded_solve(&input, &mut self.bounded, &mut out.k, stack);
+                out.iterations = report.iterations;
+                out.converged = report.converged;
                 out.method = SolveMethod::BoundedLeastSquares;
             }
         }

@@ -34,10 +34,8 @@ pub struct SolverParams {
     pub min_center_distance: f64,
     /// Power/inverse iterations for the κ₂ estimate (fixed: bounded work).
     pub condition_iterations: usize,
-    /// Iteration cap of the bounded least-squares fallback (ADMM).
+    /// Cap on least-squares solves in the bounded fallback.
     pub bounded_max_iterations: usize,
-    /// Stop ADMM when primal and dual residuals fall below this (relative).
-    pub bounded_tolerance: f64,
     /// Tikhonov weight (relative to ‖A‖²_F / N) that picks the smallest K
     /// among equally good bounded solutions.
     pub tikhonov: f64,
@@ -50,9 +48,8 @@ impl Default for SolverParams {
             max_condition: 1e10,
             min_center_distance: 1e-6,
             condition_iterations: 12,
-            bounded_max_iterations: 2000,
-            bounded_tolerance: 1e-11,
-            tikhonov: 1e-10,
+            bounded_max_iterations: 400,
+            tikhonov: 1e-9,
         }
     }
 }

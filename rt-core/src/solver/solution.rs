@@ -8,7 +8,7 @@ pub enum SolveMethod {
     /// Consistent, well conditioned, inside the bounds: the exact
     /// minimum-norm (or, overdetermined, least-squares) K from a QR of A.
     Exact,
-    /// Bounded least squares |k_j| ≤ k_max (ADMM, Tikhonov tie-break).
+    /// Bounded least squares |k_j| ≤ k_max (active set, Tikhonov tie-break).
     BoundedLeastSquares,
     /// No constraint rows: K = 0.
     Trivial,
@@ -32,8 +32,11 @@ pub struct Solution {
     /// True when a bound |k_j| = k_max is active.
     pub saturated: bool,
     pub method: SolveMethod,
-    /// ADMM iterations spent (0 on the exact path).
+    /// Active-set iterations spent (0 on the exact path).
     pub iterations: usize,
+    /// False only if the bounded path hit its iteration cap; `k` is then
+    /// the best feasible iterate found.
+    pub converged: bool,
 }
 
 impl Solution {
@@ -50,6 +53,7 @@ impl Solution {
             saturated: false,
             method: SolveMethod::Trivial,
             iterations: 0,
+            converged: true,
         }
     }
 

@@ -14,32 +14,32 @@ pub struct RandomCase {
 }
 
 /// Parts inside the unit plate [-1,1]×[-0.5,0.5] at least `min_sep` apart,
-/// centers on a ring of radius 1.5–2.5 around it (well conditioned when
-/// n ≥ rows and parts are spread out).
-pub fn random_case(seed: u64, parts: usize, curls: usize, centers: usize, min_sep: f64) -> RandomCase {
+/// centers spread over [-1.4,1.4]×[-0.9,0.9], at least 0.1 from every part
+/// (well conditioned when n exceeds the rows and parts are spread out).
+pub fn random_case(seed: u64, n_parts: usize, n_curls: usize, n_centers: usize, min_sep: f64) -> RandomCase {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut pts: Vec<[f64; 2]> = Vec::new();
-    while pts.len() < parts + curls {
+    while pts.len() < n_parts + n_curls {
         let p = [rng.random_range(-1.0..1.0), rng.random_range(-0.5..0.5)];
         if pts.iter().all(|q| (p[0] - q[0]).hypot(p[1] - q[1]) >= min_sep) {
             pts.push(p);
         }
     }
-    let centers = (0..centers)
-        .map(|j| {
-            let a = j as f64 / centers as f64 * std::f64::consts::TAU + rng.random_range(0.0..0.1);
-            let r = rng.random_range(1.5..2.5);
-            [r * a.cos(), r * a.sin()]
-        })
-        .collect();
-    let parts = pts[..parts]
+    let mut centers: Vec<[f64; 2]> = Vec::new();
+    while centers.len() < n_centers {
+        let c = [rng.random_range(-1.4..1.4), rng.random_range(-0.9..0.9)];
+        if pts.iter().all(|q| (c[0] - q[0]).hypot(c[1] - q[1]) >= 0.1) {
+            centers.push(c);
+        }
+    }
+    let parts = pts[..n_parts]
         .iter()
         .map(|&p| ForceConstraint {
             position: p,
-            force: Some([rng.random_range(-0.004..0.004), rng.random_range(-0.004..0.004)]),
+            force: Some([rng.random_range(-0.0005..0.0005), rng.random_range(-0.0005..0.0005)]),
         })
         .collect();
-    let curls = pts[parts..].iter().map(|&p| CurlConstraint { position: p, curl: rng.random_range(-0.01..0.01) }).collect();
+    let curls = pts[n_parts..].iter().map(|&p| CurlConstraint { position: p, curl: rng.random_range(-0.002..0.002) }).collect();
     RandomCase { centers, parts, curls }
 }
 

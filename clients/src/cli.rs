@@ -1,0 +1,47 @@
+//! The `upm` command line (DESIGN.md §7). Parsing only; each subcommand's
+//! work lives in its own module.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+
+#[derive(Debug, Parser)]
+#[command(name = "upm", version, about = "Universal planar manipulator: force synthesis, simulation and the closed loop")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Force synthesis: JSON in (a file or `-` for stdin), JSON out.
+    Solve {
+        /// Input JSON file, or `-` for stdin.
+        file: PathBuf,
+    },
+}
+
+/// Read a file, or stdin for `-`.
+pub fn read_input(path: &Path) -> anyhow::Result<String> {
+    if path == Path::new("-") {
+        let mut s = String::new();
+        std::io::stdin().read_to_string(&mut s).context("reading stdin")?;
+        Ok(s)
+    } else {
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))
+    }
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Solve { file } => {
+            let text = read_input(&file)?;
+            let input = crate::solve_json::parse(&text)?;
+            let out = crate::solve_json::solve(&input)?;
+            println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+    }
+}

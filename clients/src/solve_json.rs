@@ -1,0 +1,115 @@
+//! `upm solve` JSON contract (DESIGN.md §7): parse, solve, serialize.
+
+use rt_core::{CurlConstraint, ForceConstraint, Problem, Solution, Solver, SolverCapacity, SolverParams};
+use serde::{Deserialize, Serialize};
+
+/// Default bound on |k_j| when the input does not give `k_max`.
+pub const DEFAULT_K_MAX: f64 = 0.95;
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartInput {
+    pub position: [f64; 2],
+    #[serde(default)]
+    pub force: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurlInput {
+    pub position: [f64; 2],
+    pub curl: f64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolveInput {
+    pub mu_m_g: f64,
+    pub centers: Vec<[f64; 2]>,
+    #[serde(default)]
+    pub parts: Vec<PartInput>,
+    #[serde(default)]
+    pub curls: Vec<CurlInput>,
+    #[serde(default)]
+    pub k_max: Option<f64>,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Achieved {
+    pub forces: Vec<[f64; 2]>,
+    pub curls: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SolveOutput {
+    pub k: Vec<f64>,
+    pub order: Vec<usize>,
+    pub priority: Vec<f64>,
+    pub achieved: Achieved,
+    pub residual: f64,
+    pub rank: usize,
+    /// Estimated κ₂; rank-deficient systems report f64::MAX (JSON has no ∞).
+    pub condition: f64,
+    pub saturated: bool,
+}
+
+/// Input errors, each naming the JSON field, one line each.
+#[derive(Debug, thiserror::Error)]
+pub enum InputError {
+    /// Shown without a `source` chain so the message stays one line.
+    #[error("{path}: {message}")]
+    Json { path: String, message: String },
+    #[error("{0}")]
+    Solve(rt_core::SolveError),
+}
+
+/// Parse the JSON text. Numbers that overflow f64 (e.g. 1e999), `null`
+/// where a number is needed, and unknown fields are all rejected here.
+pub fn parse(text: &str) -> Result<SolveInput, InputError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    let input: SolveInput = serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let path = if path == "." { "input".to_owned() } else { path };
+        InputError::Json { path, message: e.into_inner().to_string() }
+    })?;
+    Ok(input)
+}
+
+impl SolveInput {
+    pub fn k_max(&self) -> f64 {
+        self.k_max.unwrap_or(DEFAULT_K_MAX)
+    }
+
+    pub fn force_constraints(&self) -> Vec<ForceConstraint> {
+        self.parts.iter().map(|p| ForceConstraint { position: p.position, force: p.force }).collect()
+    }
+
+    pub fn curl_constraints(&self) -> Vec<CurlConstraint> {
+        self.curls.iter().map(|q| CurlConstraint { position: q.position, curl: q.curl }).collect()
+    }
+}
+
+/// Solve one input with the default capacity and parameters.
+pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
+    let parts = input.force_constraints();
+    let curls = input.curl_constraints();
+    let problem =
+        Problem { mu_m_g: input.mu_m_g, k_max: input.k_max(), centers: &input.centers, parts: &parts, curls: &curls };
+    let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
+    let mut solution = solver.new_solution();
+    solver.solve(&problem, &mut solution).map_err(InputError::Solve)?;
+    Ok(to_output(&solution))
+}
+
+pub fn to_output(s: &Solution) -> SolveOutput {
+    SolveOutput {
+        k: s.k().to_vec(),
+        order: s.order().iter().map(|&j| j as usize).collect(),
+        priority: s.priority().to_vec(),
+        achieved: Achieved { forces: s.achieved_forces().to_vec(), curls: s.achieved_curls().to_vec() },
+        residual: s.residual,
+        rank: s.rank,
+        condition: if s.condition.is_finite() { s.condition } else { f64::MAX },
+        saturated: s.saturated,
+    }
+}

@@ -1,0 +1,102 @@
+//! A solve allocates nothing: a counting global allocator watches thousands of
+//! solves of varying size, on both the exact and the bounded path, up to the
+//! full capacity (64 parts, 16 curl points, 192 centers).
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use common::random_case;
+use rt_core::{ForceConstraint, Problem, SolveMethod, Solver, SolverCapacity, SolverParams};
+
+struct CountingAllocator;
+
+thread_local! {
+    // Per thread, so tests running in parallel do not count each other.
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: forwarding the caller's contract to the system allocator.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as above.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: as above.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+#[test]
+fn thousands_of_solves_allocate_nothing() {
+    // Build every input first: only the solves are counted.
+    let mut cases = Vec::new();
+    for seed in 0..3000u64 {
+        let parts = 1 + (seed as usize * 7) % 64;
+        let curls = (seed as usize) % 17;
+        let rows = 2 * parts + curls;
+        let centers = (rows + (seed as usize % 40)).clamp(3, 192);
+        // Every third case asks for far too much force: the bounded path.
+        let mut case = random_case(seed, parts, curls, centers, 0.05);
+        let gain = if seed % 3 == 0 { 400.0 } else { 0.05 };
+        case.parts.iter_mut().for_each(|p: &mut ForceConstraint| {
+            p.force = p.force.map(|f| [f[0] * gain, f[1] * gain]);
+        });
+        case.curls.iter_mut().for_each(|q| q.curl *= gain);
+        cases.push(case);
+    }
+    let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
+    let mut out = solver.new_solution();
+    // Start-up: faer's gemm allocates a thread-local buffer on first use.
+    assert!(solver.warm_up());
+    let mut methods = [0usize; 3];
+    let mut unconverged = 0;
+
+    ALLOCATIONS.store(0, Ordering::SeqCst);
+    COUNTING.with(|c| c.set(true));
+    for case in &cases {
+        let problem =
+            Problem { mu_m_g: 0.1, k_max: 0.9, centers: &case.centers, parts: &case.parts, curls: &case.curls };
+        let result = solver.solve(&problem, &mut out);
+        methods[match out.method {
+            SolveMethod::Exact => 0,
+            SolveMethod::BoundedLeastSquares => 1,
+            SolveMethod::Trivial => 2,
+        }] += usize::from(result.is_ok());
+        unconverged += usize::from(!out.converged);
+    }
+    COUNTING.with(|c| c.set(false));
+    let allocations = ALLOCATIONS.load(Ordering::SeqCst);
+
+    println!("exact {}, bounded {}, trivial {}, bounded not converged {unconverged}", methods[0], methods[1], methods[2]);
+    assert_eq!(allocations, 0, "solves allocated {allocations} times");
+    assert!(methods[0] > 100 && methods[1] > 100, "both paths must be exercised: {methods:?}");
+    assert_eq!(methods.iter().sum::<usize>(), cases.len(), "every solve succeeded");
+}
+
+#[test]
+fn the_counter_sees_allocations() {
+    // Guard against a counter that can never fail.
+    ALLOCATIONS.store(0, Ordering::SeqCst);
+    COUNTING.with(|c| c.set(true));
+    let v: Vec<u64> = std::hint::black_box(Vec::with_capacity(16));
+    COUNTING.with(|c| c.set(false));
+    drop(v);
+    assert!(ALLOCATIONS.load(Ordering::SeqCst) >= 1);
+}
