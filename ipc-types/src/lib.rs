@@ -1,1 +1,48 @@
-//! placeholder, see README
+//! Shared-memory messages of the UPM kernel (DESIGN.md §3–§4).
+//!
+//! Every process (core, vision, planner, tools) links this one crate, so the
+//! byte layout of a message is defined exactly once. Payloads are
+//! `#[repr(C)]`, [`ZeroCopySend`](iceoryx2::prelude::ZeroCopySend), have a
+//! fixed capacity, no padding and only integer / float fields: any bit
+//! pattern a buggy or hostile peer writes into shared memory is a valid Rust
+//! value. Whether it is a *meaningful* message is decided by `validate()`,
+//! which never allocates and never panics (it runs on the RT solver thread).
+//!
+//! Conventions shared by all messages:
+//! - `protocol_version` must equal [`PROTOCOL_VERSION`];
+//! - `stamp_ns` and deadlines are CLOCK_MONOTONIC nanoseconds
+//!   ([`monotonic_now_ns`]); every message has a `seq` so gaps are visible;
+//! - lengths are SI (m, N, rad, s) unless a field name says otherwise;
+//! - `count` says how many leading entries of the fixed array are used; the
+//!   slice accessors clamp it to the capacity, so a hostile count can never
+//!   index out of bounds.
+
+#![deny(unsafe_code)]
+
+mod capacity;
+mod clock;
+mod core_state;
+mod explicit_schedule;
+mod force_request;
+mod latency_percentiles;
+mod part_states;
+mod schedule;
+pub mod service_names;
+mod telemetry;
+mod validation;
+
+pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
+pub use clock::monotonic_now_ns;
+pub use core_state::CoreState;
+pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};
+pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
+pub use latency_percentiles::LatencyPercentiles;
+pub use part_states::{PartState, PartStates, PartStatesError};
+pub use schedule::{Schedule, ScheduleError, ScheduleSlot};
+pub use telemetry::{CoreCounters, CoreLatencies, Telemetry, TelemetryError};
+pub use validation::ValidationLimits;
+
+/// Version of the wire format. Bump it on any layout or meaning change; it is
+/// also part of every payload's iceoryx2 `type_name`, so mismatched builds
+/// fail when opening a service instead of misreading each other.
+pub const PROTOCOL_VERSION: u32 = 1;

@@ -1,0 +1,190 @@
+//! ExplicitSchedule: planner → core, a cycle given slot by slot, for
+//! planners that bypass the solver.
+
+use core::fmt;
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::PROTOCOL_VERSION;
+use crate::capacity::{CapacityError, MAX_SLOTS};
+use crate::validation::{ValidationLimits, clamped_len, count_fits};
+
+/// One slot: a rotation about configured center `center_index` with signed
+/// intensity `k` (k > 0 = CCW), |k| ≤ 1.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::ExplicitSlot.v1")]
+pub struct ExplicitSlot {
+    /// Index into the rig's configured centers.
+    pub center_index: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
+    pub k: f64,
+}
+
+const _: () = assert!(size_of::<ExplicitSlot>() == 4 + 4 + 8);
+
+impl ExplicitSlot {
+    pub const ZERO: Self = Self::new(0, 0.0);
+
+    pub const fn new(center_index: u32, k: f64) -> Self {
+        Self { center_index, reserved: 0, k }
+    }
+}
+
+/// Planner → core: the slots of one closed cycle, in play order.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::ExplicitSchedule.v1")]
+pub struct ExplicitSchedule {
+    pub protocol_version: u32,
+    /// Number of used entries of `slots`; at least 1.
+    pub count: u32,
+    pub seq: u64,
+    /// CLOCK_MONOTONIC ns when the planner made the schedule.
+    pub stamp_ns: u64,
+    pub slots: [ExplicitSlot; MAX_SLOTS],
+}
+
+const _: () = assert!(size_of::<ExplicitSchedule>() == 4 + 4 + 2 * 8 + MAX_SLOTS * size_of::<ExplicitSlot>());
+
+/// Why an [`ExplicitSchedule`] was rejected. Indices refer to `slots`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExplicitScheduleError {
+    WrongProtocolVersion {
+        found: u32,
+    },
+    CountExceedsCapacity {
+        count: u32,
+    },
+    /// A cycle needs at least one slot (its duration is divided among them).
+    Empty,
+    StampFromFuture {
+        stamp_ns: u64,
+        now_ns: u64,
+    },
+    UnknownCenter {
+        index: usize,
+        center_index: u32,
+    },
+    NonFinite {
+        index: usize,
+        field: &'static str,
+    },
+    /// |k| exceeds the limits' k_max (or 1).
+    KOutOfRange {
+        index: usize,
+    },
+}
+
+impl fmt::Display for ExplicitScheduleError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::WrongProtocolVersion { found } => {
+                write!(f, "explicit_schedule.protocol_version is {found}, expected {PROTOCOL_VERSION}")
+            }
+            Self::CountExceedsCapacity { count } => {
+                write!(f, "explicit_schedule.count {count} exceeds the capacity {MAX_SLOTS}")
+            }
+            Self::Empty => write!(f, "explicit_schedule.count is 0, a cycle needs at least one slot"),
+            Self::StampFromFuture { stamp_ns, now_ns } => {
+                write!(f, "explicit_schedule.stamp_ns {stamp_ns} is in the future (now {now_ns})")
+            }
+            Self::UnknownCenter { index, center_index } => write!(
+                f,
+                "explicit_schedule.slots[{index}].center_index {center_index} is not a configured center"
+            ),
+            Self::NonFinite { index, field } => {
+                write!(f, "explicit_schedule.slots[{index}].{field} is not finite")
+            }
+            Self::KOutOfRange { index } => write!(f, "explicit_schedule.slots[{index}].k exceeds k_max"),
+        }
+    }
+}
+
+impl core::error::Error for ExplicitScheduleError {}
+
+impl ExplicitSchedule {
+    pub const CAPACITY: usize = MAX_SLOTS;
+
+    /// Current protocol version, seq/stamp 0, no slots.
+    pub const fn new() -> Self {
+        Self {
+            protocol_version: PROTOCOL_VERSION,
+            count: 0,
+            seq: 0,
+            stamp_ns: 0,
+            slots: [ExplicitSlot::ZERO; MAX_SLOTS],
+        }
+    }
+
+    /// Used slots; a corrupt `count` is clamped to the capacity.
+    pub fn slots(&self) -> &[ExplicitSlot] {
+        &self.slots[..clamped_len(self.count, MAX_SLOTS)]
+    }
+
+    /// Used slots, mutable; a corrupt `count` is clamped to the capacity.
+    pub fn slots_mut(&mut self) -> &mut [ExplicitSlot] {
+        let n = clamped_len(self.count, MAX_SLOTS);
+        &mut self.slots[..n]
+    }
+
+    pub fn len(&self) -> usize {
+        clamped_len(self.count, MAX_SLOTS)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn clear(&mut self) {
+        self.count = 0;
+    }
+
+    /// Append one slot, or fail when the schedule is full.
+    pub fn push(&mut self, slot: ExplicitSlot) -> Result<(), CapacityError> {
+        let n = self.count as usize;
+        let entry = self.slots.get_mut(n).ok_or(CapacityError::Full { capacity: MAX_SLOTS })?;
+        *entry = slot;
+        self.count += 1;
+        Ok(())
+    }
+
+    /// Check the whole message; the first problem found is returned.
+    /// Allocation-free, O(count).
+    pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ExplicitScheduleError> {
+        if self.protocol_version != PROTOCOL_VERSION {
+            return Err(ExplicitScheduleError::WrongProtocolVersion { found: self.protocol_version });
+        }
+        if !count_fits(self.count, MAX_SLOTS) {
+            return Err(ExplicitScheduleError::CountExceedsCapacity { count: self.count });
+        }
+        if self.count == 0 {
+            return Err(ExplicitScheduleError::Empty);
+        }
+        if limits.is_from_future(self.stamp_ns) {
+            return Err(ExplicitScheduleError::StampFromFuture {
+                stamp_ns: self.stamp_ns,
+                now_ns: limits.now_ns,
+            });
+        }
+        for (index, s) in self.slots().iter().enumerate() {
+            if s.center_index >= limits.center_count {
+                return Err(ExplicitScheduleError::UnknownCenter { index, center_index: s.center_index });
+            }
+            if !s.k.is_finite() {
+                return Err(ExplicitScheduleError::NonFinite { index, field: "k" });
+            }
+            if !limits.is_k_allowed(s.k) {
+                return Err(ExplicitScheduleError::KOutOfRange { index });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for ExplicitSchedule {
+    fn default() -> Self {
+        Self::new()
+    }
+}

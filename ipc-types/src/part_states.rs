@@ -1,0 +1,211 @@
+//! PartStates: vision → core, the pose and velocity of every part seen.
+
+use core::fmt;
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::PROTOCOL_VERSION;
+use crate::capacity::{CapacityError, MAX_PARTS};
+use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite};
+
+/// One part as seen by vision. Pose in plate coordinates (m, rad),
+/// velocity in m/s and rad/s.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::PartState.v1")]
+pub struct PartState {
+    /// Tracking id, unique within one message.
+    pub id: u32,
+    /// Part class code (what the part is, e.g. for sorting).
+    pub class: u32,
+    /// Friction class code (which μ applies).
+    pub friction_class: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
+    pub x: f64,
+    pub y: f64,
+    pub theta: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub omega: f64,
+}
+
+// No implicit padding: every byte of the shared layout is a named field.
+const _: () = assert!(size_of::<PartState>() == 4 * 4 + 6 * 8);
+
+impl PartState {
+    /// All zeros.
+    pub const ZERO: Self = Self::new(0, 0, 0, [0.0; 3], [0.0; 3]);
+
+    /// A part with pose (x, y, θ) and velocity (vx, vy, ω).
+    pub const fn new(id: u32, class: u32, friction_class: u32, pose: [f64; 3], velocity: [f64; 3]) -> Self {
+        Self {
+            id,
+            class,
+            friction_class,
+            reserved: 0,
+            x: pose[0],
+            y: pose[1],
+            theta: pose[2],
+            vx: velocity[0],
+            vy: velocity[1],
+            omega: velocity[2],
+        }
+    }
+}
+
+/// Vision → core: every part seen in one camera frame.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::PartStates.v1")]
+pub struct PartStates {
+    pub protocol_version: u32,
+    /// Number of used entries of `parts`.
+    pub count: u32,
+    pub seq: u64,
+    /// CLOCK_MONOTONIC ns of the camera frame the states come from.
+    pub stamp_ns: u64,
+    pub parts: [PartState; MAX_PARTS],
+}
+
+const _: () = assert!(size_of::<PartStates>() == 4 + 4 + 8 + 8 + MAX_PARTS * size_of::<PartState>());
+
+/// Why a [`PartStates`] was rejected. Indices refer to `parts`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartStatesError {
+    WrongProtocolVersion { found: u32 },
+    CountExceedsCapacity { count: u32 },
+    StampFromFuture { stamp_ns: u64, now_ns: u64 },
+    NonFinite { index: usize, field: &'static str },
+    OffPlate { index: usize, field: &'static str },
+    UnknownClass { index: usize, class: u32 },
+    UnknownFrictionClass { index: usize, friction_class: u32 },
+    DuplicateId { index: usize, first_index: usize, id: u32 },
+}
+
+impl fmt::Display for PartStatesError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::WrongProtocolVersion { found } => {
+                write!(f, "part_states.protocol_version is {found}, expected {PROTOCOL_VERSION}")
+            }
+            Self::CountExceedsCapacity { count } => {
+                write!(f, "part_states.count {count} exceeds the capacity {MAX_PARTS}")
+            }
+            Self::StampFromFuture { stamp_ns, now_ns } => {
+                write!(f, "part_states.stamp_ns {stamp_ns} is in the future (now {now_ns})")
+            }
+            Self::NonFinite { index, field } => write!(f, "part_states.parts[{index}].{field} is not finite"),
+            Self::OffPlate { index, field } => {
+                write!(f, "part_states.parts[{index}].{field} is off the plate")
+            }
+            Self::UnknownClass { index, class } => {
+                write!(f, "part_states.parts[{index}].class {class} is not a configured class")
+            }
+            Self::UnknownFrictionClass { index, friction_class } => write!(
+                f,
+                "part_states.parts[{index}].friction_class {friction_class} is not a configured friction class"
+            ),
+            Self::DuplicateId { index, first_index, id } => {
+                write!(f, "part_states.parts[{index}].id {id} duplicates parts[{first_index}]")
+            }
+        }
+    }
+}
+
+impl core::error::Error for PartStatesError {}
+
+impl PartStates {
+    pub const CAPACITY: usize = MAX_PARTS;
+
+    /// Current protocol version, seq 0, stamp 0, no parts.
+    pub const fn new() -> Self {
+        Self {
+            protocol_version: PROTOCOL_VERSION,
+            count: 0,
+            seq: 0,
+            stamp_ns: 0,
+            parts: [PartState::ZERO; MAX_PARTS],
+        }
+    }
+
+    /// Used entries; a corrupt `count` is clamped to the capacity.
+    pub fn parts(&self) -> &[PartState] {
+        &self.parts[..clamped_len(self.count, MAX_PARTS)]
+    }
+
+    /// Used entries, mutable; a corrupt `count` is clamped to the capacity.
+    pub fn parts_mut(&mut self) -> &mut [PartState] {
+        let n = clamped_len(self.count, MAX_PARTS);
+        &mut self.parts[..n]
+    }
+
+    pub fn len(&self) -> usize {
+        clamped_len(self.count, MAX_PARTS)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Forget all parts (entries keep their old bytes).
+    pub fn clear(&mut self) {
+        self.count = 0;
+    }
+
+    /// Append one part, or fail when the message is full.
+    pub fn push(&mut self, part: PartState) -> Result<(), CapacityError> {
+        let n = self.count as usize;
+        let slot = self.parts.get_mut(n).ok_or(CapacityError::Full { capacity: MAX_PARTS })?;
+        *slot = part;
+        self.count += 1;
+        Ok(())
+    }
+
+    /// Check the whole message; the first problem found is returned.
+    /// Allocation-free, O(count²) for the duplicate-id check (≤ 2016 compares).
+    pub fn validate(&self, limits: &ValidationLimits) -> Result<(), PartStatesError> {
+        if self.protocol_version != PROTOCOL_VERSION {
+            return Err(PartStatesError::WrongProtocolVersion { found: self.protocol_version });
+        }
+        if !count_fits(self.count, MAX_PARTS) {
+            return Err(PartStatesError::CountExceedsCapacity { count: self.count });
+        }
+        if limits.is_from_future(self.stamp_ns) {
+            return Err(PartStatesError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
+        }
+        let parts = self.parts();
+        for (index, p) in parts.iter().enumerate() {
+            let floats =
+                [("x", p.x), ("y", p.y), ("theta", p.theta), ("vx", p.vx), ("vy", p.vy), ("omega", p.omega)];
+            if let Some(field) = first_non_finite(floats) {
+                return Err(PartStatesError::NonFinite { index, field });
+            }
+            if !limits.is_on_plate_x(p.x) {
+                return Err(PartStatesError::OffPlate { index, field: "x" });
+            }
+            if !limits.is_on_plate_y(p.y) {
+                return Err(PartStatesError::OffPlate { index, field: "y" });
+            }
+            if p.class >= limits.part_class_count {
+                return Err(PartStatesError::UnknownClass { index, class: p.class });
+            }
+            if p.friction_class >= limits.friction_class_count {
+                return Err(PartStatesError::UnknownFrictionClass {
+                    index,
+                    friction_class: p.friction_class,
+                });
+            }
+            if let Some(first_index) = parts[..index].iter().position(|q| q.id == p.id) {
+                return Err(PartStatesError::DuplicateId { index, first_index, id: p.id });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for PartStates {
+    fn default() -> Self {
+        Self::new()
+    }
+}

@@ -1,0 +1,233 @@
+//! Schedule: core → all, the closed plate motion the core plays next.
+
+use core::fmt;
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::PROTOCOL_VERSION;
+use crate::capacity::{CapacityError, MAX_SLOTS};
+use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite, is_flag};
+
+/// One slot in play order: rotation about center `center_index` at (x, y)
+/// (m, plate coordinates; centers may lie off the plate) with intensity k.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::ScheduleSlot.v1")]
+pub struct ScheduleSlot {
+    /// Index into the rig's configured centers.
+    pub center_index: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
+    pub x: f64,
+    pub y: f64,
+    pub k: f64,
+}
+
+const _: () = assert!(size_of::<ScheduleSlot>() == 4 + 4 + 3 * 8);
+
+impl ScheduleSlot {
+    pub const ZERO: Self = Self::new(0, [0.0; 2], 0.0);
+
+    pub const fn new(center_index: u32, center: [f64; 2], k: f64) -> Self {
+        Self { center_index, reserved: 0, x: center[0], y: center[1], k }
+    }
+}
+
+/// Core → all: the schedule the solver produced (or the planner's explicit
+/// one), with the solver's diagnostics.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::Schedule.v1")]
+pub struct Schedule {
+    pub protocol_version: u32,
+    /// Number of used entries of `slots`.
+    pub count: u32,
+    pub seq: u64,
+    /// CLOCK_MONOTONIC ns when the schedule was published.
+    pub stamp_ns: u64,
+    /// Motor cycle from which the schedule is played.
+    pub cycle: u64,
+    /// Wall time of the solve (ns); 0 for an explicit schedule.
+    pub solve_time_ns: u64,
+    /// ‖A·K − b‖ in force units (N); finite, ≥ 0.
+    pub residual: f64,
+    /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient.
+    pub condition: f64,
+    /// Numerical rank of A.
+    pub rank: u32,
+    /// 1 when a bound |k| = k_max was active (request not fully met), else 0.
+    pub saturated: u32,
+    pub slots: [ScheduleSlot; MAX_SLOTS],
+}
+
+const _: () =
+    assert!(size_of::<Schedule>() == 4 + 4 + 4 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>());
+
+/// Why a [`Schedule`] was rejected. Indices refer to `slots`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScheduleError {
+    WrongProtocolVersion {
+        found: u32,
+    },
+    CountExceedsCapacity {
+        count: u32,
+    },
+    StampFromFuture {
+        stamp_ns: u64,
+        now_ns: u64,
+    },
+    /// `residual` is NaN, infinite or negative.
+    InvalidResidual,
+    /// `condition` is NaN or negative.
+    InvalidCondition,
+    RankExceedsCapacity {
+        rank: u32,
+    },
+    NotAFlag {
+        field: &'static str,
+        value: u32,
+    },
+    UnknownCenter {
+        index: usize,
+        center_index: u32,
+    },
+    NonFinite {
+        index: usize,
+        field: &'static str,
+    },
+    /// |k| exceeds the limits' k_max (or 1).
+    KOutOfRange {
+        index: usize,
+    },
+}
+
+impl fmt::Display for ScheduleError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::WrongProtocolVersion { found } => {
+                write!(f, "schedule.protocol_version is {found}, expected {PROTOCOL_VERSION}")
+            }
+            Self::CountExceedsCapacity { count } => {
+                write!(f, "schedule.count {count} exceeds the capacity {MAX_SLOTS}")
+            }
+            Self::StampFromFuture { stamp_ns, now_ns } => {
+                write!(f, "schedule.stamp_ns {stamp_ns} is in the future (now {now_ns})")
+            }
+            Self::InvalidResidual => write!(f, "schedule.residual is not a finite number ≥ 0"),
+            Self::InvalidCondition => write!(f, "schedule.condition is NaN or negative"),
+            Self::RankExceedsCapacity { rank } => {
+                write!(f, "schedule.rank {rank} exceeds the capacity {MAX_SLOTS}")
+            }
+            Self::NotAFlag { field, value } => write!(f, "schedule.{field} is {value}, expected 0 or 1"),
+            Self::UnknownCenter { index, center_index } => {
+                write!(f, "schedule.slots[{index}].center_index {center_index} is not a configured center")
+            }
+            Self::NonFinite { index, field } => write!(f, "schedule.slots[{index}].{field} is not finite"),
+            Self::KOutOfRange { index } => write!(f, "schedule.slots[{index}].k exceeds k_max"),
+        }
+    }
+}
+
+impl core::error::Error for ScheduleError {}
+
+impl Schedule {
+    pub const CAPACITY: usize = MAX_SLOTS;
+
+    /// Current protocol version, everything else 0 (condition 1), no slots.
+    pub const fn new() -> Self {
+        Self {
+            protocol_version: PROTOCOL_VERSION,
+            count: 0,
+            seq: 0,
+            stamp_ns: 0,
+            cycle: 0,
+            solve_time_ns: 0,
+            residual: 0.0,
+            condition: 1.0,
+            rank: 0,
+            saturated: 0,
+            slots: [ScheduleSlot::ZERO; MAX_SLOTS],
+        }
+    }
+
+    /// Used slots in play order; a corrupt `count` is clamped to the capacity.
+    pub fn slots(&self) -> &[ScheduleSlot] {
+        &self.slots[..clamped_len(self.count, MAX_SLOTS)]
+    }
+
+    /// Used slots, mutable; a corrupt `count` is clamped to the capacity.
+    pub fn slots_mut(&mut self) -> &mut [ScheduleSlot] {
+        let n = clamped_len(self.count, MAX_SLOTS);
+        &mut self.slots[..n]
+    }
+
+    pub fn len(&self) -> usize {
+        clamped_len(self.count, MAX_SLOTS)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// True only if `saturated` is exactly 1.
+    pub const fn is_saturated(&self) -> bool {
+        self.saturated == 1
+    }
+
+    pub fn clear(&mut self) {
+        self.count = 0;
+    }
+
+    /// Append one slot, or fail when the schedule is full.
+    pub fn push(&mut self, slot: ScheduleSlot) -> Result<(), CapacityError> {
+        let n = self.count as usize;
+        let entry = self.slots.get_mut(n).ok_or(CapacityError::Full { capacity: MAX_SLOTS })?;
+        *entry = slot;
+        self.count += 1;
+        Ok(())
+    }
+
+    /// Check the whole message; the first problem found is returned.
+    /// Allocation-free, O(count).
+    pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ScheduleError> {
+        if self.protocol_version != PROTOCOL_VERSION {
+            return Err(ScheduleError::WrongProtocolVersion { found: self.protocol_version });
+        }
+        if !count_fits(self.count, MAX_SLOTS) {
+            return Err(ScheduleError::CountExceedsCapacity { count: self.count });
+        }
+        if limits.is_from_future(self.stamp_ns) {
+            return Err(ScheduleError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
+        }
+        if !(self.residual.is_finite() && self.residual >= 0.0) {
+            return Err(ScheduleError::InvalidResidual);
+        }
+        if self.condition.is_nan() || self.condition < 0.0 {
+            return Err(ScheduleError::InvalidCondition);
+        }
+        if !count_fits(self.rank, MAX_SLOTS) {
+            return Err(ScheduleError::RankExceedsCapacity { rank: self.rank });
+        }
+        if !is_flag(self.saturated) {
+            return Err(ScheduleError::NotAFlag { field: "saturated", value: self.saturated });
+        }
+        for (index, s) in self.slots().iter().enumerate() {
+            if s.center_index >= limits.center_count {
+                return Err(ScheduleError::UnknownCenter { index, center_index: s.center_index });
+            }
+            if let Some(field) = first_non_finite([("x", s.x), ("y", s.y), ("k", s.k)]) {
+                return Err(ScheduleError::NonFinite { index, field });
+            }
+            if !limits.is_k_allowed(s.k) {
+                return Err(ScheduleError::KOutOfRange { index });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for Schedule {
+    fn default() -> Self {
+        Self::new()
+    }
+}

@@ -1,0 +1,21 @@
+//! iceoryx2 service names. Plain names: the rig's prefix is applied by the
+//! caller through iceoryx2's `config.global.prefix`, so several rigs (or
+//! tests) on one machine never see each other.
+//!
+//! An event service (wake-up of a listener) may use the same name as the
+//! publish-subscribe service whose data it announces: iceoryx2 identifies a
+//! service by name *and* messaging pattern.
+
+/// [`crate::PartStates`], vision → core.
+pub const PART_STATES: &str = "upm/part_states";
+/// [`crate::ForceRequest`], planner → core.
+pub const FORCE_REQUEST: &str = "upm/force_request";
+/// [`crate::ExplicitSchedule`], planner → core.
+pub const EXPLICIT_SCHEDULE: &str = "upm/explicit_schedule";
+/// [`crate::Schedule`], core → all.
+pub const SCHEDULE: &str = "upm/schedule";
+/// [`crate::Telemetry`], core → all.
+pub const TELEMETRY: &str = "upm/telemetry";
+
+/// Every name above, e.g. for tools that list or clean up a rig.
+pub const ALL: [&str; 5] = [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, SCHEDULE, TELEMETRY];

@@ -1,0 +1,227 @@
+//! Telemetry: core → all, the core's state, counters and latencies.
+
+use core::fmt;
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::PROTOCOL_VERSION;
+use crate::core_state::CoreState;
+use crate::latency_percentiles::LatencyPercentiles;
+use crate::validation::{ValidationLimits, first_non_finite};
+
+/// Monotonic counters since core start.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
+#[type_name("upm::CoreCounters.v1")]
+pub struct CoreCounters {
+    /// Motor-loop ticks.
+    pub ticks: u64,
+    /// Ticks that woke up after their deadline.
+    pub overruns: u64,
+    /// Transitions into hold (stale input).
+    pub hold_events: u64,
+    /// Schedules made active at a cycle boundary.
+    pub schedule_swaps: u64,
+    /// PartStates messages that failed validation.
+    pub rejected_parts: u64,
+    /// ForceRequest / ExplicitSchedule messages that failed validation.
+    pub rejected_requests: u64,
+    /// Heap allocations seen on RT threads after start-up (should stay 0).
+    pub rt_thread_allocations: u64,
+}
+
+const _: () = assert!(size_of::<CoreCounters>() == 7 * 8);
+
+/// Latency of each measured path (ns, see [`LatencyPercentiles`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
+#[type_name("upm::CoreLatencies.v1")]
+pub struct CoreLatencies {
+    /// Motor-thread wake-up lateness against its period.
+    pub motor_wakeup: LatencyPercentiles,
+    /// One solve.
+    pub solver: LatencyPercentiles,
+    /// PartStates stamp → received by the core.
+    pub ipc_vision_to_core: LatencyPercentiles,
+    /// Camera frame stamp → schedule ready.
+    pub frame_to_schedule: LatencyPercentiles,
+}
+
+const _: () = assert!(size_of::<CoreLatencies>() == 4 * size_of::<LatencyPercentiles>());
+
+/// Core → all: a snapshot of the core, published periodically.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("upm::Telemetry.v1")]
+pub struct Telemetry {
+    pub protocol_version: u32,
+    /// [`CoreState`] code: idle 0, running 1, hold 2, fault 3.
+    pub state: u32,
+    pub seq: u64,
+    /// CLOCK_MONOTONIC ns of the snapshot.
+    pub stamp_ns: u64,
+    /// Current motor cycle.
+    pub cycle: u64,
+    /// Commanded plate pose (m, m, rad) at the snapshot.
+    pub plate_x: f64,
+    pub plate_y: f64,
+    pub plate_theta: f64,
+    pub counters: CoreCounters,
+    /// Age (ms) of the newest accepted PartStates; since core start if none
+    /// was ever accepted. Finite, ≥ 0.
+    pub parts_age_ms: f64,
+    /// Age (ms) of the newest accepted request; same convention.
+    pub request_age_ms: f64,
+    pub latency: CoreLatencies,
+    /// Process ids; 0 when the process is not known to be running.
+    pub core_pid: u32,
+    pub vision_pid: u32,
+    pub planner_pid: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
+}
+
+const _: () = assert!(
+    size_of::<Telemetry>()
+        == 4 + 4 + 3 * 8 + 3 * 8 + size_of::<CoreCounters>() + 2 * 8 + size_of::<CoreLatencies>() + 4 * 4
+);
+
+/// Why a [`Telemetry`] was rejected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TelemetryError {
+    WrongProtocolVersion {
+        found: u32,
+    },
+    StampFromFuture {
+        stamp_ns: u64,
+        now_ns: u64,
+    },
+    UnknownState {
+        code: u32,
+    },
+    NonFinite {
+        field: &'static str,
+    },
+    NegativeAge {
+        field: &'static str,
+    },
+    /// p50 ≤ p99 ≤ p999 ≤ max does not hold for this latency.
+    UnorderedPercentiles {
+        field: &'static str,
+    },
+}
+
+impl fmt::Display for TelemetryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::WrongProtocolVersion { found } => {
+                write!(f, "telemetry.protocol_version is {found}, expected {PROTOCOL_VERSION}")
+            }
+            Self::StampFromFuture { stamp_ns, now_ns } => {
+                write!(f, "telemetry.stamp_ns {stamp_ns} is in the future (now {now_ns})")
+            }
+            Self::UnknownState { code } => write!(f, "telemetry.state {code} is not a known state code"),
+            Self::NonFinite { field } => write!(f, "telemetry.{field} is not finite"),
+            Self::NegativeAge { field } => write!(f, "telemetry.{field} is negative"),
+            Self::UnorderedPercentiles { field } => {
+                write!(f, "telemetry.latency.{field} percentiles are not ordered p50 ≤ p99 ≤ p999 ≤ max")
+            }
+        }
+    }
+}
+
+impl core::error::Error for TelemetryError {}
+
+impl Telemetry {
+    /// Current protocol version, state idle, everything else 0.
+    pub const fn new() -> Self {
+        Self {
+            protocol_version: PROTOCOL_VERSION,
+            state: CoreState::IDLE_CODE,
+            seq: 0,
+            stamp_ns: 0,
+            cycle: 0,
+            plate_x: 0.0,
+            plate_y: 0.0,
+            plate_theta: 0.0,
+            counters: CoreCounters {
+                ticks: 0,
+                overruns: 0,
+                hold_events: 0,
+                schedule_swaps: 0,
+                rejected_parts: 0,
+                rejected_requests: 0,
+                rt_thread_allocations: 0,
+            },
+            parts_age_ms: 0.0,
+            request_age_ms: 0.0,
+            latency: CoreLatencies {
+                motor_wakeup: LatencyPercentiles::ZERO,
+                solver: LatencyPercentiles::ZERO,
+                ipc_vision_to_core: LatencyPercentiles::ZERO,
+                frame_to_schedule: LatencyPercentiles::ZERO,
+            },
+            core_pid: 0,
+            vision_pid: 0,
+            planner_pid: 0,
+            reserved: 0,
+        }
+    }
+
+    /// The state, `None` if the code is unknown.
+    pub const fn core_state(&self) -> Option<CoreState> {
+        CoreState::from_code(self.state)
+    }
+
+    pub const fn set_core_state(&mut self, state: CoreState) {
+        self.state = state.code();
+    }
+
+    /// Check the whole message; the first problem found is returned.
+    /// Allocation-free, constant time.
+    pub fn validate(&self, limits: &ValidationLimits) -> Result<(), TelemetryError> {
+        if self.protocol_version != PROTOCOL_VERSION {
+            return Err(TelemetryError::WrongProtocolVersion { found: self.protocol_version });
+        }
+        if limits.is_from_future(self.stamp_ns) {
+            return Err(TelemetryError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
+        }
+        if self.core_state().is_none() {
+            return Err(TelemetryError::UnknownState { code: self.state });
+        }
+        let floats = [
+            ("plate_x", self.plate_x),
+            ("plate_y", self.plate_y),
+            ("plate_theta", self.plate_theta),
+            ("parts_age_ms", self.parts_age_ms),
+            ("request_age_ms", self.request_age_ms),
+        ];
+        if let Some(field) = first_non_finite(floats) {
+            return Err(TelemetryError::NonFinite { field });
+        }
+        for (field, age) in [("parts_age_ms", self.parts_age_ms), ("request_age_ms", self.request_age_ms)] {
+            if age < 0.0 {
+                return Err(TelemetryError::NegativeAge { field });
+            }
+        }
+        let l = &self.latency;
+        let latencies = [
+            ("motor_wakeup", l.motor_wakeup),
+            ("solver", l.solver),
+            ("ipc_vision_to_core", l.ipc_vision_to_core),
+            ("frame_to_schedule", l.frame_to_schedule),
+        ];
+        for (field, p) in latencies {
+            if !p.is_ordered() {
+                return Err(TelemetryError::UnorderedPercentiles { field });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for Telemetry {
+    fn default() -> Self {
+        Self::new()
+    }
+}

@@ -1,0 +1,3 @@
+//! Helpers shared by the allocation tests.
+
+pub mod counting_allocator;

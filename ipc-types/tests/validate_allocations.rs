@@ -1,0 +1,68 @@
+//! validate() runs on the RT solver thread: it must not allocate, whether
+//! the message is accepted or rejected (errors are `Copy`, names `'static`).
+//! The only test in this binary, so nothing else allocates while counting.
+
+mod common;
+
+use std::hint::black_box;
+
+use common::counting_allocator::count;
+use ipc_types::{
+    ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, PartState, PartStates, Schedule, ScheduleSlot,
+    Telemetry, ValidationLimits,
+};
+
+#[test]
+fn validate_never_allocates() {
+    let limits = ValidationLimits::new([1.0, 1.0], 1_000_000);
+
+    let (v, n) = count(|| black_box(vec![0u8; 32]));
+    drop(v);
+    assert_eq!(n, 1, "the counting allocator must see a known allocation");
+
+    let mut parts = PartStates::new();
+    let mut request = ForceRequest::new();
+    let mut explicit = ExplicitSchedule::new();
+    let mut schedule = Schedule::new();
+    for i in 0..PartStates::CAPACITY as u32 {
+        parts.push(PartState::new(i, 0, 0, [0.5, 0.5, 0.0], [0.0; 3])).expect("within capacity");
+        let entry = if i < 16 {
+            ForceEntry::force_and_curl(i, [0.1, 0.1], 0.1)
+        } else {
+            ForceEntry::force(i, [0.1, 0.1])
+        };
+        request.push(entry).expect("within capacity");
+    }
+    for j in 0..ExplicitSchedule::CAPACITY as u32 {
+        explicit.push(ExplicitSlot::new(j, 0.5)).expect("within capacity");
+        schedule.push(ScheduleSlot::new(j, [2.0, 2.0], -0.5)).expect("within capacity");
+    }
+    let telemetry = Telemetry::new();
+
+    let (ok, n) = count(|| {
+        black_box(parts.validate(&limits)).is_ok()
+            && black_box(request.validate(&limits)).is_ok()
+            && black_box(explicit.validate(&limits)).is_ok()
+            && black_box(schedule.validate(&limits)).is_ok()
+            && black_box(telemetry.validate(&limits)).is_ok()
+    });
+    assert!(ok, "full-capacity messages must be valid");
+    assert_eq!(n, 0, "validate() of valid messages allocated");
+
+    // Rejected at the last entry: the whole message is walked, then an error built.
+    parts.parts[PartStates::CAPACITY - 1].id = 0;
+    request.entries[PartStates::CAPACITY - 1].fx = f64::NAN;
+    explicit.slots[ExplicitSchedule::CAPACITY - 1].k = 2.0;
+    schedule.saturated = 7;
+    let mut bad_telemetry = telemetry;
+    bad_telemetry.latency.solver.p50_ns = 1;
+    let (all_rejected, n) = count(|| {
+        black_box(parts.validate(&limits)).is_err()
+            && black_box(request.validate(&limits)).is_err()
+            && black_box(explicit.validate(&limits)).is_err()
+            && black_box(schedule.validate(&limits)).is_err()
+            && black_box(bad_telemetry.validate(&limits)).is_err()
+    });
+    assert!(all_rejected, "corrupted messages must be rejected");
+    assert_eq!(n, 0, "validate() of rejected messages allocated");
+}

@@ -1,0 +1,392 @@
+//! Each validate() accepts a good message and rejects every kind of bad one
+//! with the error naming the right field and index.
+
+use ipc_types::{
+    CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, ForceEntry,
+    ForceRequest, ForceRequestError, MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION, PartState,
+    PartStates, PartStatesError, Schedule, ScheduleError, ScheduleSlot, Telemetry, TelemetryError,
+    ValidationLimits,
+};
+
+const NOW: u64 = 5_000_000_000;
+
+fn limits() -> ValidationLimits {
+    let mut l = ValidationLimits::new([0.3, 0.2], NOW);
+    l.center_count = 9;
+    l.k_max = 0.95;
+    l.part_class_count = 4;
+    l.friction_class_count = 2;
+    l
+}
+
+fn good_part_states() -> PartStates {
+    let mut m = PartStates::new();
+    m.seq = 7;
+    m.stamp_ns = NOW - 2_000_000;
+    for i in 0..5u32 {
+        let x = -0.3 + 0.15 * f64::from(i); // reaches the +0.3 edge exactly
+        m.push(PartState::new(10 + i, i % 4, i % 2, [x, -0.2, 0.1], [0.01, -0.02, 0.5]))
+            .expect("within capacity");
+    }
+    m
+}
+
+fn good_force_request() -> ForceRequest {
+    let mut m = ForceRequest::new();
+    m.seq = 3;
+    m.stamp_ns = NOW;
+    m.deadline_ns = NOW + 50_000_000;
+    m.push(ForceEntry::force(10, [0.01, -0.02])).expect("within capacity");
+    m.push(ForceEntry::curl(11, -0.05)).expect("within capacity");
+    m.push(ForceEntry::force_and_curl(12, [0.0, 0.0], 0.1)).expect("within capacity");
+    m
+}
+
+fn good_explicit_schedule() -> ExplicitSchedule {
+    let mut m = ExplicitSchedule::new();
+    m.stamp_ns = NOW;
+    for j in 0..9u32 {
+        m.push(ExplicitSlot::new(j, 0.95 - 0.2 * f64::from(j))).expect("within capacity");
+    }
+    m
+}
+
+fn good_schedule() -> Schedule {
+    let mut m = Schedule::new();
+    m.stamp_ns = NOW;
+    m.cycle = 42;
+    m.solve_time_ns = 12_000;
+    m.residual = 1e-12;
+    m.condition = f64::INFINITY; // rank-deficient solves report +∞
+    m.rank = 3;
+    m.saturated = 1;
+    for j in 0..4u32 {
+        m.push(ScheduleSlot::new(j, [2.0, -1.0], -0.95 + 0.5 * f64::from(j))).expect("within capacity");
+    }
+    m
+}
+
+fn good_telemetry() -> Telemetry {
+    let mut m = Telemetry::new();
+    m.stamp_ns = NOW;
+    m.set_core_state(CoreState::Hold);
+    m.plate_theta = -1e-3;
+    m.parts_age_ms = 12.5;
+    m.counters.ticks = 1000;
+    m.latency.solver.samples = 10;
+    m.latency.solver.p50_ns = 5;
+    m.latency.solver.p99_ns = 5;
+    m.latency.solver.p999_ns = 9;
+    m.latency.solver.max_ns = 9;
+    m
+}
+
+#[test]
+fn good_messages_are_accepted() {
+    let l = limits();
+    assert_eq!(good_part_states().validate(&l), Ok(()));
+    assert_eq!(good_force_request().validate(&l), Ok(()));
+    assert_eq!(good_explicit_schedule().validate(&l), Ok(()));
+    assert_eq!(good_schedule().validate(&l), Ok(()));
+    assert_eq!(good_telemetry().validate(&l), Ok(()));
+    // Empty messages are fine where "nothing" is meaningful.
+    assert_eq!(PartStates::new().validate(&l), Ok(()));
+    assert_eq!(ForceRequest::new().validate(&l), Ok(()));
+    assert_eq!(Telemetry::new().validate(&l), Ok(()));
+}
+
+#[test]
+fn wrong_version_is_rejected_everywhere() {
+    let l = limits();
+    let bad = PROTOCOL_VERSION + 1;
+    let mut p = good_part_states();
+    p.protocol_version = bad;
+    assert_eq!(p.validate(&l), Err(PartStatesError::WrongProtocolVersion { found: bad }));
+    let mut f = good_force_request();
+    f.protocol_version = 0;
+    assert_eq!(f.validate(&l), Err(ForceRequestError::WrongProtocolVersion { found: 0 }));
+    let mut e = good_explicit_schedule();
+    e.protocol_version = bad;
+    assert_eq!(e.validate(&l), Err(ExplicitScheduleError::WrongProtocolVersion { found: bad }));
+    let mut s = good_schedule();
+    s.protocol_version = bad;
+    assert_eq!(s.validate(&l), Err(ScheduleError::WrongProtocolVersion { found: bad }));
+    let mut t = good_telemetry();
+    t.protocol_version = bad;
+    assert_eq!(t.validate(&l), Err(TelemetryError::WrongProtocolVersion { found: bad }));
+}
+
+#[test]
+fn count_beyond_capacity_is_rejected_and_accessors_clamp() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.count = MAX_PARTS as u32 + 1;
+    assert_eq!(p.validate(&l), Err(PartStatesError::CountExceedsCapacity { count: MAX_PARTS as u32 + 1 }));
+    p.count = u32::MAX;
+    assert_eq!(p.parts().len(), MAX_PARTS);
+    assert_eq!(p.push(PartState::ZERO), Err(CapacityError::Full { capacity: MAX_PARTS }));
+
+    let mut f = good_force_request();
+    f.count = u32::MAX;
+    assert_eq!(f.validate(&l), Err(ForceRequestError::CountExceedsCapacity { count: u32::MAX }));
+    assert_eq!(f.entries().len(), MAX_PARTS);
+    assert_eq!(f.entries_mut().len(), MAX_PARTS);
+
+    let mut e = good_explicit_schedule();
+    e.count = MAX_SLOTS as u32 + 1;
+    assert_eq!(
+        e.validate(&l),
+        Err(ExplicitScheduleError::CountExceedsCapacity { count: MAX_SLOTS as u32 + 1 })
+    );
+    assert_eq!(e.slots().len(), MAX_SLOTS);
+
+    let mut s = good_schedule();
+    s.count = 1 << 31;
+    assert_eq!(s.validate(&l), Err(ScheduleError::CountExceedsCapacity { count: 1 << 31 }));
+    assert_eq!(s.slots().len(), MAX_SLOTS);
+}
+
+#[test]
+fn exactly_full_messages_are_accepted() {
+    let l = limits();
+    let mut p = PartStates::new();
+    for i in 0..MAX_PARTS as u32 {
+        p.push(PartState::new(i, 0, 0, [0.0; 3], [0.0; 3])).expect("within capacity");
+    }
+    assert_eq!(p.push(PartState::ZERO), Err(CapacityError::Full { capacity: MAX_PARTS }));
+    assert_eq!(p.validate(&l), Ok(()));
+
+    let mut e = ExplicitSchedule::new();
+    for j in 0..MAX_SLOTS as u32 {
+        e.push(ExplicitSlot::new(j % 9, 0.0)).expect("within capacity");
+    }
+    assert_eq!(e.push(ExplicitSlot::ZERO), Err(CapacityError::Full { capacity: MAX_SLOTS }));
+    assert_eq!(e.validate(&l), Ok(()));
+}
+
+#[test]
+fn nan_and_inf_are_rejected_naming_the_field() {
+    let l = limits();
+    for (field, value) in [("x", f64::NAN), ("theta", f64::INFINITY), ("omega", f64::NEG_INFINITY)] {
+        let mut p = good_part_states();
+        let part = &mut p.parts_mut()[3];
+        match field {
+            "x" => part.x = value,
+            "theta" => part.theta = value,
+            _ => part.omega = value,
+        }
+        assert_eq!(p.validate(&l), Err(PartStatesError::NonFinite { index: 3, field }));
+    }
+    let mut f = good_force_request();
+    f.entries_mut()[1].fy = f64::NAN; // checked even though only the curl is requested
+    assert_eq!(f.validate(&l), Err(ForceRequestError::NonFinite { index: 1, field: "fy" }));
+    let mut f = good_force_request();
+    f.entries_mut()[2].curl = f64::INFINITY;
+    assert_eq!(f.validate(&l), Err(ForceRequestError::NonFinite { index: 2, field: "curl" }));
+
+    let mut e = good_explicit_schedule();
+    e.slots_mut()[8].k = f64::NAN;
+    assert_eq!(e.validate(&l), Err(ExplicitScheduleError::NonFinite { index: 8, field: "k" }));
+
+    let mut s = good_schedule();
+    s.slots_mut()[1].y = f64::NAN;
+    assert_eq!(s.validate(&l), Err(ScheduleError::NonFinite { index: 1, field: "y" }));
+    let mut s = good_schedule();
+    s.residual = f64::INFINITY;
+    assert_eq!(s.validate(&l), Err(ScheduleError::InvalidResidual));
+    let mut s = good_schedule();
+    s.condition = f64::NAN;
+    assert_eq!(s.validate(&l), Err(ScheduleError::InvalidCondition));
+
+    let mut t = good_telemetry();
+    t.plate_y = f64::NAN;
+    assert_eq!(t.validate(&l), Err(TelemetryError::NonFinite { field: "plate_y" }));
+    let mut t = good_telemetry();
+    t.request_age_ms = f64::INFINITY;
+    assert_eq!(t.validate(&l), Err(TelemetryError::NonFinite { field: "request_age_ms" }));
+}
+
+#[test]
+fn entries_beyond_count_are_ignored() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.parts[MAX_PARTS - 1].x = f64::NAN;
+    p.parts[MAX_PARTS - 1].id = 10; // would duplicate parts[0]
+    assert_eq!(p.validate(&l), Ok(()));
+}
+
+#[test]
+fn off_plate_positions_are_rejected() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.parts_mut()[2].x = 0.3 + 1e-9;
+    assert_eq!(p.validate(&l), Err(PartStatesError::OffPlate { index: 2, field: "x" }));
+    let mut p = good_part_states();
+    p.parts_mut()[4].y = -0.2 - 1e-9;
+    assert_eq!(p.validate(&l), Err(PartStatesError::OffPlate { index: 4, field: "y" }));
+    // A NaN bound rejects instead of accepting everything.
+    let mut nan_limits = l;
+    nan_limits.plate_half_extent_m[0] = f64::NAN;
+    assert_eq!(
+        good_part_states().validate(&nan_limits),
+        Err(PartStatesError::OffPlate { index: 0, field: "x" })
+    );
+}
+
+#[test]
+fn duplicate_ids_are_rejected() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.parts_mut()[4].id = p.parts[1].id;
+    assert_eq!(p.validate(&l), Err(PartStatesError::DuplicateId { index: 4, first_index: 1, id: 11 }));
+    let mut f = good_force_request();
+    f.entries_mut()[2].part_id = 10;
+    assert_eq!(
+        f.validate(&l),
+        Err(ForceRequestError::DuplicatePartId { index: 2, first_index: 0, part_id: 10 })
+    );
+}
+
+#[test]
+fn future_stamps_are_rejected_within_skew_accepted() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.stamp_ns = NOW + l.max_future_skew_ns;
+    assert_eq!(p.validate(&l), Ok(()));
+    p.stamp_ns += 1;
+    assert_eq!(p.validate(&l), Err(PartStatesError::StampFromFuture { stamp_ns: p.stamp_ns, now_ns: NOW }));
+
+    let mut f = good_force_request();
+    f.stamp_ns = u64::MAX;
+    f.deadline_ns = u64::MAX;
+    assert!(matches!(f.validate(&l), Err(ForceRequestError::StampFromFuture { .. })));
+    let mut e = good_explicit_schedule();
+    e.stamp_ns = NOW + 10_000_000;
+    assert!(matches!(e.validate(&l), Err(ExplicitScheduleError::StampFromFuture { .. })));
+    let mut s = good_schedule();
+    s.stamp_ns = NOW + 10_000_000;
+    assert!(matches!(s.validate(&l), Err(ScheduleError::StampFromFuture { .. })));
+    let mut t = good_telemetry();
+    t.stamp_ns = NOW + 10_000_000;
+    assert!(matches!(t.validate(&l), Err(TelemetryError::StampFromFuture { .. })));
+    // now_ns near u64::MAX must not overflow into "everything is future".
+    let mut late = l;
+    late.now_ns = u64::MAX - 1;
+    assert_eq!(good_part_states().validate(&late), Ok(()));
+}
+
+#[test]
+fn unknown_classes_are_rejected() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.parts_mut()[0].class = 4;
+    assert_eq!(p.validate(&l), Err(PartStatesError::UnknownClass { index: 0, class: 4 }));
+    let mut p = good_part_states();
+    p.parts_mut()[1].friction_class = 7;
+    assert_eq!(p.validate(&l), Err(PartStatesError::UnknownFrictionClass { index: 1, friction_class: 7 }));
+}
+
+#[test]
+fn force_request_flags_curls_and_deadline() {
+    let l = limits();
+    let mut f = good_force_request();
+    f.entries_mut()[0].force_flag = 2;
+    assert_eq!(f.validate(&l), Err(ForceRequestError::NotAFlag { index: 0, field: "force_flag", value: 2 }));
+    let mut f = good_force_request();
+    f.entries_mut()[1].curl_flag = u32::MAX;
+    assert_eq!(
+        f.validate(&l),
+        Err(ForceRequestError::NotAFlag { index: 1, field: "curl_flag", value: u32::MAX })
+    );
+    let mut f = good_force_request();
+    f.entries_mut()[1].curl_flag = 0;
+    assert_eq!(f.validate(&l), Err(ForceRequestError::ConstrainsNothing { index: 1 }));
+    let mut f = good_force_request();
+    f.deadline_ns = f.stamp_ns - 1;
+    assert!(matches!(f.validate(&l), Err(ForceRequestError::DeadlineBeforeStamp { .. })));
+
+    // push refuses the 17th curl; a hand-written 17th curl fails validation.
+    let mut f = ForceRequest::new();
+    for id in 0..MAX_CURLS as u32 {
+        f.push(ForceEntry::curl(id, 0.01)).expect("within capacity");
+    }
+    assert_eq!(f.curl_count(), MAX_CURLS);
+    assert_eq!(f.push(ForceEntry::curl(99, 0.01)), Err(CapacityError::CurlsFull { capacity: MAX_CURLS }));
+    f.push(ForceEntry::force(99, [0.0, 0.0])).expect("within capacity");
+    assert_eq!(f.validate(&l), Ok(()));
+    f.entries_mut()[MAX_CURLS].curl_flag = 1;
+    assert_eq!(f.validate(&l), Err(ForceRequestError::TooManyCurls { index: MAX_CURLS }));
+
+    let e = f.entries()[0];
+    assert_eq!((e.requested_force(), e.requested_curl()), (None, Some(0.01)));
+}
+
+#[test]
+fn schedules_check_centers_k_and_flags() {
+    let l = limits();
+    let mut e = good_explicit_schedule();
+    e.slots_mut()[3].center_index = 9;
+    assert_eq!(e.validate(&l), Err(ExplicitScheduleError::UnknownCenter { index: 3, center_index: 9 }));
+    let mut e = good_explicit_schedule();
+    e.slots_mut()[5].k = -0.951;
+    assert_eq!(e.validate(&l), Err(ExplicitScheduleError::KOutOfRange { index: 5 }));
+    let mut loose = l;
+    loose.k_max = 7.0; // never above the physical bound 1
+    let mut e = good_explicit_schedule();
+    e.slots_mut()[0].k = 1.01;
+    assert_eq!(e.validate(&loose), Err(ExplicitScheduleError::KOutOfRange { index: 0 }));
+    assert_eq!(ExplicitSchedule::new().validate(&l), Err(ExplicitScheduleError::Empty));
+
+    let mut s = good_schedule();
+    s.saturated = 2;
+    assert_eq!(s.validate(&l), Err(ScheduleError::NotAFlag { field: "saturated", value: 2 }));
+    let mut s = good_schedule();
+    s.residual = -1e-9;
+    assert_eq!(s.validate(&l), Err(ScheduleError::InvalidResidual));
+    let mut s = good_schedule();
+    s.rank = MAX_SLOTS as u32 + 1;
+    assert_eq!(s.validate(&l), Err(ScheduleError::RankExceedsCapacity { rank: MAX_SLOTS as u32 + 1 }));
+    let mut s = good_schedule();
+    s.slots_mut()[2].center_index = 100;
+    assert_eq!(s.validate(&l), Err(ScheduleError::UnknownCenter { index: 2, center_index: 100 }));
+    let mut s = good_schedule();
+    s.slots_mut()[0].k = -0.96;
+    assert_eq!(s.validate(&l), Err(ScheduleError::KOutOfRange { index: 0 }));
+    assert!(good_schedule().is_saturated());
+}
+
+#[test]
+fn telemetry_state_ages_and_percentiles() {
+    let l = limits();
+    let mut t = good_telemetry();
+    assert_eq!(t.core_state(), Some(CoreState::Hold));
+    t.state = 4;
+    assert_eq!(t.validate(&l), Err(TelemetryError::UnknownState { code: 4 }));
+    assert_eq!(t.core_state(), None);
+    let mut t = good_telemetry();
+    t.parts_age_ms = -0.5;
+    assert_eq!(t.validate(&l), Err(TelemetryError::NegativeAge { field: "parts_age_ms" }));
+    let mut t = good_telemetry();
+    t.latency.frame_to_schedule.p99_ns = 10;
+    assert_eq!(t.validate(&l), Err(TelemetryError::UnorderedPercentiles { field: "frame_to_schedule" }));
+    for state in [CoreState::Idle, CoreState::Running, CoreState::Hold, CoreState::Fault] {
+        assert_eq!(CoreState::from_code(state.code()), Some(state));
+    }
+    assert_eq!(CoreState::Running.to_string(), "running");
+}
+
+#[test]
+fn errors_display_the_offending_field() {
+    let l = limits();
+    let mut p = good_part_states();
+    p.parts_mut()[3].vy = f64::NAN;
+    let msg = p.validate(&l).expect_err("must be rejected").to_string();
+    assert_eq!(msg, "part_states.parts[3].vy is not finite");
+    let mut f = good_force_request();
+    f.entries_mut()[2].part_id = 11;
+    let msg = f.validate(&l).expect_err("must be rejected").to_string();
+    assert_eq!(msg, "force_request.entries[2].part_id 11 duplicates entries[1]");
+    // Errors are usable as `dyn Error`.
+    let boxed: Box<dyn std::error::Error> = Box::new(ScheduleError::InvalidCondition);
+    assert!(boxed.to_string().contains("schedule.condition"));
+}
