@@ -1,0 +1,40 @@
+//! The motor loop without wall-clock time: read → update (sample the motion,
+//! kinematics) → write → advance, one iteration per tick.
+
+use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState, WriteError};
+use rt_core::motion::{PlateMotion, Rig};
+
+/// Play `ticks` ticks (the driver is assumed to sit at motion tick `start`) of `motion` starting at motion tick `start`. Returns
+/// the number of rejected writes (always 0 for finite motions) or stops at
+/// the first read error.
+pub fn play<D: PlateDriver>(
+    driver: &mut D,
+    rig: &Rig,
+    motion: &PlateMotion,
+    start: u64,
+    ticks: u64,
+    state: &mut PlateState,
+) -> Result<u64, rt_core::driver::ReadError> {
+    let mut cmd = ActuatorCommand::HOME;
+    let mut rejected = 0;
+    let h = driver.tick_period();
+    let mut now = motion.sample_tick(start);
+    for t in start..start + ticks {
+        driver.read(state)?;
+        // Setpoint for the end of this tick; the feed-forward acceleration
+        // is the tick average, which is what a zero-order-held force gives.
+        let mut next = motion.sample_tick(t + 1);
+        let end_velocity = next.velocity;
+        next.acceleration.x = (end_velocity.x - now.velocity.x) / h;
+        next.acceleration.y = (end_velocity.y - now.velocity.y) / h;
+        next.acceleration.theta = (end_velocity.theta - now.velocity.theta) / h;
+        rig.command(&next, &mut cmd);
+        now = next;
+        if let Err(WriteError::NonFinite { .. } | WriteError::Fault) = driver.write(&cmd) {
+            rejected += 1;
+        }
+        driver.advance();
+    }
+    driver.read(state)?;
+    Ok(rejected)
+}

@@ -1,0 +1,127 @@
+//! Simulator configuration.
+
+use core::fmt;
+
+use rt_core::motion::RigParams;
+
+/// How the plate follows actuator commands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ActuatorModel {
+    /// The plate reaches the commanded pose and velocity at the end of each
+    /// tick, with constant acceleration during the tick.
+    Ideal,
+    /// A position servo per plate DoF (natural frequency `bandwidth_hz`,
+    /// damping ratio `damping`) plus the command's feed-forward forces, each
+    /// actuator force clamped to its limit; the plate is a rigid body.
+    SecondOrder { bandwidth_hz: f64, damping: f64 },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimConfig {
+    /// Driver tick rate (Hz); one `advance` = one tick.
+    pub tick_hz: f64,
+    /// Integration substeps per tick.
+    pub substeps: u32,
+    pub gravity: f64,
+    pub mu_static: f64,
+    pub mu_kinetic: f64,
+    pub actuator: ActuatorModel,
+    pub rig: RigParams,
+    /// Plate outline half-extent (m); the fence sits on this edge.
+    pub plate_half_extent: [f64; 2],
+    pub fence: bool,
+    /// Restitution of part–fence and part–part impacts.
+    pub fence_restitution: f64,
+    pub part_restitution: f64,
+    /// Part–part contact on/off (discs; polygons use their bounding circle).
+    pub collisions: bool,
+    /// Std of white noise added to each actuator force (N), seeded.
+    pub force_noise: f64,
+    pub seed: u64,
+}
+
+impl Default for SimConfig {
+    /// Paper values μ = 0.25 (kinetic), static a bit higher; the plate
+    /// servo at 1 kHz bandwidth with the motion's feed-forward.
+    fn default() -> Self {
+        Self {
+            tick_hz: 10_000.0,
+            substeps: 1,
+            gravity: 9.81,
+            mu_static: 0.3,
+            mu_kinetic: 0.25,
+            actuator: ActuatorModel::SecondOrder { bandwidth_hz: 1000.0, damping: 0.7 },
+            rig: RigParams::default(),
+            plate_half_extent: [1.0, 0.5],
+            fence: true,
+            fence_restitution: 0.3,
+            part_restitution: 0.5,
+            collisions: true,
+            force_noise: 0.0,
+            seed: 0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SimConfigError {
+    TickRate,
+    Substeps,
+    Gravity,
+    Friction,
+    Actuator,
+    PlateExtent,
+    Restitution,
+    Noise,
+}
+
+impl fmt::Display for SimConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::TickRate => "sim.tick_hz must be finite and positive",
+            Self::Substeps => "sim.substeps must be in 1..=64",
+            Self::Gravity => "sim.gravity must be finite and positive",
+            Self::Friction => "sim: need 0 < mu_kinetic <= mu_static, both finite",
+            Self::Actuator => "sim.actuator: bandwidth and damping must be finite and positive",
+            Self::PlateExtent => "sim.plate_half_extent must be finite and positive",
+            Self::Restitution => "sim: restitutions must be in [0, 1]",
+            Self::Noise => "sim.force_noise must be finite and >= 0",
+        })
+    }
+}
+
+impl core::error::Error for SimConfigError {}
+
+impl SimConfig {
+    pub fn validate(&self) -> Result<(), SimConfigError> {
+        let pos = |x: f64| x.is_finite() && x > 0.0;
+        if !pos(self.tick_hz) {
+            return Err(SimConfigError::TickRate);
+        }
+        if !(1..=64).contains(&self.substeps) {
+            return Err(SimConfigError::Substeps);
+        }
+        if !pos(self.gravity) {
+            return Err(SimConfigError::Gravity);
+        }
+        if !(pos(self.mu_kinetic) && self.mu_static.is_finite() && self.mu_static >= self.mu_kinetic) {
+            return Err(SimConfigError::Friction);
+        }
+        if let ActuatorModel::SecondOrder { bandwidth_hz, damping } = self.actuator {
+            if !(pos(bandwidth_hz) && pos(damping)) {
+                return Err(SimConfigError::Actuator);
+            }
+        }
+        if !(pos(self.plate_half_extent[0]) && pos(self.plate_half_extent[1])) {
+            return Err(SimConfigError::PlateExtent);
+        }
+        let unit = |x: f64| (0.0..=1.0).contains(&x);
+        if !(unit(self.fence_restitution) && unit(self.part_restitution)) {
+            return Err(SimConfigError::Restitution);
+        }
+        if !(self.force_noise.is_finite() && self.force_noise >= 0.0) {
+            return Err(SimConfigError::Noise);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,159 @@
+//! Coulomb stick–slip of one part over one (sub)step in which the plate's
+//! acceleration at the part is constant.
+//!
+//! State: the relative twist ξ = plate − part (linear velocity at the part's
+//! center, angular velocity). While sliding, dξ/dt = a − G(ξ) where a is the
+//! plate's twist acceleration at the part and G the kinetic friction
+//! (per unit mass, torque per unit inertia), which depends only on ξ's
+//! direction. The step is cut at the instants where ξ comes closest to zero
+//! along its current straight path (event location), so a reversal inside a
+//! step is placed exactly rather than smeared over the step; at relative rest
+//! the part sticks if the force it needs is inside the static limit surface
+//! (|F| ≤ μ_s·m·g for a point; an ellipse in (F, τ) for extended parts).
+//! No velocity regularisation: friction has full magnitude at any |ξ| > 0.
+
+use super::part::Body;
+
+/// Pieces per step before the remainder is taken with one midpoint piece.
+const MAX_PIECES: usize = 8;
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Coulomb {
+    /// μ_k·g and μ_s·g (m/s²).
+    pub kinetic: f64,
+    pub stat: f64,
+}
+
+#[inline]
+fn dot(b: &Body, x: [f64; 3], y: [f64; 3]) -> f64 {
+    x[0] * y[0] + x[1] * y[1] + b.rho2 * x[2] * y[2]
+}
+
+/// Kinetic friction on the part for relative twist `xi` (any scale).
+#[inline]
+fn kinetic(b: &Body, rot: (f64, f64), xi: [f64; 3], ck: f64) -> [f64; 3] {
+    if !b.extended {
+        let n2 = xi[0] * xi[0] + xi[1] * xi[1];
+        if n2 > 0.0 {
+            let s = ck / n2.sqrt();
+            return [s * xi[0], s * xi[1], 0.0];
+        }
+        return [0.0; 3];
+    }
+    let (sn, cs) = rot;
+    let mut f = [0.0; 3];
+    for c in 0..b.n_contacts {
+        let p = b.contacts[c];
+        let r = [cs * p[0] - sn * p[1], sn * p[0] + cs * p[1]];
+        let wx = xi[0] - xi[2] * r[1];
+        let wy = xi[1] + xi[2] * r[0];
+        let n2 = wx * wx + wy * wy;
+        if n2 > 0.0 {
+            let s = ck * b.weights[c] / n2.sqrt();
+            let (fx, fy) = (s * wx, s * wy);
+            f[0] += fx;
+            f[1] += fy;
+            f[2] += r[0] * fy - r[1] * fx;
+        }
+    }
+    f[2] /= b.rho2;
+    f
+}
+
+/// Can static friction supply the acceleration `a` (part moving with plate)?
+#[inline]
+fn sticks(b: &Body, a: [f64; 3], cs: f64) -> bool {
+    let lin2 = a[0] * a[0] + a[1] * a[1];
+    if !b.extended {
+        return lin2 <= cs * cs;
+    }
+    let t = b.rho2 * a[2] / (cs * b.torsion_lever);
+    lin2 / (cs * cs) + t * t <= 1.0
+}
+
+/// Part twist velocity and displacement over a piece of length `s` with
+/// constant acceleration `g`.
+#[inline]
+fn advance(vp: &mut [f64; 3], disp: &mut [f64; 3], g: [f64; 3], s: f64) {
+    for i in 0..3 {
+        disp[i] += vp[i] * s + 0.5 * g[i] * s * s;
+        vp[i] += g[i] * s;
+    }
+}
+
+/// Integrate one step of length `h`. `xi` is plate − part at the start,
+/// `vp` the part twist (updated), `a` the plate twist acceleration at the
+/// part. Returns the part displacement (x, y, θ). `stuck` is the stick state.
+#[inline]
+pub(crate) fn step(
+    b: &Body,
+    angle: f64,
+    mut xi: [f64; 3],
+    vp: &mut [f64; 3],
+    a: [f64; 3],
+    h: f64,
+    mu: Coulomb,
+    stuck: &mut bool,
+) -> [f64; 3] {
+    let rot = if b.extended { angle.sin_cos() } else { (0.0, 1.0) };
+    let ck = mu.kinetic;
+    let mut disp = [0.0; 3];
+    let mut rem = h;
+    let scale = dot(b, a, a).sqrt() + ck;
+    // Relative speeds below this count as relative rest.
+    let tol = 1e-9 * scale * h;
+    for piece in 0..MAX_PIECES {
+        if rem <= 0.0 {
+            break;
+        }
+        if *stuck {
+            if sticks(b, a, mu.stat) {
+                advance(vp, &mut disp, a, rem);
+                return disp;
+            }
+            *stuck = false;
+            xi = [0.0; 3];
+        }
+        let at_rest = dot(b, xi, xi) <= tol * tol;
+        if at_rest {
+            // Friction absorbs the residual; then stick or depart along a.
+            for i in 0..3 {
+                vp[i] += xi[i];
+            }
+            xi = [0.0; 3];
+            if sticks(b, a, mu.stat) {
+                *stuck = true;
+                continue;
+            }
+        }
+        let g = kinetic(b, rot, if at_rest { a } else { xi }, ck);
+        let bv = [a[0] - g[0], a[1] - g[1], a[2] - g[2]];
+        let bb = dot(b, bv, bv);
+        let s_star = if bb > 0.0 { -dot(b, xi, bv) / bb } else { f64::INFINITY };
+        if piece + 1 < MAX_PIECES && s_star > 1e-3 * h && s_star < rem {
+            // Closest approach to relative rest inside this step.
+            advance(vp, &mut disp, g, s_star);
+            for i in 0..3 {
+                xi[i] += bv[i] * s_star;
+            }
+            rem -= s_star;
+            if dot(b, xi, xi) <= (1e-6 * scale * h).powi(2) {
+                for i in 0..3 {
+                    vp[i] += xi[i];
+                }
+                xi = [0.0; 3];
+            }
+            continue;
+        }
+        // No approach to rest: midpoint direction for the rest of the step.
+        let xm = [xi[0] + 0.5 * bv[0] * rem, xi[1] + 0.5 * bv[1] * rem, xi[2] + 0.5 * bv[2] * rem];
+        let g2 = if dot(b, xm, xm) > tol * tol { kinetic(b, rot, xm, ck) } else { g };
+        advance(vp, &mut disp, g2, rem);
+        rem = 0.0;
+    }
+    if rem > 0.0 {
+        let g = if *stuck { a } else { kinetic(b, rot, if dot(b, xi, xi) > tol * tol { xi } else { a }, ck) };
+        advance(vp, &mut disp, g, rem);
+    }
+    disp
+}

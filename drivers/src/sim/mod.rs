@@ -1,0 +1,297 @@
+//! The embedded physics simulator: the default [`PlateDriver`].
+//!
+//! Fixed step (one tick = `substeps` substeps), deterministic (no wall
+//! clock, no hash maps, seeded noise from [`crate::rng::SplitMix64`]).
+//! Parts do not push the plate back (plate mass ≫ part mass). Everything is
+//! allocated in [`Simulator::new`]; `advance`, `read` and `write` allocate
+//! nothing.
+
+mod config;
+mod contact;
+mod friction;
+mod part;
+mod plate;
+
+use core::fmt;
+
+use rt_core::driver::{
+    ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError, apply_limits,
+};
+use rt_core::motion::{Pose, Rig, RigError, Twist};
+
+pub use config::{ActuatorModel, SimConfig, SimConfigError};
+pub use part::{DISC_CONTACTS, MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartState, Shape};
+
+use contact::Broadphase;
+use friction::Coulomb;
+use part::Body;
+use plate::{Plate, Target};
+
+use crate::rng::SplitMix64;
+
+/// Why a simulator could not be built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SimError {
+    Config(SimConfigError),
+    Rig(RigError),
+    Part { index: usize, error: PartError },
+    TooManyParts { given: usize, capacity: usize },
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Config(e) => write!(f, "{e}"),
+            Self::Rig(e) => write!(f, "{e}"),
+            Self::Part { index, error } => write!(f, "parts[{index}]: {error:?}"),
+            Self::TooManyParts { given, capacity } => write!(f, "parts: {given} given, capacity {capacity}"),
+        }
+    }
+}
+
+impl core::error::Error for SimError {}
+
+/// Most parts one simulator holds (pair indices are u16).
+pub const MAX_PARTS: usize = 1024;
+
+/// Event counters since construction.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SimCounters {
+    pub ticks: u64,
+    pub clamped: u64,
+    pub rejected: u64,
+    /// Substeps with an actuator force at its limit (second-order model).
+    pub force_saturated: u64,
+    pub fence_hits: u64,
+    pub collisions: u64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Simulator {
+    cfg: SimConfig,
+    rig: Rig,
+    limits: ActuatorLimits,
+    mu: Coulomb,
+    h: f64,
+    plate: Plate,
+    command: ActuatorCommand,
+    target: Target,
+    holding: bool,
+    bodies: Vec<Body>,
+    parts: Vec<PartState>,
+    broadphase: Broadphase,
+    rng: SplitMix64,
+    counters: SimCounters,
+}
+
+impl Simulator {
+    pub fn new(cfg: SimConfig, parts: &[PartSpec]) -> Result<Self, SimError> {
+        cfg.validate().map_err(SimError::Config)?;
+        let rig = Rig::new(cfg.rig).map_err(SimError::Rig)?;
+        if parts.len() > MAX_PARTS {
+            return Err(SimError::TooManyParts { given: parts.len(), capacity: MAX_PARTS });
+        }
+        let mut bodies = Vec::with_capacity(parts.len());
+        let mut states = Vec::with_capacity(parts.len());
+        for (index, spec) in parts.iter().enumerate() {
+            let (body, _) = Body::new(spec).map_err(|error| SimError::Part { index, error })?;
+            bodies.push(body);
+            states.push(PartState { position: spec.position, angle: spec.angle, ..PartState::default() });
+        }
+        let limits = ActuatorLimits::from_rig(&rig);
+        Ok(Self {
+            mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
+            h: 1.0 / cfg.tick_hz,
+            plate: Plate::default(),
+            command: ActuatorCommand::HOME,
+            target: Target::default(),
+            holding: false,
+            broadphase: Broadphase::with_capacity(parts.len()),
+            rng: SplitMix64::new(cfg.seed),
+            counters: SimCounters::default(),
+            bodies,
+            parts: states,
+            limits,
+            rig,
+            cfg,
+        })
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        &self.cfg
+    }
+
+    pub fn rig(&self) -> &Rig {
+        &self.rig
+    }
+
+    pub fn parts(&self) -> &[PartState] {
+        &self.parts
+    }
+
+    /// Mass of part `i` (None if out of range).
+    pub fn part_mass(&self, i: usize) -> Option<f64> {
+        self.bodies.get(i).map(|b| b.mass)
+    }
+
+    /// Moment of inertia of part `i` about its center (0 for points).
+    pub fn part_inertia(&self, i: usize) -> Option<f64> {
+        self.bodies.get(i).map(|b| b.mass * b.rho2)
+    }
+
+    /// Overwrite a part's state (e.g. to restart it at rest). Returns false
+    /// if `i` is out of range or the state is not finite.
+    pub fn set_part(&mut self, i: usize, state: PartState) -> bool {
+        let finite = state.position.iter().chain(&state.velocity).all(|v| v.is_finite())
+            && state.angle.is_finite()
+            && state.angular_velocity.is_finite();
+        match self.parts.get_mut(i) {
+            Some(p) if finite => {
+                *p = state;
+                self.broadphase.valid = false;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    pub fn plate_pose(&self) -> Pose {
+        self.plate.pose
+    }
+
+    pub fn plate_velocity(&self) -> Twist {
+        self.plate.vel
+    }
+
+    pub fn counters(&self) -> SimCounters {
+        SimCounters { force_saturated: self.plate.saturated, ..self.counters }
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.counters.ticks as f64 * self.h
+    }
+
+    /// One tick: `substeps` × (plate acceleration → friction on every part →
+    /// plate and parts integrate), then contacts and fence.
+    pub fn step(&mut self) {
+        let n = self.cfg.substeps;
+        let s = self.h / n as f64;
+        for sub in 0..n {
+            self.plate.plan_substep(
+                self.cfg.actuator,
+                &self.rig,
+                &self.target,
+                s,
+                n - sub,
+                sub as f64 / n as f64,
+                self.cfg.force_noise,
+                &mut self.rng,
+            );
+            let (pose, vel, acc) = (self.plate.pose, self.plate.vel, self.plate.acc);
+            for (body, p) in self.bodies.iter().zip(self.parts.iter_mut()) {
+                let vpl = vel.at(&pose, p.position);
+                // d/dt of the plate velocity seen along the part's path.
+                let (rx, ry) = (p.position[0] - pose.x, p.position[1] - pose.y);
+                let (ux, uy) = (p.velocity[0] - vel.x, p.velocity[1] - vel.y);
+                let a = [
+                    acc.x - acc.theta * ry - vel.theta * uy,
+                    acc.y + acc.theta * rx + vel.theta * ux,
+                    if body.extended { acc.theta } else { 0.0 },
+                ];
+                let wp = if body.extended { p.angular_velocity } else { 0.0 };
+                let xi = [
+                    vpl[0] - p.velocity[0],
+                    vpl[1] - p.velocity[1],
+                    if body.extended { vel.theta - wp } else { 0.0 },
+                ];
+                let mut vp = [p.velocity[0], p.velocity[1], wp];
+                let d = friction::step(body, p.angle, xi, &mut vp, a, s, self.mu, &mut p.stuck);
+                p.position[0] += d[0];
+                p.position[1] += d[1];
+                p.angle += d[2];
+                p.velocity = [vp[0], vp[1]];
+                p.angular_velocity = vp[2];
+            }
+            self.plate.integrate(s);
+        }
+        // The reference has reached this tick's setpoint.
+        self.target.prev_pose = self.target.pose;
+        self.target.prev_vel = self.target.vel;
+        if let ActuatorModel::Ideal = self.cfg.actuator {
+            // Land exactly on the command (keeps closed motions exactly closed).
+            self.plate.pose = self.target.pose;
+            self.plate.vel = self.target.vel;
+        }
+        if self.cfg.collisions && self.parts.len() > 1 {
+            self.counters.collisions += contact::collide(
+                &mut self.broadphase,
+                &self.bodies,
+                &mut self.parts,
+                self.cfg.part_restitution,
+            );
+        }
+        if self.cfg.fence {
+            for (body, p) in self.bodies.iter().zip(self.parts.iter_mut()) {
+                let hit = contact::fence(
+                    body,
+                    p,
+                    &self.plate.pose,
+                    &self.plate.vel,
+                    self.cfg.plate_half_extent,
+                    self.cfg.fence_restitution,
+                );
+                self.counters.fence_hits += hit as u64;
+            }
+        }
+        self.counters.ticks += 1;
+    }
+}
+
+impl PlateDriver for Simulator {
+    fn limits(&self) -> ActuatorLimits {
+        self.limits
+    }
+
+    fn tick_period(&self) -> f64 {
+        self.h
+    }
+
+    fn read(&mut self, state: &mut PlateState) -> Result<(), ReadError> {
+        state.tick = self.counters.ticks;
+        state.time = self.time();
+        state.pose = self.plate.pose;
+        state.velocity = self.plate.vel;
+        self.rig.actuator_positions(&self.plate.pose, &mut state.actuator_position);
+        state.actuator_force = self.plate.force;
+        state.clamped = self.counters.clamped;
+        state.rejected = self.counters.rejected;
+        state.holding = self.holding;
+        Ok(())
+    }
+
+    fn write(&mut self, command: &ActuatorCommand) -> Result<(), WriteError> {
+        match apply_limits(&self.limits, command, &mut self.command) {
+            Ok(clamped) => {
+                self.counters.clamped += clamped as u64;
+                self.target = Target::from_command(&self.rig, &self.command, &self.target);
+                self.holding = false;
+                Ok(())
+            }
+            Err(e) => {
+                self.counters.rejected += 1;
+                Err(e)
+            }
+        }
+    }
+
+    fn hold(&mut self) {
+        self.command = ActuatorCommand::HOME;
+        self.target = Target::from_command(&self.rig, &ActuatorCommand::HOME, &self.target);
+        self.holding = true;
+    }
+
+    fn advance(&mut self) {
+        self.step();
+    }
+}

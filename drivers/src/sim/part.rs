@@ -1,0 +1,177 @@
+//! Parts: shapes, their contact patches (points with pressure weights) and
+//! their dynamic state.
+
+use core::f64::consts::{FRAC_1_SQRT_2, TAU};
+
+/// Most vertices of a polygon part.
+pub const MAX_POLYGON_VERTICES: usize = 8;
+/// Most contact points of one part (a polygon uses 2 per vertex).
+pub const MAX_CONTACTS: usize = 2 * MAX_POLYGON_VERTICES;
+/// Contact points of a disc.
+pub const DISC_CONTACTS: usize = 6;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// A point mass; `radius` only matters for the fence and collisions.
+    Point { radius: f64 },
+    /// A uniform disc: pressure on a ring of 6 points at a/√2, which has
+    /// the disc's second moment a²/4 (so the friction torque of a linear
+    /// field, τ = curl·a²/4, is exact; max spin-friction torque is
+    /// 0.707·μmga against 0.667·μmga for a true uniform disc).
+    Disc { radius: f64 },
+    /// A uniform convex polygon, vertices counter-clockwise about any origin
+    /// (re-centered on the centroid). Pressure by the edge-midpoint rule on
+    /// the fan from the centroid (exact second moment).
+    Polygon { vertices: [[f64; 2]; MAX_POLYGON_VERTICES], count: usize },
+}
+
+/// A part to put on the plate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PartSpec {
+    pub shape: Shape,
+    pub mass: f64,
+    /// World position of the center of mass and orientation.
+    pub position: [f64; 2],
+    pub angle: f64,
+}
+
+/// Dynamic state of a part (world frame).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PartState {
+    pub position: [f64; 2],
+    pub angle: f64,
+    pub velocity: [f64; 2],
+    pub angular_velocity: f64,
+    /// True while the part sticks to the plate.
+    pub stuck: bool,
+}
+
+/// Mass properties and contact patch, in the part's body frame.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Body {
+    pub mass: f64,
+    /// I/m (m²); 0 for a point (no rotational dynamics).
+    pub rho2: f64,
+    pub contacts: [[f64; 2]; MAX_CONTACTS],
+    pub weights: [f64; MAX_CONTACTS],
+    pub n_contacts: usize,
+    /// Σ w_c |ρ_c|: lever of the maximum spin-friction torque.
+    pub torsion_lever: f64,
+    /// Bounding radius (fence, collisions).
+    pub radius: f64,
+    pub extended: bool,
+}
+
+/// Why a part was refused (index in the list given).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartError {
+    Mass,
+    Position,
+    Radius,
+    /// Fewer than 3 or more than MAX vertices, non-finite, not convex CCW.
+    Polygon,
+}
+
+impl Body {
+    /// Returns the body and the centroid offset of a polygon's input origin.
+    pub fn new(spec: &PartSpec) -> Result<(Body, [f64; 2]), PartError> {
+        if !(spec.mass.is_finite() && spec.mass > 0.0) {
+            return Err(PartError::Mass);
+        }
+        if !(spec.position.iter().all(|v| v.is_finite()) && spec.angle.is_finite()) {
+            return Err(PartError::Position);
+        }
+        let mut b = Body {
+            mass: spec.mass,
+            rho2: 0.0,
+            contacts: [[0.0; 2]; MAX_CONTACTS],
+            weights: [0.0; MAX_CONTACTS],
+            n_contacts: 1,
+            torsion_lever: 0.0,
+            radius: 0.0,
+            extended: false,
+        };
+        b.weights[0] = 1.0;
+        let ok_r = |r: f64| r.is_finite() && r >= 0.0;
+        match spec.shape {
+            Shape::Point { radius } => {
+                if !ok_r(radius) {
+                    return Err(PartError::Radius);
+                }
+                b.radius = radius;
+                Ok((b, [0.0; 2]))
+            }
+            Shape::Disc { radius } => {
+                if !(ok_r(radius) && radius > 0.0) {
+                    return Err(PartError::Radius);
+                }
+                let rr = radius * FRAC_1_SQRT_2;
+                for c in 0..DISC_CONTACTS {
+                    let a = TAU * c as f64 / DISC_CONTACTS as f64;
+                    b.contacts[c] = [rr * a.cos(), rr * a.sin()];
+                    b.weights[c] = 1.0 / DISC_CONTACTS as f64;
+                }
+                b.n_contacts = DISC_CONTACTS;
+                b.rho2 = 0.5 * radius * radius;
+                b.torsion_lever = rr;
+                b.radius = radius;
+                b.extended = true;
+                Ok((b, [0.0; 2]))
+            }
+            Shape::Polygon { vertices, count } => polygon(b, &vertices, count),
+        }
+    }
+}
+
+fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn polygon(
+    mut b: Body,
+    v: &[[f64; 2]; MAX_POLYGON_VERTICES],
+    n: usize,
+) -> Result<(Body, [f64; 2]), PartError> {
+    if !(3..=MAX_POLYGON_VERTICES).contains(&n) || !v[..n].iter().flatten().all(|x| x.is_finite()) {
+        return Err(PartError::Polygon);
+    }
+    // Centroid by the shoelace formula.
+    let (mut area2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (p, q) = (v[i], v[(i + 1) % n]);
+        let c = cross(p, q);
+        area2 += c;
+        cx += (p[0] + q[0]) * c;
+        cy += (p[1] + q[1]) * c;
+    }
+    if !(area2 > 0.0) {
+        return Err(PartError::Polygon);
+    }
+    let cen = [cx / (3.0 * area2), cy / (3.0 * area2)];
+    let rel: [[f64; 2]; MAX_POLYGON_VERTICES] =
+        core::array::from_fn(|i| [v[i][0] - cen[0], v[i][1] - cen[1]]);
+    let total = 0.5 * area2;
+    let (mut j, mut rmax) = (0.0, 0.0f64);
+    for i in 0..n {
+        let (p, q, r) = (rel[i], rel[(i + 1) % n], rel[(i + 2) % n]);
+        if cross([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]) <= 0.0 {
+            return Err(PartError::Polygon);
+        }
+        let a = 0.5 * cross(p, q) / total; // fan triangle weight
+        // Edge-midpoint rule on triangle (centroid, p, q).
+        b.contacts[2 * i] = [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])];
+        b.weights[2 * i] = a / 3.0;
+        b.contacts[2 * i + 1] = [0.5 * q[0], 0.5 * q[1]];
+        let a_next = 0.5 * cross(q, r) / total;
+        b.weights[2 * i + 1] = (a + a_next) / 3.0;
+        j += a * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1] + p[0] * q[0] + p[1] * q[1]) / 6.0;
+        rmax = rmax.max(p[0].hypot(p[1]));
+    }
+    b.n_contacts = 2 * n;
+    b.rho2 = j;
+    b.torsion_lever =
+        (0..b.n_contacts).map(|c| b.weights[c] * b.contacts[c][0].hypot(b.contacts[c][1])).sum();
+    b.radius = rmax;
+    b.extended = true;
+    Ok((b, cen))
+}

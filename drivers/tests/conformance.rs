@@ -1,0 +1,36 @@
+//! The conformance suite, instantiated for every driver in this crate.
+
+use drivers::conformance;
+use drivers::{ActuatorModel, IdealDriver, PartSpec, Shape, SimConfig, Simulator};
+use rt_core::motion::RigParams;
+
+fn ideal() -> IdealDriver {
+    IdealDriver::new(RigParams::default(), 10_000.0).expect("default rig")
+}
+
+fn sim(model: ActuatorModel) -> impl Fn() -> Simulator {
+    move || {
+        let cfg = SimConfig { actuator: model, ..SimConfig::default() };
+        let parts = [
+            PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 },
+            PartSpec { shape: Shape::Disc { radius: 0.05 }, mass: 0.04, position: [-0.5, 0.1], angle: 0.0 },
+        ];
+        Simulator::new(cfg, &parts).expect("default sim")
+    }
+}
+
+#[test]
+fn ideal_mock_conforms() {
+    conformance::run_all(ideal, 0, 1e-12);
+}
+
+#[test]
+fn simulator_ideal_actuators_conforms() {
+    conformance::run_all(sim(ActuatorModel::Ideal), 0, 1e-12);
+}
+
+#[test]
+fn simulator_second_order_conforms() {
+    // 1 kHz servo: settles in well under 200 ticks; closed to 1 µm.
+    conformance::run_all(sim(SimConfig::default().actuator), 200, 1e-6);
+}

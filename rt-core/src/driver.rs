@@ -1,1 +1,0 @@
-//! Driver trait: see issue 3 (owned by the motion/simulator work).

@@ -1,0 +1,116 @@
+//! The driver boundary, ros2_control style: each motor tick is
+//! read → update → write. A real rig driver and the simulator implement the
+//! same [`PlateDriver`]; the conformance suite in `drivers::conformance`
+//! checks any implementation.
+//!
+//! Limit policy (shared by every driver through [`apply_limits`]): a command
+//! with a non-finite entry is rejected and the previous command stays in
+//! force; finite entries beyond a stroke, velocity or force limit are clamped
+//! to the limit and counted in [`PlateState::clamped`]. So no schedule can
+//! drive an actuator past its limits, and clamping is never silent.
+
+mod limits;
+
+pub use crate::motion::{MAX_ACTUATORS, Pose, Twist};
+pub use limits::{ActuatorLimits, apply_limits};
+
+use core::fmt;
+
+/// One command per actuator (unused entries are 0). Positions are strokes
+/// (m), velocities (m/s) are feed-forward, forces (N) are feed-forward.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ActuatorCommand {
+    pub position: [f64; MAX_ACTUATORS],
+    pub velocity: [f64; MAX_ACTUATORS],
+    pub force: [f64; MAX_ACTUATORS],
+}
+
+impl ActuatorCommand {
+    /// Everything at zero: the plate at home, at rest.
+    pub const HOME: ActuatorCommand = ActuatorCommand {
+        position: [0.0; MAX_ACTUATORS],
+        velocity: [0.0; MAX_ACTUATORS],
+        force: [0.0; MAX_ACTUATORS],
+    };
+}
+
+/// What a driver reports each tick.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PlateState {
+    /// Ticks completed by the driver (simulated or hardware clock).
+    pub tick: u64,
+    /// Driver time (s).
+    pub time: f64,
+    pub pose: Pose,
+    pub velocity: Twist,
+    pub actuator_position: [f64; MAX_ACTUATORS],
+    pub actuator_force: [f64; MAX_ACTUATORS],
+    /// Command entries clamped to a limit since start.
+    pub clamped: u64,
+    /// Commands rejected (non-finite) since start.
+    pub rejected: u64,
+    /// True while the driver holds the plate at home after [`PlateDriver::hold`].
+    pub holding: bool,
+}
+
+/// Why a read failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReadError {
+    /// No fresh measurement this tick.
+    NotReady,
+    /// The hardware reports a fault; the caller should hold.
+    Fault,
+}
+
+/// Why a write was refused (the previous command stays in force).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WriteError {
+    NonFinite { actuator: usize },
+    Fault,
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NotReady => f.write_str("driver read: no fresh measurement"),
+            Self::Fault => f.write_str("driver read: hardware fault"),
+        }
+    }
+}
+
+impl fmt::Display for WriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFinite { actuator } => {
+                write!(f, "driver write: non-finite command for actuator {actuator}")
+            }
+            Self::Fault => f.write_str("driver write: hardware fault"),
+        }
+    }
+}
+
+impl core::error::Error for ReadError {}
+impl core::error::Error for WriteError {}
+
+/// A plate driver. `read`, `write`, `hold` and `advance` are called from the
+/// motor thread: implementations must not allocate, lock, log or panic.
+pub trait PlateDriver {
+    /// Actuator count and limits enforced at this boundary.
+    fn limits(&self) -> ActuatorLimits;
+
+    /// Tick period (s) the driver expects between writes.
+    fn tick_period(&self) -> f64;
+
+    /// Fill `state` with the latest measurement.
+    fn read(&mut self, state: &mut PlateState) -> Result<(), ReadError>;
+
+    /// Apply a command (clamped to the limits, see module docs).
+    fn write(&mut self, command: &ActuatorCommand) -> Result<(), WriteError>;
+
+    /// Command home at rest and zero feed-forward until the next `write`.
+    fn hold(&mut self);
+
+    /// Let one tick of time pass. Hardware advances by itself (no-op);
+    /// simulators integrate one tick here.
+    fn advance(&mut self) {}
+}

@@ -1,1 +1,0 @@
-//! Closed plate motion: see issue 3 (owned by the motion/simulator work).

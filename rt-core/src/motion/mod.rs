@@ -1,0 +1,28 @@
+//! Closed plate motion (DESIGN.md §2 "How a slot really moves the plate").
+//!
+//! A schedule (centers in play order, each with its k_j) becomes a
+//! [`PlateMotion`]: one slot per entry, each a time-asymmetric rotation about
+//! C_j — slow one way for t_s, fast back for t_f, same angle both ways, with
+//! k_j = (t_s − t_f)/τ and the slow direction = sign(k_j). Every slot starts
+//! and ends exactly at home, so every cycle is closed.
+//!
+//! Velocity profiles are piecewise linear (bounded acceleration) with every
+//! knot on a motor tick except the mid-slot reversal, which sits inside one
+//! straight segment: a plate holding a constant acceleration per tick
+//! reproduces the profile exactly and reverses at exactly t_s (this is what
+//! keeps k unbiased at 10 kHz).
+//!
+//! [`PlateMotion::sample_tick`] is the motor-thread call: no allocation, no
+//! panic, O(1). [`Rig`] maps poses to actuator commands and back.
+
+mod params;
+mod plan;
+mod pose;
+mod profile;
+mod rig;
+
+pub use params::{MotionLimits, MotionParams, ParamsError};
+pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
+pub use pose::{PlateSample, Pose, Twist};
+pub use profile::{MAX_KNOTS, Profile, ProfilePoint};
+pub use rig::{Actuator, MAX_ACTUATORS, Rig, RigError, RigParams};

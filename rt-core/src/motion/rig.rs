@@ -1,0 +1,340 @@
+//! Rig kinematics: plate pose ↔ actuator positions (DESIGN.md §6: four voice
+//! coils, two along x and two along y). Linear actuators push along a fixed
+//! world direction u_i at an attachment point a_i of the plate; the stroke is
+//! the displacement of that point along u_i: s_i = u_i·(t + R(θ)a_i − a_i).
+
+use core::fmt;
+
+use super::plan::PlateMotion;
+use super::pose::{PlateSample, Pose, Twist};
+use crate::driver::ActuatorCommand;
+
+/// Most actuators a rig may have.
+pub const MAX_ACTUATORS: usize = 8;
+
+/// One linear actuator and its limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Actuator {
+    /// Attachment point in plate coordinates (m).
+    pub attach: [f64; 2],
+    /// Push direction (normalized by [`Rig::new`]).
+    pub direction: [f64; 2],
+    /// Stroke limit ±(m).
+    pub stroke: f64,
+    /// Velocity limit ±(m/s).
+    pub max_velocity: f64,
+    /// Force limit ±(N).
+    pub max_force: f64,
+}
+
+impl Default for Actuator {
+    fn default() -> Self {
+        Self { attach: [0.0; 2], direction: [1.0, 0.0], stroke: 5e-3, max_velocity: 10.0, max_force: 2.0e4 }
+    }
+}
+
+/// Rig geometry and plate inertia.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigParams {
+    pub actuators: [Actuator; MAX_ACTUATORS],
+    pub count: usize,
+    /// Plate mass (kg) and moment of inertia about its origin (kg·m²): used
+    /// for feed-forward forces.
+    pub plate_mass: f64,
+    pub plate_inertia: f64,
+}
+
+impl Default for RigParams {
+    /// A 2 m × 1 m, 1 kg plate; x coils on the left edge at y = ±0.25 m,
+    /// y coils on the bottom edge at x = ±0.5 m.
+    fn default() -> Self {
+        let mut actuators = [Actuator::default(); MAX_ACTUATORS];
+        actuators[0] = Actuator { attach: [-1.0, 0.25], direction: [1.0, 0.0], ..Actuator::default() };
+        actuators[1] = Actuator { attach: [-1.0, -0.25], direction: [1.0, 0.0], ..Actuator::default() };
+        actuators[2] = Actuator { attach: [-0.5, -0.5], direction: [0.0, 1.0], ..Actuator::default() };
+        actuators[3] = Actuator { attach: [0.5, -0.5], direction: [0.0, 1.0], ..Actuator::default() };
+        Self { actuators, count: 4, plate_mass: 1.0, plate_inertia: 1.0 * (4.0 + 1.0) / 12.0 }
+    }
+}
+
+/// Why a rig or a motion on it was refused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RigError {
+    /// count not in 3..=MAX_ACTUATORS.
+    Count,
+    /// Non-finite or zero direction, non-finite attachment, non-positive limit.
+    Actuator {
+        actuator: usize,
+    },
+    /// Plate mass or inertia not finite positive.
+    Inertia,
+    /// The actuators cannot control all 3 DoF.
+    Singular,
+    StrokeLimit {
+        actuator: usize,
+        tick: u64,
+        required: f64,
+        limit: f64,
+    },
+    VelocityLimit {
+        actuator: usize,
+        tick: u64,
+        required: f64,
+        limit: f64,
+    },
+    ForceLimit {
+        actuator: usize,
+        tick: u64,
+        required: f64,
+        limit: f64,
+    },
+}
+
+impl fmt::Display for RigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::Count => write!(f, "rig.count must be between 3 and {MAX_ACTUATORS}"),
+            Self::Actuator { actuator } => write!(f, "rig.actuators[{actuator}]: invalid geometry or limit"),
+            Self::Inertia => write!(f, "rig.plate_mass / plate_inertia must be finite and positive"),
+            Self::Singular => write!(f, "rig: actuators do not span x, y and θ"),
+            Self::StrokeLimit { actuator, tick, required, limit } => {
+                write!(f, "actuator {actuator} at tick {tick}: stroke {required:.3e} m > {limit:.3e}")
+            }
+            Self::VelocityLimit { actuator, tick, required, limit } => {
+                write!(f, "actuator {actuator} at tick {tick}: velocity {required:.3e} m/s > {limit:.3e}")
+            }
+            Self::ForceLimit { actuator, tick, required, limit } => {
+                write!(f, "actuator {actuator} at tick {tick}: force {required:.3e} N > {limit:.3e}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for RigError {}
+
+impl RigParams {
+    pub fn validate(&self) -> Result<(), RigError> {
+        if !(3..=MAX_ACTUATORS).contains(&self.count) {
+            return Err(RigError::Count);
+        }
+        for (i, a) in self.actuators[..self.count].iter().enumerate() {
+            let n = a.direction[0].hypot(a.direction[1]);
+            let finite = a.attach.iter().chain(&a.direction).all(|v| v.is_finite());
+            let limits = [a.stroke, a.max_velocity, a.max_force].iter().all(|v| v.is_finite() && *v > 0.0);
+            if !(finite && limits && n > 1e-12 && n.is_finite()) {
+                return Err(RigError::Actuator { actuator: i });
+            }
+        }
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if !(ok(self.plate_mass) && ok(self.plate_inertia)) {
+            return Err(RigError::Inertia);
+        }
+        Ok(())
+    }
+}
+
+/// Inverse of a symmetric 3×3 matrix, or None if (near) singular.
+fn inv3(m: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    let c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    let c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    let det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
+    let scale = m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    if !(det.abs() > 1e-12 * scale * scale * scale) {
+        return None;
+    }
+    let d = 1.0 / det;
+    Some([
+        [c00 * d, (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * d, (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * d],
+        [c01 * d, (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * d, (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * d],
+        [c02 * d, (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * d, (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * d],
+    ])
+}
+
+/// Validated rig with the pseudo-inverse of its home Jacobian precomputed.
+#[derive(Debug, Clone)]
+pub struct Rig {
+    params: RigParams,
+    /// Rows of the home Jacobian ∂s/∂(x, y, θ).
+    jac: [[f64; 3]; MAX_ACTUATORS],
+    /// (JᵀJ)⁻¹Jᵀ, 3 × count.
+    pinv: [[f64; MAX_ACTUATORS]; 3],
+}
+
+impl Rig {
+    pub fn new(mut params: RigParams) -> Result<Self, RigError> {
+        params.validate()?;
+        for a in &mut params.actuators[..params.count] {
+            let n = a.direction[0].hypot(a.direction[1]);
+            a.direction = [a.direction[0] / n, a.direction[1] / n];
+        }
+        let mut rig = Self { params, jac: [[0.0; 3]; MAX_ACTUATORS], pinv: [[0.0; MAX_ACTUATORS]; 3] };
+        let mut jtj = [[0.0; 3]; 3];
+        for i in 0..params.count {
+            rig.jac[i] = rig.jacobian_row(i, 0.0);
+            for r in 0..3 {
+                for c in 0..3 {
+                    jtj[r][c] += rig.jac[i][r] * rig.jac[i][c];
+                }
+            }
+        }
+        let inv = inv3(jtj).ok_or(RigError::Singular)?;
+        for r in 0..3 {
+            for i in 0..params.count {
+                rig.pinv[r][i] = (0..3).map(|c| inv[r][c] * rig.jac[i][c]).sum();
+            }
+        }
+        Ok(rig)
+    }
+
+    pub fn params(&self) -> &RigParams {
+        &self.params
+    }
+
+    pub fn count(&self) -> usize {
+        self.params.count
+    }
+
+    /// ∂s_i/∂(x, y, θ) at angle θ.
+    #[inline]
+    fn jacobian_row(&self, i: usize, theta: f64) -> [f64; 3] {
+        let a = &self.params.actuators[i];
+        let (s, c) = theta.sin_cos();
+        let ra = [c * a.attach[0] - s * a.attach[1], s * a.attach[0] + c * a.attach[1]];
+        let u = a.direction;
+        [u[0], u[1], -u[0] * ra[1] + u[1] * ra[0]]
+    }
+
+    /// Actuator positions for a pose (exact, nonlinear).
+    #[inline]
+    pub fn actuator_positions(&self, pose: &Pose, out: &mut [f64; MAX_ACTUATORS]) {
+        for (i, a) in self.params.actuators[..self.params.count].iter().enumerate() {
+            let w = pose.to_world(a.attach);
+            out[i] = a.direction[0] * (w[0] - a.attach[0]) + a.direction[1] * (w[1] - a.attach[1]);
+        }
+    }
+
+    /// Actuator velocities for a pose and plate twist.
+    #[inline]
+    pub fn actuator_velocities(&self, pose: &Pose, v: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
+        for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
+            let j = self.jacobian_row(i, pose.theta);
+            *o = j[0] * v.x + j[1] * v.y + j[2] * v.theta;
+        }
+    }
+
+    /// Pose from actuator positions: least squares over all actuators,
+    /// Gauss–Newton with the precomputed home pseudo-inverse (converges by a
+    /// factor ~|θ| per iteration; 4 iterations, bounded work). Exactly home
+    /// when all positions are 0.
+    #[inline]
+    pub fn pose_from_actuators(&self, s: &[f64; MAX_ACTUATORS]) -> Pose {
+        let mut q = Pose::HOME;
+        let mut fwd = [0.0; MAX_ACTUATORS];
+        for _ in 0..4 {
+            self.actuator_positions(&q, &mut fwd);
+            let mut d = [0.0; 3];
+            for i in 0..self.params.count {
+                let r = s[i] - fwd[i];
+                for (dk, pk) in d.iter_mut().zip(&self.pinv) {
+                    *dk += pk[i] * r;
+                }
+            }
+            q.x += d[0];
+            q.y += d[1];
+            q.theta += d[2];
+        }
+        q
+    }
+
+    /// Plate twist from actuator velocities at a pose (least squares with
+    /// the Jacobian at that pose).
+    #[inline]
+    pub fn twist_from_actuators(&self, pose: &Pose, sdot: &[f64; MAX_ACTUATORS]) -> Twist {
+        let mut jtj = [[0.0; 3]; 3];
+        let mut jts = [0.0; 3];
+        for (i, &sd) in sdot.iter().enumerate().take(self.params.count) {
+            let j = self.jacobian_row(i, pose.theta);
+            for r in 0..3 {
+                jts[r] += j[r] * sd;
+                for c in 0..3 {
+                    jtj[r][c] += j[r] * j[c];
+                }
+            }
+        }
+        match inv3(jtj) {
+            Some(m) => {
+                let v: [f64; 3] = core::array::from_fn(|r| (0..3).map(|c| m[r][c] * jts[c]).sum());
+                Twist { x: v[0], y: v[1], theta: v[2] }
+            }
+            None => Twist::default(),
+        }
+    }
+
+    /// Minimum-norm actuator forces that give the plate this acceleration
+    /// (feed-forward; home Jacobian, parts' reaction neglected).
+    #[inline]
+    pub fn feedforward_forces(&self, acc: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
+        let q = [
+            self.params.plate_mass * acc.x,
+            self.params.plate_mass * acc.y,
+            self.params.plate_inertia * acc.theta,
+        ];
+        for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
+            *o = self.pinv[0][i] * q[0] + self.pinv[1][i] * q[1] + self.pinv[2][i] * q[2];
+        }
+    }
+
+    /// Generalized force (Fx, Fy, torque) of actuator forces at a pose.
+    #[inline]
+    pub fn generalized_force(&self, pose: &Pose, f: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
+        let mut q = [0.0; 3];
+        for (i, &fi) in f.iter().enumerate().take(self.params.count) {
+            let j = self.jacobian_row(i, pose.theta);
+            for r in 0..3 {
+                q[r] += j[r] * fi;
+            }
+        }
+        q
+    }
+
+    /// The command that plays one motion sample: positions, velocities and
+    /// feed-forward forces. Allocation-free.
+    #[inline]
+    pub fn command(&self, sample: &PlateSample, cmd: &mut ActuatorCommand) {
+        self.actuator_positions(&sample.pose, &mut cmd.position);
+        self.actuator_velocities(&sample.pose, &sample.velocity, &mut cmd.velocity);
+        self.feedforward_forces(&sample.acceleration, &mut cmd.force);
+        for i in self.params.count..MAX_ACTUATORS {
+            cmd.position[i] = 0.0;
+            cmd.velocity[i] = 0.0;
+            cmd.force[i] = 0.0;
+        }
+    }
+
+    /// Check every tick of one cycle of `motion` against the actuator limits.
+    pub fn check_motion(&self, motion: &PlateMotion) -> Result<(), RigError> {
+        let mut cmd = ActuatorCommand::default();
+        for tick in 0..motion.cycle_ticks() {
+            self.command(&motion.sample_tick(tick), &mut cmd);
+            for (i, a) in self.params.actuators[..self.params.count].iter().enumerate() {
+                let checks = [
+                    (cmd.position[i], a.stroke, 0),
+                    (cmd.velocity[i], a.max_velocity, 1),
+                    (cmd.force[i], a.max_force, 2),
+                ];
+                for (v, lim, kind) in checks {
+                    if v.abs() > lim {
+                        let (actuator, required, limit) = (i, v.abs(), lim);
+                        return Err(match kind {
+                            0 => RigError::StrokeLimit { actuator, tick, required, limit },
+                            1 => RigError::VelocityLimit { actuator, tick, required, limit },
+                            _ => RigError::ForceLimit { actuator, tick, required, limit },
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
