@@ -158,51 +158,49 @@ pub(crate) fn build_slot(p: &MotionParams, slot: usize, e: ScheduleEntry) -> Res
     let a_lim = p.ramp_fraction * l.max_angular_acceleration.min(l.max_point_acceleration / r);
     let up = p.ramp_up_ticks.max(1) as i64;
 
-    // Slow half: 0 → V_s over `up` ticks, cruise to tick n1, then the
-    // reversal segment (slope −a_m) through t_s. n1 keeps t_s − n1·h in
-    // [h/2, 3h/2) so a_m stays bounded.
-    let n1 = (t_s / h - 0.5).floor() as i64;
-    if n1 < up {
+    // Slow half: 0 → V_s over `up` ticks, cruise, then one tick down to w1
+    // at tick n1 = ⌊t_s/h⌋. The reversal is the straight segment from w1 at
+    // n1 to −w2 at n1 + 1 with slope V_s/h, crossing zero at exactly t_s.
+    let n1 = (t_s / h).floor() as i64;
+    let n0 = n1 - 1;
+    if n0 < up {
         return Err(MotionError::SlowPhaseInfeasible { slot });
     }
     let d1 = t_s - n1 as f64 * h;
-    let v_s = amp / (0.5 * up as f64 * h + (n1 - up) as f64 * h + 0.5 * d1);
-    let a_m = v_s / d1;
-    // Fast half: the reversal segment continues to tick n2 (−V_f), cruise
-    // to tick n3, one tick to −u, then linearly to 0 at the slot end.
+    let d2 = h - d1;
+    let hf = h;
+    let slow_unit =
+        0.5 * up as f64 * hf + (n0 - up) as f64 * hf + 0.5 * (1.0 + d1 / hf) * hf + 0.5 * d1 * d1 / hf;
+    let v_s = amp / slow_unit;
+    let slope = v_s / hf;
+    let (w1, w2) = (slope * d1, slope * d2);
+    // Fast half: ramp from −w2 to −V_f over m ticks, cruise, ramp to 0 over
+    // m ticks at the slot end; V_f is what sweeps A back exactly.
     let infeasible = MotionError::FastPhaseInfeasible { slot, k: e.k, max_k: 0.0 };
-    let mut knots = None;
-    let mut n2 = (t_s / h).ceil() as i64;
-    if n2 as f64 * h - t_s < 0.25 * h {
-        n2 += 1;
+    let n2 = n1 + 1;
+    let left = n_ticks - n2;
+    let m = (left / 4).max(1);
+    if left < 2 * m {
+        return Err(infeasible);
     }
-    while n2 < n_ticks {
-        let d2 = n2 as f64 * h - t_s;
-        let v_f = a_m * d2;
-        let head = 0.5 * v_f * d2;
-        if head + v_f * (n_ticks - n2) as f64 * h >= amp {
-            // Largest n3 whose remaining area is still ≥ 0.
-            let mut n3 = n2;
-            while n3 + 1 < n_ticks && head + v_f * ((n3 + 1 - n2) as f64 * h + 0.5 * h) <= amp {
-                n3 += 1;
-            }
-            let rest = amp - head - v_f * ((n3 - n2) as f64 * h + 0.5 * h);
-            let u = (2.0 * rest / (h * (n_ticks - n3) as f64)).clamp(0.0, v_f);
-            knots = Some([
-                (0.0, 0.0),
-                (up as f64 * h, v_s),
-                (n1 as f64 * h, v_s),
-                (t_s, 0.0),
-                (n2 as f64 * h, -v_f),
-                (n3 as f64 * h, -v_f),
-                ((n3 + 1) as f64 * h, -u),
-                (tau, 0.0),
-            ]);
-            break;
-        }
-        n2 += 1;
+    let (n3, n4) = (n2 + m, n_ticks - m);
+    let head = 0.5 * w2 * d2 + 0.5 * w2 * m as f64 * hf;
+    let v_f = (amp - head) / (m as f64 * hf + (n4 - n3) as f64 * hf);
+    if !(v_f > 0.0) {
+        return Err(infeasible);
     }
-    let profile = Profile::from_knots(&knots.ok_or(infeasible)?);
+    let knots = [
+        (0.0, 0.0),
+        (up as f64 * hf, v_s),
+        (n0 as f64 * hf, v_s),
+        (n1 as f64 * hf, w1),
+        (t_s, 0.0),
+        (n2 as f64 * hf, -w2),
+        (n3 as f64 * hf, -v_f),
+        (n4 as f64 * hf, -v_f),
+        (tau, 0.0),
+    ];
+    let profile = Profile::from_knots(&knots);
     // Rounding in the last segment: the fast half must sweep back exactly A.
     if (profile.theta[profile.n - 1]).abs() > 1e-9 * amp {
         return Err(infeasible);

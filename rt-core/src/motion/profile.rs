@@ -8,7 +8,7 @@
 //! exactly t_s.
 
 /// Most knots of one slot profile.
-pub const MAX_KNOTS: usize = 8;
+pub const MAX_KNOTS: usize = 12;
 
 /// Knots (time, angular velocity) and the angle swept up to each knot.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

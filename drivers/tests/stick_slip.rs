@@ -1,0 +1,112 @@
+//! Coulomb stick–slip against analytic answers.
+
+use drivers::{ActuatorModel, PartSpec, PartState, Shape, SimConfig, Simulator};
+use rt_core::driver::{ActuatorCommand, PlateDriver};
+use rt_core::motion::{Pose, Rig, Twist};
+
+fn sim(parts: &[PartSpec]) -> Simulator {
+    let cfg =
+        SimConfig { actuator: ActuatorModel::Ideal, collisions: false, fence: false, ..SimConfig::default() };
+    Simulator::new(cfg, parts).expect("valid sim")
+}
+
+fn point(p: [f64; 2]) -> PartSpec {
+    PartSpec { shape: Shape::Point { radius: 0.0 }, mass: 0.04, position: p, angle: 0.0 }
+}
+
+/// Drive the plate along x with constant acceleration `a` for `ticks`.
+fn accelerate(s: &mut Simulator, a: f64, ticks: u64) {
+    let rig = Rig::new(s.config().rig).expect("rig");
+    let h = s.tick_period();
+    let mut cmd = ActuatorCommand::HOME;
+    for t in 1..=ticks {
+        let time = t as f64 * h;
+        let pose = Pose { x: 0.5 * a * time * time, y: 0.0, theta: 0.0 };
+        rig.actuator_positions(&pose, &mut cmd.position);
+        rig.actuator_velocities(&pose, &Twist { x: a * time, y: 0.0, theta: 0.0 }, &mut cmd.velocity);
+        s.write(&cmd).expect("finite");
+        s.advance();
+    }
+}
+
+#[test]
+fn block_stays_stuck_below_static_limit() {
+    let mut s = sim(&[point([0.2, 0.1])]);
+    let cfg = *s.config();
+    let a = 0.9 * cfg.mu_static * cfg.gravity; // above μ_k g, below μ_s g
+    assert!(a > cfg.mu_kinetic * cfg.gravity);
+    accelerate(&mut s, a, 400);
+    let p = s.parts()[0];
+    let v = s.plate_velocity().x;
+    assert!(p.stuck, "part must stick");
+    assert!((p.velocity[0] - v).abs() <= 1e-12 * v.abs(), "part {} plate {}", p.velocity[0], v);
+    assert!((p.position[0] - 0.2 - s.plate_pose().x).abs() < 1e-12);
+}
+
+#[test]
+fn block_slides_with_kinetic_friction_above_static_limit() {
+    let mut s = sim(&[point([0.2, 0.1])]);
+    let cfg = *s.config();
+    let a = 1.5 * cfg.mu_static * cfg.gravity;
+    let ticks = 250;
+    accelerate(&mut s, a, ticks);
+    let t = ticks as f64 * s.tick_period();
+    let p = s.parts()[0];
+    let mu_k_g = cfg.mu_kinetic * cfg.gravity;
+    assert!(!p.stuck);
+    assert!((p.velocity[0] - mu_k_g * t).abs() < 1e-12, "v {} want {}", p.velocity[0], mu_k_g * t);
+    assert!((p.position[0] - 0.2 - 0.5 * mu_k_g * t * t).abs() < 1e-12);
+    assert!(p.velocity[1].abs() < 1e-15);
+}
+
+#[test]
+fn sliding_block_stops_after_v0_over_mu_k_g_and_sticks() {
+    let mut s = sim(&[point([0.0, 0.0])]);
+    let cfg = *s.config();
+    let v0 = 0.05;
+    assert!(s.set_part(0, PartState { velocity: [v0, 0.0], ..PartState::default() }));
+    let mu_k_g = cfg.mu_kinetic * cfg.gravity;
+    let t_stop = v0 / mu_k_g;
+    let h = s.tick_period();
+    let ticks = (t_stop / h).floor() as u64;
+    for _ in 0..ticks {
+        s.advance();
+    }
+    let t = ticks as f64 * h;
+    let p = s.parts()[0];
+    assert!((p.velocity[0] - (v0 - mu_k_g * t)).abs() < 1e-12);
+    for _ in 0..5 {
+        s.advance();
+    }
+    let p = s.parts()[0];
+    assert!(p.stuck && p.velocity[0] == 0.0, "{p:?}");
+    let travel = v0 * v0 / (2.0 * mu_k_g);
+    assert!((p.position[0] - travel).abs() < 1e-12, "travel {} want {travel}", p.position[0]);
+}
+
+#[test]
+fn disc_spins_down_under_torsional_friction() {
+    // A disc spinning on a plate at rest: friction torque μ_k·m·g·ρ_t with
+    // the ring lever ρ_t = a/√2, so ω falls linearly, then sticks.
+    let a = 0.05;
+    let mut s =
+        sim(&[PartSpec { shape: Shape::Disc { radius: a }, mass: 0.04, position: [0.0, 0.0], angle: 0.0 }]);
+    let cfg = *s.config();
+    let w0 = 3.0;
+    assert!(s.set_part(0, PartState { angular_velocity: w0, ..PartState::default() }));
+    let inertia = s.part_inertia(0).expect("part");
+    let alpha = cfg.mu_kinetic * cfg.gravity * 0.04 * a * core::f64::consts::FRAC_1_SQRT_2 / inertia;
+    let ticks = 100;
+    for _ in 0..ticks {
+        s.advance();
+    }
+    let t = ticks as f64 * s.tick_period();
+    let p = s.parts()[0];
+    assert!(
+        (p.angular_velocity - (w0 - alpha * t)).abs() < 1e-9,
+        "{} vs {}",
+        p.angular_velocity,
+        w0 - alpha * t
+    );
+    assert!(p.velocity[0].abs() < 1e-12 && p.velocity[1].abs() < 1e-12);
+}
