@@ -21,6 +21,21 @@ pub enum Command {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
     },
+    /// Solve, then play the schedule on the physics simulator and report the
+    /// forces and curls the parts really feel.
+    Validate {
+        /// Input JSON file (same format as `solve`), or `-` for stdin.
+        file: PathBuf,
+        /// Cycles to simulate and average over.
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+        cycles: u64,
+        /// Seed of the start-position jitter.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write an SVG of the average force field (like the paper's Fig. 7).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
 }
 
 /// Read a file, or stdin for `-`.
@@ -40,6 +55,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let text = read_input(&file)?;
             let input = crate::solve_json::parse(&text)?;
             let out = crate::solve_json::solve(&input)?;
+            println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+        Command::Validate { file, cycles, seed, plot } => {
+            let text = read_input(&file)?;
+            let input = crate::solve_json::parse(&text)?;
+            let out = crate::validate::run(&input, cycles as usize, seed, plot.as_deref())?;
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }

@@ -3,3 +3,4 @@
 
 pub mod cli;
 pub mod solve_json;
+pub mod validate;

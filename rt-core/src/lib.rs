@@ -7,7 +7,7 @@
 pub mod solver;
 
 pub use solver::{
-    CurlConstraint, ForceConstraint, Problem, SolveError, SolveMethod, Solution, Solver, SolverCapacity,
+    CurlConstraint, ForceConstraint, Problem, Solution, SolveError, SolveMethod, Solver, SolverCapacity,
     SolverParams,
 };
 

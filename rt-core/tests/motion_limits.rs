@@ -1,4 +1,5 @@
 //! Sampled motion never exceeds the configured limits; schedules beyond
+#![allow(clippy::field_reassign_with_default)]
 //! them are refused with a typed error, never distorted.
 
 use rt_core::driver::ActuatorCommand;

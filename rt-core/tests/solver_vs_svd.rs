@@ -30,7 +30,13 @@ fn random_underdetermined_systems_match_svd_min_norm() {
             continue; // this test is about well-conditioned systems
         }
         let k_ref = svd_min_norm(&a, &b);
-        let problem = Problem { mu_m_g: 0.1, k_max: 1.0, centers: &case.centers, parts: &case.parts, curls: &case.curls };
+        let problem = Problem {
+            mu_m_g: 0.1,
+            k_max: 1.0,
+            centers: &case.centers,
+            parts: &case.parts,
+            curls: &case.curls,
+        };
         solver.solve(&problem, &mut out).expect("solve");
         if k_ref.amax() > 1.0 {
             assert_eq!(out.method, SolveMethod::BoundedLeastSquares, "seed {seed}");
@@ -42,8 +48,11 @@ fn random_underdetermined_systems_match_svd_min_norm() {
         assert_eq!(out.rank, rows);
         // The estimate is a lower bound from 12 power/inverse iterations;
         // it only gates the exact path, so a factor of 2 is plenty.
-        assert!(out.condition <= cond * (1.0 + 1e-9) && out.condition >= 0.5 * cond,
-            "seed {seed}: κ estimate {} vs svd {cond}", out.condition);
+        assert!(
+            out.condition <= cond * (1.0 + 1e-9) && out.condition >= 0.5 * cond,
+            "seed {seed}: κ estimate {} vs svd {cond}",
+            out.condition
+        );
         worst_ratio = worst_ratio.min(out.condition / cond);
         assert!(!out.saturated);
         checked += 1;
@@ -61,7 +70,8 @@ fn overdetermined_systems_give_the_least_squares_solution() {
         let case = random_case(1000 + seed, 6, 0, 8, 0.3);
         let (a, b) = reference_system(&case.centers, &case.parts, &case.curls, 0.1);
         let k_ref = svd_min_norm(&a, &b);
-        let problem = Problem { mu_m_g: 0.1, k_max: 1.0, centers: &case.centers, parts: &case.parts, curls: &[] };
+        let problem =
+            Problem { mu_m_g: 0.1, k_max: 1.0, centers: &case.centers, parts: &case.parts, curls: &[] };
         solver.solve(&problem, &mut out).expect("solve");
         if k_ref.amax() > 1.0 || svd_condition(&a) > 1e4 {
             continue;
@@ -77,14 +87,21 @@ fn overdetermined_systems_give_the_least_squares_solution() {
 #[test]
 fn same_input_gives_bit_identical_output() {
     let case = random_case(7, 8, 2, 30, 0.2);
-    let problem = Problem { mu_m_g: 0.1, k_max: 0.9, centers: &case.centers, parts: &case.parts, curls: &case.curls };
+    let problem =
+        Problem { mu_m_g: 0.1, k_max: 0.9, centers: &case.centers, parts: &case.parts, curls: &case.curls };
     let mut s1 = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut s2 = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let (mut a, mut b) = (s1.new_solution(), s2.new_solution());
     s1.solve(&problem, &mut a).expect("solve");
     // Dirty the second solver's buffers with another problem first.
     let other = random_case(8, 30, 4, 100, 0.05);
-    let p2 = Problem { mu_m_g: 0.2, k_max: 0.5, centers: &other.centers, parts: &other.parts, curls: &other.curls };
+    let p2 = Problem {
+        mu_m_g: 0.2,
+        k_max: 0.5,
+        centers: &other.centers,
+        parts: &other.parts,
+        curls: &other.curls,
+    };
     s2.solve(&p2, &mut b).expect("solve");
     s2.solve(&problem, &mut b).expect("solve");
     let bits = |s: &rt_core::Solution| s.k().iter().map(|k| k.to_bits()).collect::<Vec<_>>();

@@ -111,11 +111,13 @@ pub(crate) fn fence(
     body: &Body,
     part: &mut PartState,
     plate: &Pose,
+    (sn, cs): (f64, f64),
     plate_vel: &Twist,
     half: [f64; 2],
     restitution: f64,
 ) -> bool {
-    let q = plate.to_plate(part.position);
+    let (dx, dy) = (part.position[0] - plate.x, part.position[1] - plate.y);
+    let q = [cs * dx + sn * dy, -sn * dx + cs * dy];
     let lim = [(half[0] - body.radius).max(0.0), (half[1] - body.radius).max(0.0)];
     if q[0].abs() <= lim[0] && q[1].abs() <= lim[1] {
         return false;
@@ -123,7 +125,6 @@ pub(crate) fn fence(
     let qc = [q[0].clamp(-lim[0], lim[0]), q[1].clamp(-lim[1], lim[1])];
     part.position = plate.to_world(qc);
     let vpl = plate_vel.at(plate, part.position);
-    let (sn, cs) = plate.theta.sin_cos();
     let mut hit = false;
     for axis in 0..2 {
         if q[axis] == qc[axis] {

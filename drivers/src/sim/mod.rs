@@ -232,11 +232,13 @@ impl Simulator {
             );
         }
         if self.cfg.fence {
+            let sc = self.plate.pose.theta.sin_cos();
             for (body, p) in self.bodies.iter().zip(self.parts.iter_mut()) {
                 let hit = contact::fence(
                     body,
                     p,
                     &self.plate.pose,
+                    sc,
                     &self.plate.vel,
                     self.cfg.plate_half_extent,
                     self.cfg.fence_restitution,

@@ -377,7 +377,7 @@ impl PlateMotion {
         let (theta, omega, alpha) = (s.sign * p.theta, s.sign * p.omega, s.sign * p.alpha);
         // Rotation by theta about C from home: O = C − R(θ)C.
         let [cx, cy] = s.center;
-        let (sn, cs) = theta.sin_cos();
+        let (sn, cs) = super::pose::sin_cos(theta);
         let ox = cx - (cs * cx - sn * cy);
         let oy = cy - (sn * cx + cs * cy);
         let (dx, dy) = (ox - cx, oy - cy);

@@ -198,8 +198,13 @@ impl Rig {
     /// ∂s_i/∂(x, y, θ) at angle θ.
     #[inline]
     fn jacobian_row(&self, i: usize, theta: f64) -> [f64; 3] {
+        self.jacobian_row_sc(i, super::pose::sin_cos(theta))
+    }
+
+    /// Same, with (sin θ, cos θ) precomputed.
+    #[inline]
+    fn jacobian_row_sc(&self, i: usize, (s, c): (f64, f64)) -> [f64; 3] {
         let a = &self.params.actuators[i];
-        let (s, c) = theta.sin_cos();
         let ra = [c * a.attach[0] - s * a.attach[1], s * a.attach[0] + c * a.attach[1]];
         let u = a.direction;
         [u[0], u[1], -u[0] * ra[1] + u[1] * ra[0]]
@@ -208,30 +213,33 @@ impl Rig {
     /// Actuator positions for a pose (exact, nonlinear).
     #[inline]
     pub fn actuator_positions(&self, pose: &Pose, out: &mut [f64; MAX_ACTUATORS]) {
+        let (s, c) = super::pose::sin_cos(pose.theta);
         for (i, a) in self.params.actuators[..self.params.count].iter().enumerate() {
-            let w = pose.to_world(a.attach);
-            out[i] = a.direction[0] * (w[0] - a.attach[0]) + a.direction[1] * (w[1] - a.attach[1]);
+            let p = a.attach;
+            let w = [pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]];
+            out[i] = a.direction[0] * (w[0] - p[0]) + a.direction[1] * (w[1] - p[1]);
         }
     }
 
     /// Actuator velocities for a pose and plate twist.
     #[inline]
     pub fn actuator_velocities(&self, pose: &Pose, v: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
+        let sc = super::pose::sin_cos(pose.theta);
         for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
-            let j = self.jacobian_row(i, pose.theta);
+            let j = self.jacobian_row_sc(i, sc);
             *o = j[0] * v.x + j[1] * v.y + j[2] * v.theta;
         }
     }
 
     /// Pose from actuator positions: least squares over all actuators,
     /// Gauss–Newton with the precomputed home pseudo-inverse (converges by a
-    /// factor ~|θ| per iteration; 4 iterations, bounded work). Exactly home
+    /// factor ~|θ| per iteration; 3 iterations, bounded work). Exactly home
     /// when all positions are 0.
     #[inline]
     pub fn pose_from_actuators(&self, s: &[f64; MAX_ACTUATORS]) -> Pose {
         let mut q = Pose::HOME;
         let mut fwd = [0.0; MAX_ACTUATORS];
-        for _ in 0..4 {
+        for _ in 0..3 {
             self.actuator_positions(&q, &mut fwd);
             let mut d = [0.0; 3];
             for i in 0..self.params.count {
@@ -247,14 +255,37 @@ impl Rig {
         q
     }
 
-    /// Plate twist from actuator velocities at a pose (least squares with
-    /// the Jacobian at that pose).
+    /// Plate twist from actuator velocities at a pose: the home
+    /// pseudo-inverse refined twice against the Jacobian at that pose
+    /// (error ~|θ|³, no matrix inverse on the hot path).
     #[inline]
     pub fn twist_from_actuators(&self, pose: &Pose, sdot: &[f64; MAX_ACTUATORS]) -> Twist {
+        let sc = super::pose::sin_cos(pose.theta);
+        let n = self.params.count;
+        let mut v = [0.0; 3];
+        for _ in 0..3 {
+            let mut d = [0.0; 3];
+            for i in 0..n {
+                let j = self.jacobian_row_sc(i, sc);
+                let r = sdot[i] - (j[0] * v[0] + j[1] * v[1] + j[2] * v[2]);
+                for (dk, pk) in d.iter_mut().zip(&self.pinv) {
+                    *dk += pk[i] * r;
+                }
+            }
+            for k in 0..3 {
+                v[k] += d[k];
+            }
+        }
+        Twist { x: v[0], y: v[1], theta: v[2] }
+    }
+
+    /// Exact least-squares twist (normal equations at the pose).
+    pub fn twist_from_actuators_exact(&self, pose: &Pose, sdot: &[f64; MAX_ACTUATORS]) -> Twist {
         let mut jtj = [[0.0; 3]; 3];
         let mut jts = [0.0; 3];
+        let sc = super::pose::sin_cos(pose.theta);
         for (i, &sd) in sdot.iter().enumerate().take(self.params.count) {
-            let j = self.jacobian_row(i, pose.theta);
+            let j = self.jacobian_row_sc(i, sc);
             for r in 0..3 {
                 jts[r] += j[r] * sd;
                 for c in 0..3 {
@@ -289,8 +320,9 @@ impl Rig {
     #[inline]
     pub fn generalized_force(&self, pose: &Pose, f: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
         let mut q = [0.0; 3];
+        let sc = super::pose::sin_cos(pose.theta);
         for (i, &fi) in f.iter().enumerate().take(self.params.count) {
-            let j = self.jacobian_row(i, pose.theta);
+            let j = self.jacobian_row_sc(i, sc);
             for r in 0..3 {
                 q[r] += j[r] * fi;
             }

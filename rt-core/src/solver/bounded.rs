@@ -184,7 +184,14 @@ impl System<'_> {
 
     /// Fix the bound variables at ±k_max and solve the free block by QR of
     /// [A_F; √ε·I].
-    fn solve_partition(&self, state: &[i8], k_max: f64, k: &mut [f64], buf: PartitionBuffers<'_>, stack: &mut MemStack) {
+    fn solve_partition(
+        &self,
+        state: &[i8],
+        k_max: f64,
+        k: &mut [f64],
+        buf: PartitionBuffers<'_>,
+        stack: &mut MemStack,
+    ) {
         let (m, n) = (self.m, self.n);
         let mut nf = 0;
         for j in 0..n {

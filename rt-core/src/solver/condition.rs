@@ -42,7 +42,11 @@ pub(crate) fn condition_estimate(r: MatRef<'_, f64>, iters: usize, v: &mut [f64]
             MatMut::from_column_major_slice_mut(&mut *v, d, 1),
             Par::Seq,
         );
-        triangular_solve::solve_upper_triangular_in_place(r, MatMut::from_column_major_slice_mut(&mut *v, d, 1), Par::Seq);
+        triangular_solve::solve_upper_triangular_in_place(
+            r,
+            MatMut::from_column_major_slice_mut(&mut *v, d, 1),
+            Par::Seq,
+        );
         inv_sigma_min_sq = normalize(v);
     }
     let kappa = (sigma_max_sq * inv_sigma_min_sq).sqrt();

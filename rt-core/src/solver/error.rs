@@ -6,21 +6,46 @@ use core::fmt;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SolveError {
     NoCenters,
-    TooManyCenters { given: usize, capacity: usize },
-    TooManyParts { given: usize, capacity: usize },
-    TooManyCurls { given: usize, capacity: usize },
+    TooManyCenters {
+        given: usize,
+        capacity: usize,
+    },
+    TooManyParts {
+        given: usize,
+        capacity: usize,
+    },
+    TooManyCurls {
+        given: usize,
+        capacity: usize,
+    },
     /// `mu_m_g` is not a finite positive number.
     InvalidMuMg,
     /// `k_max` is not in (0, 1].
     InvalidKMax,
-    NonFiniteCenter { center: usize },
-    NonFinitePartPosition { part: usize },
-    NonFinitePartForce { part: usize },
-    NonFiniteCurlPosition { curl: usize },
-    NonFiniteCurl { curl: usize },
+    NonFiniteCenter {
+        center: usize,
+    },
+    NonFinitePartPosition {
+        part: usize,
+    },
+    NonFinitePartForce {
+        part: usize,
+    },
+    NonFiniteCurlPosition {
+        curl: usize,
+    },
+    NonFiniteCurl {
+        curl: usize,
+    },
     /// A constrained point is closer to a center than `min_center_distance`.
-    PartOnCenter { part: usize, center: usize },
-    CurlOnCenter { curl: usize, center: usize },
+    PartOnCenter {
+        part: usize,
+        center: usize,
+    },
+    CurlOnCenter {
+        curl: usize,
+        center: usize,
+    },
     /// Distances or scaled targets overflowed f64 (absurdly large inputs).
     Overflow,
 }

@@ -55,9 +55,5 @@ pub fn cycle_force(k: &[f64], centers: &[[f64; 2]], mu_m_g: f64, p: [f64; 2]) ->
 /// Curl of the cycle's average field at `p` (Eq. 12).
 pub fn cycle_curl(k: &[f64], centers: &[[f64; 2]], mu_m_g: f64, p: [f64; 2]) -> f64 {
     let n = centers.len().max(1) as f64;
-    k.iter()
-        .zip(centers)
-        .map(|(&kj, &c)| rotation_curl(kj, mu_m_g, c, p))
-        .sum::<f64>()
-        / n
+    k.iter().zip(centers).map(|(&kj, &c)| rotation_curl(kj, mu_m_g, c, p)).sum::<f64>() / n
 }

@@ -68,7 +68,8 @@ pub(crate) struct QrSummary {
 
 /// R as a faer view (upper triangle of the top `dim × dim` block).
 pub(crate) fn r_factor(buf: &QrBuffers, s: QrSummary) -> MatRef<'_, f64> {
-    MatRef::from_column_major_slice(&buf.factor[..s.lead * s.dim], s.lead, s.dim).submatrix(0, 0, s.dim, s.dim)
+    MatRef::from_column_major_slice(&buf.factor[..s.lead * s.dim], s.lead, s.dim)
+        .submatrix(0, 0, s.dim, s.dim)
 }
 
 /// Solve with `rows` = A row-major (m × n). Writes k into `k[..n]`. When the

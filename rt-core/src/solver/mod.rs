@@ -30,7 +30,7 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 pub use error::SolveError;
 pub use params::{SolverCapacity, SolverParams};
 pub use problem::{CurlConstraint, ForceConstraint, Problem};
-pub use solution::{SolveMethod, Solution};
+pub use solution::{Solution, SolveMethod};
 
 use bounded::{BoundedBuffers, BoundedInput};
 use min_norm::QrBuffers;
@@ -114,7 +114,8 @@ impl Solver {
             let curls: Vec<_> = (0..cap.curls)
                 .map(|i| CurlConstraint { position: [0.05 * i as f64, 0.9], curl: force })
                 .collect();
-            let problem = Problem { mu_m_g: 1.0, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls };
+            let problem =
+                Problem { mu_m_g: 1.0, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls };
             ok &= self.solve(&problem, &mut out).is_ok();
         }
         ok
@@ -194,11 +195,17 @@ impl Solver {
 
         out.achieved_forces.clear();
         out.achieved_forces.extend(
-            problem.parts.iter().map(|p| field::cycle_force(&out.k, problem.centers, problem.mu_m_g, p.position)),
+            problem
+                .parts
+                .iter()
+                .map(|p| field::cycle_force(&out.k, problem.centers, problem.mu_m_g, p.position)),
         );
         out.achieved_curls.clear();
         out.achieved_curls.extend(
-            problem.curls.iter().map(|q| field::cycle_curl(&out.k, problem.centers, problem.mu_m_g, q.position)),
+            problem
+                .curls
+                .iter()
+                .map(|q| field::cycle_curl(&out.k, problem.centers, problem.mu_m_g, q.position)),
         );
         order::play_order(problem, &out.k, &mut out.priority, &mut out.order);
         Ok(())

@@ -20,7 +20,5 @@ pub(crate) fn play_order(problem: &Problem<'_>, k: &[f64], priority: &mut Vec<f6
         priority.push(if d.is_finite() { k[j].abs() / d } else { 0.0 });
         order.push(j as u16);
     }
-    order.sort_unstable_by(|&a, &b| {
-        priority[b as usize].total_cmp(&priority[a as usize]).then(a.cmp(&b))
-    });
+    order.sort_unstable_by(|&a, &b| priority[b as usize].total_cmp(&priority[a as usize]).then(a.cmp(&b)));
 }

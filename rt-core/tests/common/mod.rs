@@ -39,7 +39,10 @@ pub fn random_case(seed: u64, n_parts: usize, n_curls: usize, n_centers: usize, 
             force: Some([rng.random_range(-0.0005..0.0005), rng.random_range(-0.0005..0.0005)]),
         })
         .collect();
-    let curls = pts[n_parts..].iter().map(|&p| CurlConstraint { position: p, curl: rng.random_range(-0.002..0.002) }).collect();
+    let curls = pts[n_parts..]
+        .iter()
+        .map(|&p| CurlConstraint { position: p, curl: rng.random_range(-0.002..0.002) })
+        .collect();
     RandomCase { centers, parts, curls }
 }
 

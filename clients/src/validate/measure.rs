@@ -1,0 +1,147 @@
+//! Play a solved schedule on the simulator and measure average forces/curls.
+
+use anyhow::{Context, anyhow};
+use drivers::lockstep::play;
+use drivers::rng::SplitMix64;
+use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
+use rt_core::driver::PlateState;
+use rt_core::motion::{MotionParams, PlateMotion, Rig};
+
+use crate::solve_json::SolveInput;
+
+/// Radius of the disc used where a curl is measured (m).
+pub const DISC_RADIUS: f64 = 0.05;
+/// Start-position jitter per cycle (m), seeded.
+const JITTER: f64 = 1e-4;
+
+/// Motion and simulator settings of a validation run.
+#[derive(Debug, Clone, Copy)]
+pub struct ValidateSetup {
+    pub motion: MotionParams,
+    pub sim: SimConfig,
+}
+
+impl Default for ValidateSetup {
+    fn default() -> Self {
+        // Parts are measured independently: no part–part contact.
+        Self { motion: MotionParams::default(), sim: SimConfig { collisions: false, ..SimConfig::default() } }
+    }
+}
+
+/// Averages over the cycles.
+#[derive(Debug, Clone, Default)]
+pub struct Measured {
+    /// Per input part (in input order).
+    pub forces: Vec<[f64; 2]>,
+    /// Std over cycles of each force component.
+    pub force_std: Vec<[f64; 2]>,
+    /// Per input curl constraint.
+    pub curls: Vec<f64>,
+    pub cycle_seconds: f64,
+    pub force_saturated: u64,
+    pub clamped: u64,
+    pub fence_hits: u64,
+}
+
+/// Which body measures what.
+struct Probe {
+    position: [f64; 2],
+    disc: bool,
+}
+
+/// Simulate `cycles` cycles of the schedule (k per center, `order` play
+/// order) and measure every constrained point of `input`.
+pub fn measure(
+    input: &SolveInput,
+    k: &[f64],
+    order: &[u16],
+    cycles: usize,
+    seed: u64,
+    setup: &ValidateSetup,
+) -> anyhow::Result<Measured> {
+    if cycles == 0 {
+        return Err(anyhow!("cycles: must be at least 1"));
+    }
+    let mut motion = PlateMotion::new(setup.motion).map_err(|e| anyhow!("{e}"))?;
+    motion.set_from_solution(&input.centers, k, order).map_err(|e| anyhow!("schedule not playable: {e}"))?;
+    let rig = Rig::new(setup.sim.rig).map_err(|e| anyhow!("{e}"))?;
+    rig.check_motion(&motion).map_err(|e| anyhow!("schedule beyond the actuators: {e}"))?;
+
+    // One body per distinct constrained point; a curl at a part's position
+    // turns that part into a disc.
+    let mut probes: Vec<Probe> = Vec::new();
+    let find = |probes: &[Probe], p: [f64; 2]| probes.iter().position(|q| q.position == p);
+    let mut part_body = Vec::new();
+    for p in &input.parts {
+        let i = find(&probes, p.position).unwrap_or_else(|| {
+            probes.push(Probe { position: p.position, disc: false });
+            probes.len() - 1
+        });
+        part_body.push(i);
+    }
+    let mut curl_body = Vec::new();
+    for c in &input.curls {
+        let i = match find(&probes, c.position) {
+            Some(i) => {
+                probes[i].disc = true;
+                i
+            }
+            None => {
+                probes.push(Probe { position: c.position, disc: true });
+                probes.len() - 1
+            }
+        };
+        curl_body.push(i);
+    }
+    let mass = input.mu_m_g / (setup.sim.mu_kinetic * setup.sim.gravity);
+    let specs: Vec<PartSpec> = probes
+        .iter()
+        .map(|p| PartSpec {
+            shape: if p.disc { Shape::Disc { radius: DISC_RADIUS } } else { Shape::Point { radius: 0.0 } },
+            mass,
+            position: p.position,
+            angle: 0.0,
+        })
+        .collect();
+    let cfg = SimConfig { tick_hz: setup.motion.tick_hz, seed, ..setup.sim };
+    let mut sim = Simulator::new(cfg, &specs).map_err(|e| anyhow!("simulator: {e}"))?;
+    let mut rng = SplitMix64::new(seed ^ 0x005e_ed0f_u64);
+    let t = motion.cycle_duration();
+    let n = motion.cycle_ticks();
+    let mut sum_f = vec![[0.0; 2]; probes.len()];
+    let mut sum_f2 = vec![[0.0; 2]; probes.len()];
+    let mut sum_tau = vec![0.0; probes.len()];
+    let mut state = PlateState::default();
+    for c in 0..cycles as u64 {
+        for (i, p) in probes.iter().enumerate() {
+            let (r, a) = (JITTER * rng.uniform().sqrt(), core::f64::consts::TAU * rng.uniform());
+            let position = [p.position[0] + r * a.cos(), p.position[1] + r * a.sin()];
+            sim.set_part(i, PartState { position, ..PartState::default() });
+        }
+        play(&mut sim, &rig, &motion, c * n, n, &mut state).context("simulator read")?;
+        for (i, s) in sim.parts().iter().enumerate() {
+            let f = [mass * s.velocity[0] / t, mass * s.velocity[1] / t];
+            for d in 0..2 {
+                sum_f[i][d] += f[d];
+                sum_f2[i][d] += f[d] * f[d];
+            }
+            sum_tau[i] += sim.part_inertia(i).unwrap_or(0.0) * s.angular_velocity / t;
+        }
+    }
+    let nc = cycles as f64;
+    let mean = |i: usize| [sum_f[i][0] / nc, sum_f[i][1] / nc];
+    let std = |i: usize| {
+        let m = mean(i);
+        [(sum_f2[i][0] / nc - m[0] * m[0]).max(0.0).sqrt(), (sum_f2[i][1] / nc - m[1] * m[1]).max(0.0).sqrt()]
+    };
+    let counters = sim.counters();
+    Ok(Measured {
+        forces: part_body.iter().map(|&i| mean(i)).collect(),
+        force_std: part_body.iter().map(|&i| std(i)).collect(),
+        curls: curl_body.iter().map(|&i| 4.0 * (sum_tau[i] / nc) / (DISC_RADIUS * DISC_RADIUS)).collect(),
+        cycle_seconds: t,
+        force_saturated: counters.force_saturated,
+        clamped: counters.clamped,
+        fence_hits: counters.fence_hits,
+    })
+}
