@@ -26,6 +26,7 @@ mod explicit_schedule;
 mod force_request;
 mod latency_percentiles;
 mod part_states;
+pub mod ports;
 mod schedule;
 pub mod service_names;
 mod telemetry;

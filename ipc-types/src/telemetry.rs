@@ -77,8 +77,9 @@ pub struct Telemetry {
     pub core_pid: u32,
     pub vision_pid: u32,
     pub planner_pid: u32,
-    /// Unused, keep 0 (keeps the layout free of padding).
-    pub reserved: u32,
+    /// Real-time status bits: [`Telemetry::RT_MEMORY_LOCKED`] and friends.
+    /// A core without privileges runs with some bits clear and says so.
+    pub realtime_flags: u32,
 }
 
 const _: () = assert!(
@@ -133,6 +134,17 @@ impl fmt::Display for TelemetryError {
 impl core::error::Error for TelemetryError {}
 
 impl Telemetry {
+    /// `mlockall` succeeded.
+    pub const RT_MEMORY_LOCKED: u32 = 1;
+    /// The motor thread runs SCHED_FIFO.
+    pub const RT_MOTOR_FIFO: u32 = 2;
+    /// The solver thread runs SCHED_FIFO.
+    pub const RT_SOLVER_FIFO: u32 = 4;
+    /// The counting allocator is installed: `rt_thread_allocations` is measured.
+    pub const RT_ALLOCATIONS_COUNTED: u32 = 8;
+    /// The motor thread is pinned to its CPU.
+    pub const RT_MOTOR_PINNED: u32 = 16;
+
     /// Current protocol version, state idle, everything else 0.
     pub const fn new() -> Self {
         Self {
@@ -164,7 +176,7 @@ impl Telemetry {
             core_pid: 0,
             vision_pid: 0,
             planner_pid: 0,
-            reserved: 0,
+            realtime_flags: 0,
         }
     }
 

@@ -15,3 +15,5 @@ pub use solver::{
 pub mod driver;
 /// Closed plate motion: slot waveforms, limits, sampling, rig kinematics.
 pub mod motion;
+/// The RT process: motor loop, solver stage, wait-free hand-over, threads.
+pub mod runtime;

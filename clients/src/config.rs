@@ -1,0 +1,335 @@
+//! The one TOML config of a rig (`upm-core --config F`), validated at
+//! start-up. Every section and field is optional and has a default; unknown
+//! fields are errors, and every message names the field.
+
+use std::path::Path;
+
+use drivers::{ActuatorModel, SimConfig};
+use rt_core::motion::{MotionLimits, MotionParams, RigParams};
+use rt_core::runtime::{CoreParams, RtParams};
+use serde::Deserialize;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    #[error("reading {path}: {source}")]
+    Read { path: String, source: std::io::Error },
+    #[error("{path}: {message}")]
+    Parse { path: String, message: String },
+    #[error("{path}: {message}")]
+    Invalid { path: String, message: String },
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    pub service: ServiceSection,
+    pub plate: PlateSection,
+    pub motion: MotionSection,
+    pub rt: RtSection,
+    pub safety: SafetySection,
+    pub telemetry: TelemetrySection,
+    pub sim: SimSection,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct ServiceSection {
+    /// iceoryx2 prefix: one per rig, so rigs (and tests) never see each other.
+    pub prefix: String,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct PlateSection {
+    pub half_extent: [f64; 2],
+    pub mu_m_g: f64,
+    pub centers: Vec<[f64; 2]>,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct MotionSection {
+    pub tick_hz: f64,
+    pub slot_ticks: u32,
+    pub displacement_mm: f64,
+    pub k_max: f64,
+    pub max_angle: f64,
+    pub max_angular_velocity: f64,
+    pub max_angular_acceleration: f64,
+    pub max_point_speed: f64,
+    pub max_point_acceleration: f64,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct RtSection {
+    pub motor_priority: u8,
+    pub solver_priority: u8,
+    /// CPU to pin the motor thread to; -1 = not pinned.
+    pub motor_cpu: i64,
+    pub solver_cpu: i64,
+    pub lock_memory: bool,
+    pub solver_poll_us: u64,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct SafetySection {
+    pub parts_max_age_ms: f64,
+    pub request_max_age_ms: f64,
+    pub max_future_skew_ms: f64,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct TelemetrySection {
+    pub period_ms: f64,
+    /// Where upm-core writes `*.hgrm` at exit ("" = not written).
+    pub histogram_dir: String,
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimSection {
+    pub seed: u64,
+    pub mu_static: f64,
+    pub mu_kinetic: f64,
+    /// "second_order" or "ideal".
+    pub actuator: String,
+    pub bandwidth_hz: f64,
+    pub damping: f64,
+    pub substeps: u32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            service: ServiceSection::default(),
+            plate: PlateSection::default(),
+            motion: MotionSection::default(),
+            rt: RtSection::default(),
+            safety: SafetySection::default(),
+            telemetry: TelemetrySection::default(),
+            sim: SimSection::default(),
+        }
+    }
+}
+
+impl Default for ServiceSection {
+    fn default() -> Self {
+        Self { prefix: "upm_".into() }
+    }
+}
+
+impl Default for PlateSection {
+    fn default() -> Self {
+        let c = CoreParams::default();
+        Self { half_extent: c.motion.plate_half_extent, mu_m_g: c.mu_m_g, centers: c.centers }
+    }
+}
+
+impl Default for MotionSection {
+    fn default() -> Self {
+        let m = MotionParams::default();
+        Self {
+            tick_hz: m.tick_hz,
+            slot_ticks: m.slot_ticks,
+            displacement_mm: m.displacement * 1e3,
+            k_max: m.k_max,
+            max_angle: m.limits.max_angle,
+            max_angular_velocity: m.limits.max_angular_velocity,
+            max_angular_acceleration: m.limits.max_angular_acceleration,
+            max_point_speed: m.limits.max_point_speed,
+            max_point_acceleration: m.limits.max_point_acceleration,
+        }
+    }
+}
+
+impl Default for RtSection {
+    fn default() -> Self {
+        let r = RtParams::default();
+        let cpu = |c: Option<usize>| c.map_or(-1, |c| c as i64);
+        Self {
+            motor_priority: r.motor_priority,
+            solver_priority: r.solver_priority,
+            motor_cpu: cpu(r.motor_cpu),
+            solver_cpu: cpu(r.solver_cpu),
+            lock_memory: r.lock_memory,
+            solver_poll_us: CoreParams::default().solver_poll_ns / 1000,
+        }
+    }
+}
+
+impl Default for SafetySection {
+    fn default() -> Self {
+        let c = CoreParams::default();
+        Self {
+            parts_max_age_ms: c.parts_max_age_ns as f64 / 1e6,
+            request_max_age_ms: c.request_max_age_ns as f64 / 1e6,
+            max_future_skew_ms: c.max_future_skew_ns as f64 / 1e6,
+        }
+    }
+}
+
+impl Default for TelemetrySection {
+    fn default() -> Self {
+        Self {
+            period_ms: CoreParams::default().telemetry_period_ns as f64 / 1e6,
+            histogram_dir: String::new(),
+        }
+    }
+}
+
+impl Default for SimSection {
+    fn default() -> Self {
+        let s = SimConfig::default();
+        let (bandwidth_hz, damping) = match s.actuator {
+            ActuatorModel::SecondOrder { bandwidth_hz, damping } => (bandwidth_hz, damping),
+            ActuatorModel::Ideal => (1000.0, 0.7),
+        };
+        Self {
+            seed: s.seed,
+            mu_static: s.mu_static,
+            mu_kinetic: s.mu_kinetic,
+            actuator: "second_order".into(),
+            bandwidth_hz,
+            damping,
+            substeps: s.substeps,
+        }
+    }
+}
+
+/// Milliseconds (finite, > 0) to nanoseconds, or a message naming `field`.
+fn ms_to_ns(ms: f64, field: &str) -> Result<u64, String> {
+    if ms.is_finite() && ms > 0.0 && ms < 1e9 {
+        Ok((ms * 1e6).round() as u64)
+    } else {
+        Err(format!("{field} must be a positive number of milliseconds, got {ms}"))
+    }
+}
+
+fn cpu(c: i64, field: &str) -> Result<Option<usize>, String> {
+    let online = rt_core::runtime::rt_setup::online_cpus();
+    match c {
+        -1 => Ok(None),
+        c if c >= 0 && (c as usize) < online => Ok(Some(c as usize)),
+        c => Err(format!("{field} = {c}: this machine has CPUs 0..{} (or -1 for no pinning)", online - 1)),
+    }
+}
+
+impl Config {
+    /// Parse TOML text; errors name the field (`motion.tick_hz: invalid type …`).
+    pub fn parse(text: &str, path: &str) -> Result<Self, ConfigError> {
+        let de = toml::Deserializer::parse(text)
+            .map_err(|e| ConfigError::Parse { path: path.into(), message: one_line(&e.to_string()) })?;
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            let field = e.path().to_string();
+            let message = one_line(&e.into_inner().to_string());
+            ConfigError::Parse {
+                path: path.into(),
+                message: if field == "." { message } else { format!("{field}: {message}") },
+            }
+        })
+    }
+
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        let shown = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| ConfigError::Read { path: shown.clone(), source })?;
+        Self::parse(&text, &shown)
+    }
+
+    /// The validated core parameters.
+    pub fn core_params(&self, path: &str) -> Result<CoreParams, ConfigError> {
+        self.core_params_inner().map_err(|message| ConfigError::Invalid { path: path.into(), message })
+    }
+
+    fn core_params_inner(&self) -> Result<CoreParams, String> {
+        let m = &self.motion;
+        let motion = MotionParams {
+            tick_hz: m.tick_hz,
+            slot_ticks: m.slot_ticks,
+            displacement: m.displacement_mm * 1e-3,
+            plate_half_extent: self.plate.half_extent,
+            k_max: m.k_max,
+            limits: MotionLimits {
+                max_angle: m.max_angle,
+                max_angular_velocity: m.max_angular_velocity,
+                max_angular_acceleration: m.max_angular_acceleration,
+                max_point_speed: m.max_point_speed,
+                max_point_acceleration: m.max_point_acceleration,
+            },
+            ..MotionParams::default()
+        };
+        if !(self.telemetry.period_ms.is_finite() && self.telemetry.period_ms >= 1.0) {
+            return Err(format!("telemetry.period_ms must be at least 1, got {}", self.telemetry.period_ms));
+        }
+        if self.rt.solver_poll_us == 0 {
+            return Err("rt.solver_poll_us must be positive".into());
+        }
+        if self.service.prefix.is_empty()
+            || !self.service.prefix.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        {
+            return Err(format!(
+                "service.prefix {:?} must be non-empty ASCII letters, digits, '_' or '-'",
+                self.service.prefix
+            ));
+        }
+        let params = CoreParams {
+            motion,
+            rig: RigParams::default(),
+            centers: self.plate.centers.clone(),
+            mu_m_g: self.plate.mu_m_g,
+            parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
+            request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,
+            max_future_skew_ns: ms_to_ns(self.safety.max_future_skew_ms, "safety.max_future_skew_ms")?,
+            solver_poll_ns: self.rt.solver_poll_us.saturating_mul(1000),
+            telemetry_period_ns: ms_to_ns(self.telemetry.period_ms, "telemetry.period_ms")?,
+            rt: RtParams {
+                motor_priority: self.rt.motor_priority,
+                solver_priority: self.rt.solver_priority,
+                motor_cpu: cpu(self.rt.motor_cpu, "rt.motor_cpu")?,
+                solver_cpu: cpu(self.rt.solver_cpu, "rt.solver_cpu")?,
+                lock_memory: self.rt.lock_memory,
+            },
+        };
+        params.validate().map_err(|e| e.to_string())?;
+        Ok(params)
+    }
+
+    /// The simulator's configuration, consistent with the core's.
+    pub fn sim_config(&self, path: &str) -> Result<SimConfig, ConfigError> {
+        let s = &self.sim;
+        let actuator = match s.actuator.as_str() {
+            "second_order" => ActuatorModel::SecondOrder { bandwidth_hz: s.bandwidth_hz, damping: s.damping },
+            "ideal" => ActuatorModel::Ideal,
+            other => {
+                return Err(ConfigError::Invalid {
+                    path: path.into(),
+                    message: format!("sim.actuator {other:?}: expected \"second_order\" or \"ideal\""),
+                });
+            }
+        };
+        let cfg = SimConfig {
+            tick_hz: self.motion.tick_hz,
+            substeps: s.substeps,
+            mu_static: s.mu_static,
+            mu_kinetic: s.mu_kinetic,
+            actuator,
+            rig: RigParams::default(),
+            plate_half_extent: self.plate.half_extent,
+            seed: s.seed,
+            ..SimConfig::default()
+        };
+        cfg.validate().map_err(|e| ConfigError::Invalid { path: path.into(), message: e.to_string() })?;
+        Ok(cfg)
+    }
+
+    pub fn histogram_dir(&self) -> Option<&Path> {
+        (!self.telemetry.histogram_dir.is_empty()).then(|| Path::new(&self.telemetry.histogram_dir))
+    }
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}

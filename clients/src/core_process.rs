@@ -1,0 +1,70 @@
+//! `upm-core --config F`: load and validate the config, build the default
+//! driver (the physics simulator), and run the RT core until SIGINT/SIGTERM.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::Context;
+use clap::Parser;
+use drivers::Simulator;
+use rt_core::runtime::{RunOptions, RunReport, run_core};
+
+use crate::config::Config;
+
+#[derive(Debug, Parser)]
+#[command(name = "upm-core", version, about = "UPM real-time core: motor loop, solver, iceoryx2 messages")]
+pub struct CoreArgs {
+    /// Rig config (TOML). Without it the built-in defaults are used.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Override service.prefix of the config.
+    #[arg(long)]
+    pub prefix: Option<String>,
+    /// Stop by itself after this many seconds (default: run until Ctrl-C).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Write latency histograms (*.hgrm) here at exit.
+    #[arg(long)]
+    pub histograms: Option<PathBuf>,
+}
+
+/// Run the core; prints one loud warning when it is not real-time.
+pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
+    let (mut config, shown) = match &args.config {
+        Some(p) => (Config::load(p)?, p.display().to_string()),
+        None => (Config::default(), "built-in defaults".to_string()),
+    };
+    if let Some(prefix) = &args.prefix {
+        config.service.prefix.clone_from(prefix);
+    }
+    let params = config.core_params(&shown)?;
+    let sim =
+        Simulator::new(config.sim_config(&shown)?, &[]).map_err(|e| anyhow::anyhow!("simulator: {e}"))?;
+    let duration = match args.duration {
+        Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s)),
+        Some(s) => anyhow::bail!("--duration must be a positive number of seconds, got {s}"),
+        None => None,
+    };
+    let options = RunOptions {
+        prefix: config.service.prefix.clone(),
+        histogram_dir: args.histograms.clone().or_else(|| config.histogram_dir().map(Into::into)),
+        duration,
+    };
+    eprintln!(
+        "upm-core: prefix {:?}, {} centers, {} Hz motor loop, pid {}",
+        options.prefix,
+        params.centers.len(),
+        params.motion.tick_hz,
+        std::process::id()
+    );
+    let report = run_core(&params, sim, &options).context("upm-core")?;
+    let rt = report.realtime;
+    if !rt.is_realtime() {
+        eprintln!(
+            "upm-core: WARNING: NOT REAL-TIME (memory locked: {}, motor SCHED_FIFO: {}, solver SCHED_FIFO: {}). \
+             Run as root or grant CAP_SYS_NICE, LimitRTPRIO and LimitMEMLOCK; `upm status` shows this too.",
+            rt.memory_locked, rt.motor.fifo, rt.solver.fifo
+        );
+    }
+    Ok(report)
+}

@@ -1,0 +1,83 @@
+//! A counting global allocator: counts heap allocations made by threads
+//! marked real-time, so `rt_thread_allocations` in telemetry is a
+//! measurement, not a promise. Binaries and tests opt in with
+//! `#[global_allocator] static A: RtAllocCounter = RtAllocCounter;`.
+
+use core::alloc::{GlobalAlloc, Layout};
+use core::cell::Cell;
+use core::sync::atomic::{AtomicU64, Ordering};
+use std::alloc::System;
+
+static RT_ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+
+thread_local! {
+    // const-initialised Cell<bool>: no destructor, no lazy init, so it is
+    // safe to read from inside the allocator.
+    static IS_RT: Cell<bool> = const { Cell::new(false) };
+}
+
+/// System allocator plus a count of allocations on RT-marked threads.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RtAllocCounter;
+
+#[inline]
+fn count() {
+    if IS_RT.with(Cell::get) {
+        RT_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+// SAFETY: every call forwards to `System` unchanged; counting has no effect
+// on the returned memory.
+unsafe impl GlobalAlloc for RtAllocCounter {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: forwarded with the caller's layout.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: forwarded with the caller's layout.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        // SAFETY: forwarded unchanged.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded unchanged.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+/// Start (true) or stop (false) counting this thread's allocations.
+pub fn mark_rt_thread(on: bool) {
+    IS_RT.with(|c| c.set(on));
+}
+
+/// Allocations made by RT-marked threads since process start.
+pub fn rt_allocations() -> u64 {
+    RT_ALLOCATIONS.load(Ordering::Relaxed)
+}
+
+/// True if [`RtAllocCounter`] is the global allocator (checked by
+/// allocating once on a marked thread); if false, the count means nothing.
+pub fn counter_installed() -> bool {
+    let was = IS_RT.with(Cell::get);
+    mark_rt_thread(true);
+    let before = rt_allocations();
+    let probe = std::hint::black_box(Box::new(0u64));
+    let after = rt_allocations();
+    drop(probe);
+    mark_rt_thread(was);
+    if after > before {
+        RT_ALLOCATIONS.fetch_sub(after - before, Ordering::Relaxed);
+        true
+    } else {
+        false
+    }
+}

@@ -1,0 +1,111 @@
+//! Where the solver thread's messages come from: iceoryx2 in the real
+//! process, an in-memory queue in lock-step runs. Either way a message is
+//! copied into a preallocated buffer and handed to the [`SolveStage`].
+
+use std::collections::VecDeque;
+
+use ipc_types::{ExplicitSchedule, ForceRequest, PartStates};
+
+use super::clock::Clock;
+use super::solve_stage::SolveStage;
+
+/// Which buffer `Inbox::next` filled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Inbound {
+    PartStates,
+    Request,
+    Explicit,
+}
+
+/// One buffer per message kind, allocated once.
+#[derive(Debug)]
+pub struct InboxBuffers {
+    pub parts: Box<PartStates>,
+    pub request: Box<ForceRequest>,
+    pub explicit: Box<ExplicitSchedule>,
+}
+
+impl Default for InboxBuffers {
+    fn default() -> Self {
+        Self {
+            parts: Box::new(PartStates::new()),
+            request: Box::new(ForceRequest::new()),
+            explicit: Box::new(ExplicitSchedule::new()),
+        }
+    }
+}
+
+/// A source of inbound messages. `next` must not allocate or block.
+pub trait Inbox {
+    /// Copy the next pending message into `buf`; `None` when nothing waits.
+    fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound>;
+}
+
+/// Hand every pending message to `stage`; returns how many were handled.
+/// Part states go first within a poll so a request sees the newest poses.
+pub fn drain<I: Inbox, C: Clock>(
+    inbox: &mut I,
+    stage: &mut SolveStage,
+    buf: &mut InboxBuffers,
+    clock: &C,
+) -> usize {
+    let mut handled = 0;
+    while let Some(kind) = inbox.next(buf) {
+        let now = clock.now_ns();
+        // Rejections are counted inside the stage; the reason is not needed here.
+        let _ = match kind {
+            Inbound::PartStates => stage.on_part_states(&buf.parts, now).map_err(|_| ()),
+            Inbound::Request => stage.on_request(&buf.request, now, &|| clock.now_ns()).map_err(|_| ()),
+            Inbound::Explicit => stage.on_explicit(&buf.explicit, now).map_err(|_| ()),
+        };
+        handled += 1;
+    }
+    handled
+}
+
+/// In-memory inbox for lock-step runs and tests (allocates when pushed to,
+/// never in `next`).
+#[derive(Debug, Default)]
+pub struct QueueInbox {
+    queue: VecDeque<Message>,
+}
+
+#[derive(Debug)]
+enum Message {
+    Parts(Box<PartStates>),
+    Request(Box<ForceRequest>),
+    Explicit(Box<ExplicitSchedule>),
+}
+
+impl QueueInbox {
+    pub fn push_parts(&mut self, m: &PartStates) {
+        self.queue.push_back(Message::Parts(Box::new(*m)));
+    }
+    pub fn push_request(&mut self, m: &ForceRequest) {
+        self.queue.push_back(Message::Request(Box::new(*m)));
+    }
+    pub fn push_explicit(&mut self, m: &ExplicitSchedule) {
+        self.queue.push_back(Message::Explicit(Box::new(*m)));
+    }
+}
+
+impl Inbox for QueueInbox {
+    fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound> {
+        // Dropping the popped Box frees; lock-step tests count allocations,
+        // not frees.
+        Some(match self.queue.pop_front()? {
+            Message::Parts(m) => {
+                *buf.parts = *m;
+                Inbound::PartStates
+            }
+            Message::Request(m) => {
+                *buf.request = *m;
+                Inbound::Request
+            }
+            Message::Explicit(m) => {
+                *buf.explicit = *m;
+                Inbound::Explicit
+            }
+        })
+    }
+}

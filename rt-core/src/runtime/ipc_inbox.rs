@@ -1,0 +1,84 @@
+//! The solver thread's iceoryx2 subscribers. iceoryx2 `ipc::Service` ports
+//! are not `Send`, so they are created on the solver thread itself, before
+//! its loop starts. Only `receive()` is called in the loop (measured
+//! allocation-free in iceoryx2 0.10; see ipc-types/tests).
+
+use iceoryx2::prelude::*;
+use ipc_types::ports::{Sub, open_pub_sub};
+use ipc_types::{ExplicitSchedule, ForceRequest, PartStates, service_names};
+
+use super::inbox::{Inbound, Inbox, InboxBuffers};
+use super::start_error::StartError;
+
+#[derive(Debug)]
+pub struct IpcInbox {
+    _node: Node<ipc::Service>,
+    parts: Sub<PartStates>,
+    requests: Sub<ForceRequest>,
+    explicit: Sub<ExplicitSchedule>,
+    /// Receive errors (counted, never fatal).
+    pub receive_errors: u64,
+}
+
+impl IpcInbox {
+    /// Create the node and the three subscribers (start-up only).
+    pub fn new(config: &Config) -> Result<Self, StartError> {
+        let node = NodeBuilder::new()
+            .name(&NodeName::new("upm-core-solver").map_err(|_| StartError::Node)?)
+            .config(config)
+            // The io thread's node handles SIGINT/SIGTERM.
+            .signal_handling_mode(SignalHandlingMode::Disabled)
+            .create::<ipc::Service>()
+            .map_err(|_| StartError::Node)?;
+        let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
+            .map_err(|error| StartError::Service { service: service_names::PART_STATES, error })?
+            .subscriber_builder()
+            .create()
+            .map_err(|_| StartError::Port { service: service_names::PART_STATES })?;
+        let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)
+            .map_err(|error| StartError::Service { service: service_names::FORCE_REQUEST, error })?
+            .subscriber_builder()
+            .create()
+            .map_err(|_| StartError::Port { service: service_names::FORCE_REQUEST })?;
+        let explicit = open_pub_sub::<ExplicitSchedule>(&node, service_names::EXPLICIT_SCHEDULE)
+            .map_err(|error| StartError::Service { service: service_names::EXPLICIT_SCHEDULE, error })?
+            .subscriber_builder()
+            .create()
+            .map_err(|_| StartError::Port { service: service_names::EXPLICIT_SCHEDULE })?;
+        Ok(Self { _node: node, parts, requests, explicit, receive_errors: 0 })
+    }
+}
+
+impl Inbox for IpcInbox {
+    fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound> {
+        // Copy out of shared memory: the publisher may reuse the sample, and
+        // validation must see one consistent copy.
+        match self.parts.receive() {
+            Ok(Some(s)) => {
+                *buf.parts = *s.payload();
+                return Some(Inbound::PartStates);
+            }
+            Ok(None) => {}
+            Err(_) => self.receive_errors += 1,
+        }
+        match self.requests.receive() {
+            Ok(Some(s)) => {
+                *buf.request = *s.payload();
+                return Some(Inbound::Request);
+            }
+            Ok(None) => {}
+            Err(_) => self.receive_errors += 1,
+        }
+        match self.explicit.receive() {
+            Ok(Some(s)) => {
+                *buf.explicit = *s.payload();
+                Some(Inbound::Explicit)
+            }
+            Ok(None) => None,
+            Err(_) => {
+                self.receive_errors += 1;
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! The real-time core (DESIGN.md §3–5): a motor loop that plays closed plate
+//! motions through a [`crate::driver::PlateDriver`], a solver stage that turns
+//! validated messages into those motions, the wait-free hand-over between
+//! them, and the process that runs them on SCHED_FIFO threads over iceoryx2.
+//!
+//! The same [`MotorLoop`] and [`SolveStage`] run in [`lockstep`] (one
+//! thread, injected [`ManualClock`]) for bit-identical tests, and in
+//! [`run_core`] (real threads, [`MonotonicClock`]).
+
+pub mod alloc_count;
+mod clock;
+mod handoff;
+mod inbox;
+mod ipc_inbox;
+mod latency;
+pub mod lockstep;
+mod motor;
+mod params;
+mod process;
+pub mod rt_setup;
+mod samples;
+mod shared;
+mod solve_stage;
+mod start_error;
+
+pub use alloc_count::RtAllocCounter;
+pub use clock::{Clock, ManualClock, MonotonicClock};
+pub use handoff::{MotionReader, MotionWriter, StagedMotion, motion_handoff};
+pub use inbox::{Inbound, Inbox, InboxBuffers, QueueInbox, drain};
+pub use ipc_inbox::IpcInbox;
+pub use latency::{LatencyHistograms, percentiles, write_hgrm};
+pub use motor::{MotorLoop, TickOutcome};
+pub use params::{CoreParams, CoreParamsError, RtParams};
+pub use process::{CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core};
+pub use samples::{MotorSample, SolverSample};
+pub use shared::CoreShared;
+pub use solve_stage::{RequestError, SolveStage};
+pub use start_error::StartError;

@@ -1,0 +1,151 @@
+//! Validated tunables of the core process. The TOML file is parsed in the
+//! `upm-core` binary's crate; this is the typed, checked result.
+
+use core::fmt;
+
+use crate::motion::{MotionParams, ParamsError, RigError, RigParams};
+
+/// Real-time placement of the threads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RtParams {
+    /// SCHED_FIFO priority of the motor thread (1–99).
+    pub motor_priority: u8,
+    /// SCHED_FIFO priority of the solver thread (1–99, below the motor's).
+    pub solver_priority: u8,
+    /// CPU the motor thread is pinned to (`None`: not pinned).
+    pub motor_cpu: Option<usize>,
+    /// CPU the solver thread is pinned to.
+    pub solver_cpu: Option<usize>,
+    /// `mlockall` and prefault at start-up.
+    pub lock_memory: bool,
+}
+
+impl Default for RtParams {
+    fn default() -> Self {
+        Self {
+            motor_priority: 80,
+            solver_priority: 70,
+            motor_cpu: Some(1),
+            solver_cpu: Some(0),
+            lock_memory: true,
+        }
+    }
+}
+
+/// Everything the core needs besides its driver.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoreParams {
+    pub motion: MotionParams,
+    pub rig: RigParams,
+    /// Rotation centers (plate coordinates, m); schedules index into these.
+    pub centers: Vec<[f64; 2]>,
+    /// μ·m·g of the parts (N): the scale of every requested force.
+    pub mu_m_g: f64,
+    /// PartStates older than this (by their stamp) put the core in hold.
+    pub parts_max_age_ns: u64,
+    /// Requests older than this (or past their own deadline) put the core in hold.
+    pub request_max_age_ns: u64,
+    /// How far a message stamp may be ahead of the core's clock.
+    pub max_future_skew_ns: u64,
+    /// Solver thread poll period.
+    pub solver_poll_ns: u64,
+    /// Telemetry publish period (io thread).
+    pub telemetry_period_ns: u64,
+    pub rt: RtParams,
+}
+
+impl Default for CoreParams {
+    /// The paper's 4-center rig at 10 kHz, 200 ms staleness.
+    fn default() -> Self {
+        Self {
+            motion: MotionParams::default(),
+            rig: RigParams::default(),
+            centers: vec![[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]],
+            mu_m_g: 0.1,
+            parts_max_age_ns: 200_000_000,
+            request_max_age_ns: 200_000_000,
+            max_future_skew_ns: 1_000_000,
+            solver_poll_ns: 500_000,
+            telemetry_period_ns: 50_000_000,
+            rt: RtParams::default(),
+        }
+    }
+}
+
+/// Why [`CoreParams::validate`] refused the configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CoreParamsError {
+    Motion(ParamsError),
+    Rig(RigError),
+    NoCenters,
+    TooManyCenters { given: usize, capacity: usize },
+    NonFiniteCenter { index: usize },
+    MuMg,
+    MaxAge,
+    SolverPoll,
+    TelemetryPeriod,
+    Priority,
+}
+
+impl fmt::Display for CoreParamsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Motion(e) => write!(f, "{e}"),
+            Self::Rig(e) => write!(f, "rig: {e}"),
+            Self::NoCenters => f.write_str("plate.centers: at least one rotation center is needed"),
+            Self::TooManyCenters { given, capacity } => {
+                write!(f, "plate.centers: {given} centers, capacity is {capacity}")
+            }
+            Self::NonFiniteCenter { index } => write!(f, "plate.centers[{index}] is not finite"),
+            Self::MuMg => f.write_str("plate.mu_m_g must be finite and positive"),
+            Self::MaxAge => f.write_str("safety: max ages must be positive"),
+            Self::SolverPoll => f.write_str("rt.solver_poll_us must be positive"),
+            Self::TelemetryPeriod => f.write_str("telemetry.period_ms must be positive"),
+            Self::Priority => {
+                f.write_str("rt: priorities must be in 1..=99 and the motor's above the solver's")
+            }
+        }
+    }
+}
+
+impl core::error::Error for CoreParamsError {}
+
+impl CoreParams {
+    pub fn validate(&self) -> Result<(), CoreParamsError> {
+        self.motion.validate().map_err(CoreParamsError::Motion)?;
+        self.rig.validate().map_err(CoreParamsError::Rig)?;
+        if self.centers.is_empty() {
+            return Err(CoreParamsError::NoCenters);
+        }
+        let capacity = ipc_types::MAX_CENTERS.min(crate::motion::MAX_SLOTS);
+        if self.centers.len() > capacity {
+            return Err(CoreParamsError::TooManyCenters { given: self.centers.len(), capacity });
+        }
+        if let Some(index) = self.centers.iter().position(|c| !(c[0].is_finite() && c[1].is_finite())) {
+            return Err(CoreParamsError::NonFiniteCenter { index });
+        }
+        if !(self.mu_m_g.is_finite() && self.mu_m_g > 0.0) {
+            return Err(CoreParamsError::MuMg);
+        }
+        if self.parts_max_age_ns == 0 || self.request_max_age_ns == 0 {
+            return Err(CoreParamsError::MaxAge);
+        }
+        if self.solver_poll_ns == 0 {
+            return Err(CoreParamsError::SolverPoll);
+        }
+        if self.telemetry_period_ns == 0 {
+            return Err(CoreParamsError::TelemetryPeriod);
+        }
+        let rt = &self.rt;
+        let ok = |p: u8| (1..=99).contains(&p);
+        if !(ok(rt.motor_priority) && ok(rt.solver_priority) && rt.motor_priority > rt.solver_priority) {
+            return Err(CoreParamsError::Priority);
+        }
+        Ok(())
+    }
+
+    /// Motor tick period (ns).
+    pub fn tick_ns(&self) -> u64 {
+        (1e9 / self.motion.tick_hz).round() as u64
+    }
+}

@@ -1,0 +1,315 @@
+//! The real-time core process (DESIGN.md §3): a motor thread (SCHED_FIFO,
+//! highest), a solver thread (SCHED_FIFO, below it) and the io thread (the
+//! caller's, normal priority) that publishes Schedule and Telemetry and
+//! handles SIGINT/SIGTERM through iceoryx2's node.
+
+use core::sync::atomic::Ordering::Relaxed;
+use core::time::Duration;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::mpsc;
+
+use iceoryx2::node::{NodeView, NodeWaitFailure};
+use iceoryx2::prelude::*;
+use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::{CoreState, Schedule, Telemetry, monotonic_now_ns, service_names};
+
+use super::alloc_count;
+use super::clock::{Clock, MonotonicClock};
+use super::handoff::{StagedMotion, motion_handoff};
+use super::inbox::{InboxBuffers, drain};
+use super::ipc_inbox::IpcInbox;
+use super::latency::LatencyHistograms;
+use super::motor::MotorLoop;
+use super::params::CoreParams;
+use super::rt_setup::{
+    RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime, prefault_stack,
+};
+use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
+use super::shared::CoreShared;
+use super::solve_stage::SolveStage;
+use super::start_error::StartError;
+use crate::driver::PlateDriver;
+use crate::motion::{PlateMotion, Rig};
+
+/// The iceoryx2 node name of the core's io thread; a second core on the
+/// same prefix finds it alive and refuses to start.
+pub const CORE_NODE_NAME: &str = "upm-core";
+
+/// How a run is set up besides [`CoreParams`].
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// iceoryx2 service prefix of the rig.
+    pub prefix: String,
+    /// Where `*.hgrm` go at exit (`None`: not written).
+    pub histogram_dir: Option<PathBuf>,
+    /// Stop by itself after this long (`None`: until SIGINT/SIGTERM).
+    pub duration: Option<Duration>,
+}
+
+/// What the run achieved, for the caller to report.
+#[derive(Debug, Clone)]
+pub struct RunReport {
+    pub telemetry: Telemetry,
+    pub histograms: LatencyHistograms,
+    pub realtime: RealtimeStatus,
+    /// Samples the RT threads dropped because a ring was full.
+    pub dropped_samples: u64,
+}
+
+/// Which real-time measures took effect.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RealtimeStatus {
+    pub memory_locked: bool,
+    pub motor: ThreadPlacement,
+    pub solver: ThreadPlacement,
+    pub allocations_counted: bool,
+}
+
+impl RealtimeStatus {
+    pub fn flags(&self) -> u32 {
+        let mut f = 0;
+        if self.memory_locked {
+            f |= Telemetry::RT_MEMORY_LOCKED;
+        }
+        if self.motor.fifo {
+            f |= Telemetry::RT_MOTOR_FIFO;
+        }
+        if self.solver.fifo {
+            f |= Telemetry::RT_SOLVER_FIFO;
+        }
+        if self.allocations_counted {
+            f |= Telemetry::RT_ALLOCATIONS_COUNTED;
+        }
+        if self.motor.pinned {
+            f |= Telemetry::RT_MOTOR_PINNED;
+        }
+        f
+    }
+
+    /// True when the loops run with real-time guarantees.
+    pub fn is_realtime(&self) -> bool {
+        self.memory_locked && self.motor.fifo && self.solver.fifo
+    }
+}
+
+/// Refuse to start if a live core owns `config`'s prefix; clean up the
+/// resources of dead ones (a core killed with SIGKILL).
+fn claim_prefix(config: &Config) -> Result<(), StartError> {
+    let mut alive = false;
+    let listed = Node::<ipc::Service>::list(config, |state| {
+        match state {
+            NodeState::Alive(view) => {
+                if view.details().as_ref().is_some_and(|d| d.name().as_str() == CORE_NODE_NAME) {
+                    alive = true;
+                }
+            }
+            NodeState::Dead(view) => {
+                // Best effort: a failure leaves files iceoryx2 retries later.
+                let _ = view.try_remove_stale_resources();
+            }
+            NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
+        }
+        CallbackProgression::Continue
+    });
+    if listed.is_err() {
+        return Err(StartError::Node);
+    }
+    if alive { Err(StartError::AlreadyRunning) } else { Ok(()) }
+}
+
+/// Run the core with `driver` until SIGINT/SIGTERM (or `options.duration`).
+/// On the way out the plate is brought home at a cycle boundary, the final
+/// telemetry is published and the histograms are returned (and written).
+pub fn run_core<D: PlateDriver + Send + 'static>(
+    params: &CoreParams,
+    driver: D,
+    options: &RunOptions,
+) -> Result<RunReport, StartError> {
+    params.validate().map_err(StartError::Params)?;
+    let config = config_with_prefix(&options.prefix).map_err(|_| StartError::Prefix)?;
+    claim_prefix(&config)?;
+    let node = NodeBuilder::new()
+        .name(&NodeName::new(CORE_NODE_NAME).map_err(|_| StartError::Node)?)
+        .config(&config)
+        .create::<ipc::Service>()
+        .map_err(|_| StartError::Node)?;
+    let schedule_pub = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)
+        .map_err(|error| StartError::Service { service: service_names::SCHEDULE, error })?
+        .publisher_builder()
+        .create()
+        .map_err(|_| StartError::Port { service: service_names::SCHEDULE })?;
+    let telemetry_pub = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)
+        .map_err(|error| StartError::Service { service: service_names::TELEMETRY, error })?
+        .publisher_builder()
+        .create()
+        .map_err(|_| StartError::Port { service: service_names::TELEMETRY })?;
+
+    let mut realtime = RealtimeStatus {
+        memory_locked: params.rt.lock_memory && lock_memory(),
+        allocations_counted: alloc_count::counter_installed(),
+        ..RealtimeStatus::default()
+    };
+    let rig = Rig::new(params.rig).map_err(|e| StartError::Params(super::params::CoreParamsError::Rig(e)))?;
+    let empty = PlateMotion::new(params.motion)
+        .map_err(|e| StartError::Params(super::params::CoreParamsError::Motion(e)))?;
+    let (writer, reader) = motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
+    let shared = Arc::new(CoreShared::new());
+    let (motor_tx, mut motor_rx) = rtrb::RingBuffer::<MotorSample>::new(MOTOR_RING);
+    let (solver_tx, mut solver_rx) = rtrb::RingBuffer::<SolverSample>::new(SOLVER_RING);
+    let (schedule_tx, mut schedule_rx) = rtrb::RingBuffer::<Schedule>::new(SCHEDULE_RING);
+
+    // Solver thread: ports and solver built on the thread that uses them.
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
+    let solver_thread = {
+        let (params, shared, config, rig) = (params.clone(), shared.clone(), config.clone(), rig.clone());
+        std::thread::Builder::new()
+            .name("upm-solver".into())
+            .stack_size(RT_STACK_BYTES)
+            .spawn(move || {
+                let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
+                prefault_stack();
+                let built = IpcInbox::new(&config).and_then(|inbox| {
+                    SolveStage::new(&params, rig, writer, shared.clone(), schedule_tx, solver_tx)
+                        .map(|stage| (inbox, stage))
+                        .map_err(StartError::Params)
+                });
+                let (mut inbox, mut stage) = match built {
+                    Ok(x) => x,
+                    Err(e) => {
+                        let _ = ready_tx.send(Err(e));
+                        return;
+                    }
+                };
+                let mut buf = InboxBuffers::default();
+                let _ = ready_tx.send(Ok(placement));
+                let clock = MonotonicClock;
+                alloc_count::mark_rt_thread(true);
+                let mut deadline = clock.now_ns();
+                while !shared.stop.load(Relaxed) {
+                    drain(&mut inbox, &mut stage, &mut buf, &clock);
+                    deadline += params.solver_poll_ns;
+                    let now = clock.now_ns();
+                    if deadline < now {
+                        deadline = now;
+                    }
+                    clock.sleep_until(deadline);
+                }
+                alloc_count::mark_rt_thread(false);
+            })
+            .map_err(|_| StartError::Thread { thread: "solver" })?
+    };
+    realtime.solver = match ready_rx.recv() {
+        Ok(Ok(p)) => p,
+        Ok(Err(e)) => {
+            let _ = solver_thread.join();
+            return Err(e);
+        }
+        Err(_) => return Err(StartError::ThreadStartup { thread: "solver" }),
+    };
+
+    // Motor thread.
+    let (ready_tx, ready_rx) = mpsc::channel::<ThreadPlacement>();
+    let motor_thread = {
+        let (p, shared) = (params.clone(), shared.clone());
+        let period = params.tick_ns();
+        std::thread::Builder::new()
+            .name("upm-motor".into())
+            .stack_size(RT_STACK_BYTES)
+            .spawn(move || {
+                let placement = make_current_thread_realtime(p.rt.motor_priority, p.rt.motor_cpu);
+                prefault_stack();
+                let mut motor = MotorLoop::new(
+                    driver,
+                    rig,
+                    reader,
+                    shared,
+                    motor_tx,
+                    p.parts_max_age_ns,
+                    p.request_max_age_ns,
+                );
+                let _ = ready_tx.send(placement);
+                alloc_count::mark_rt_thread(true);
+                motor.run(&MonotonicClock, period);
+                alloc_count::mark_rt_thread(false);
+                motor.dropped_samples()
+            })
+            .map_err(|_| StartError::Thread { thread: "motor" })?
+    };
+    realtime.motor = ready_rx.recv().map_err(|_| StartError::ThreadStartup { thread: "motor" })?;
+
+    // io loop on this thread.
+    let start_ns = monotonic_now_ns();
+    let stop_at = options.duration.map(|d| start_ns.saturating_add(d.as_nanos() as u64));
+    let mut histograms = LatencyHistograms::default();
+    let mut telemetry = Telemetry::new();
+    telemetry.core_pid = std::process::id();
+    telemetry.realtime_flags = realtime.flags();
+    let mut next_telemetry = start_ns;
+    let io_period = Duration::from_millis(2);
+    let mut publish = |hist: &mut LatencyHistograms, tel: &mut Telemetry, force: bool| {
+        while let Ok(s) = motor_rx.pop() {
+            hist.record_motor(&s);
+        }
+        while let Ok(s) = solver_rx.pop() {
+            hist.record_solver(&s);
+        }
+        while let Ok(s) = schedule_rx.pop() {
+            let _ = schedule_pub.send_copy(s);
+        }
+        let now = monotonic_now_ns();
+        if force || now >= next_telemetry {
+            next_telemetry = now + params.telemetry_period_ns;
+            fill_telemetry(tel, &shared, hist, now, start_ns);
+            let _ = telemetry_pub.send_copy(*tel);
+        }
+    };
+    loop {
+        publish(&mut histograms, &mut telemetry, false);
+        if stop_at.is_some_and(|t| monotonic_now_ns() >= t) {
+            break;
+        }
+        match node.wait(io_period) {
+            Ok(()) => {}
+            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => break,
+        }
+    }
+    // Stop: the motor ends at a cycle boundary with the plate home.
+    shared.stop.store(true, Relaxed);
+    let dropped_samples = motor_thread.join().unwrap_or(0);
+    let _ = solver_thread.join();
+    shared.set_state(CoreState::Idle);
+    publish(&mut histograms, &mut telemetry, true);
+    if let Some(dir) = &options.histogram_dir {
+        // Reported, not fatal: the plate is already home.
+        if let Err(e) = histograms.write_hgrm_dir(dir) {
+            eprintln!("upm-core: cannot write histograms to {}: {e}", dir.display());
+        }
+    }
+    Ok(RunReport { telemetry, histograms, realtime, dropped_samples })
+}
+
+/// Snapshot the shared state into a telemetry message.
+pub fn fill_telemetry(
+    t: &mut Telemetry,
+    shared: &CoreShared,
+    hist: &LatencyHistograms,
+    now: u64,
+    start_ns: u64,
+) {
+    t.seq += 1;
+    t.stamp_ns = now;
+    t.set_core_state(shared.state());
+    t.cycle = shared.cycle.load(Relaxed);
+    let [x, y, theta] = shared.pose();
+    (t.plate_x, t.plate_y, t.plate_theta) = (x, y, theta);
+    t.counters = shared.counters();
+    t.counters.rt_thread_allocations = alloc_count::rt_allocations();
+    let age = |stamp: u64| {
+        let since = if stamp == 0 { start_ns } else { stamp };
+        now.saturating_sub(since) as f64 / 1e6
+    };
+    t.parts_age_ms = age(shared.parts_stamp_ns.load(Relaxed));
+    t.request_age_ms = age(shared.request_stamp_ns.load(Relaxed));
+    t.latency = hist.core_latencies();
+}

@@ -1,0 +1,70 @@
+//! Start-up steps that make a thread real-time: locked memory, a
+//! prefaulted stack, SCHED_FIFO (through thread-priority) and CPU affinity
+//! (through libc). Each step reports whether it worked; without privileges
+//! the core still runs and says so.
+
+use thread_priority::{
+    RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue, ThreadSchedulePolicy,
+    set_thread_priority_and_policy, thread_native_id,
+};
+
+/// Stack the RT threads are given and prefault.
+pub const RT_STACK_BYTES: usize = 8 << 20;
+const PREFAULT_BYTES: usize = 512 << 10;
+
+/// `mlockall(MCL_CURRENT | MCL_FUTURE)`: no page faults later. False without
+/// the privilege (RLIMIT_MEMLOCK / CAP_IPC_LOCK).
+pub fn lock_memory() -> bool {
+    // SAFETY: plain syscall with constant flags.
+    unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) == 0 }
+}
+
+/// Touch the first part of this thread's stack so its pages are resident
+/// before the loop starts.
+#[inline(never)]
+pub fn prefault_stack() {
+    let mut buf = [0u8; PREFAULT_BYTES];
+    for i in (0..PREFAULT_BYTES).step_by(4096) {
+        buf[i] = 1;
+    }
+    std::hint::black_box(&mut buf);
+}
+
+/// What [`make_current_thread_realtime`] achieved.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ThreadPlacement {
+    pub fifo: bool,
+    pub pinned: bool,
+}
+
+/// SCHED_FIFO at `priority` and, if given, pin to `cpu`.
+pub fn make_current_thread_realtime(priority: u8, cpu: Option<usize>) -> ThreadPlacement {
+    let fifo = ThreadPriorityValue::try_from(priority).is_ok_and(|p| {
+        set_thread_priority_and_policy(
+            thread_native_id(),
+            ThreadPriority::Crossplatform(p),
+            ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo),
+        )
+        .is_ok()
+    });
+    let pinned = cpu.is_some_and(pin_current_thread);
+    ThreadPlacement { fifo, pinned }
+}
+
+fn pin_current_thread(cpu: usize) -> bool {
+    if cpu >= libc::CPU_SETSIZE as usize {
+        return false;
+    }
+    // SAFETY: a zeroed cpu_set_t is a valid empty set; CPU_SET stays in
+    // bounds (checked above); pid 0 is the calling thread.
+    unsafe {
+        let mut set: libc::cpu_set_t = core::mem::zeroed();
+        libc::CPU_SET(cpu, &mut set);
+        libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
+    }
+}
+
+/// Number of CPUs this process may run on.
+pub fn online_cpus() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}

@@ -1,0 +1,289 @@
+//! The solver thread's work: validate each message, turn a force request
+//! into a closed plate motion (or take a planner's explicit schedule),
+//! check it against the actuator limits, and hand it to the motor
+//! wait-free. Every buffer is sized at construction; handling a message
+//! allocates nothing.
+
+use core::fmt;
+use core::sync::atomic::Ordering::Relaxed;
+use std::sync::Arc;
+
+use ipc_types::{
+    ExplicitSchedule, ExplicitScheduleError, ForceRequest, ForceRequestError, MAX_CURLS, MAX_PARTS,
+    PartStates, PartStatesError, Schedule, ScheduleSlot, ValidationLimits,
+};
+
+use super::handoff::MotionWriter;
+use super::params::CoreParams;
+use super::samples::SolverSample;
+use super::shared::CoreShared;
+use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry};
+use crate::solver::{
+    CurlConstraint, ForceConstraint, Problem, Solution, SolveError, Solver, SolverCapacity, SolverParams,
+};
+
+/// Why a request or explicit schedule was rejected (the motor keeps playing
+/// the previous motion until it goes stale).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RequestError {
+    Invalid(ForceRequestError),
+    InvalidExplicit(ExplicitScheduleError),
+    /// A request arrived before any valid PartStates.
+    NoPartStates,
+    /// The request names a part id the newest PartStates does not contain.
+    UnknownPart {
+        id: u32,
+    },
+    Solve(SolveError),
+    /// The schedule cannot be played within the motion limits.
+    Motion(MotionError),
+    /// The motion would exceed an actuator's stroke, velocity or force.
+    Actuator(RigError),
+}
+
+impl fmt::Display for RequestError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Invalid(e) => write!(f, "{e}"),
+            Self::InvalidExplicit(e) => write!(f, "{e}"),
+            Self::NoPartStates => f.write_str("force_request: no valid part states received yet"),
+            Self::UnknownPart { id } => {
+                write!(f, "force_request: part id {id} is not in the newest part states")
+            }
+            Self::Solve(e) => write!(f, "solve: {e}"),
+            Self::Motion(e) => write!(f, "motion: {e}"),
+            Self::Actuator(e) => write!(f, "actuator limits: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for RequestError {}
+
+/// The solver thread's state.
+#[derive(Debug)]
+pub struct SolveStage {
+    solver: Solver,
+    solution: Solution,
+    centers: Vec<[f64; 2]>,
+    mu_m_g: f64,
+    k_max: f64,
+    rig: Rig,
+    writer: MotionWriter,
+    shared: Arc<CoreShared>,
+    limits: ValidationLimits,
+    parts: Box<PartStates>,
+    have_parts: bool,
+    forces: [ForceConstraint; MAX_PARTS],
+    curls: [CurlConstraint; MAX_CURLS],
+    entries: [ScheduleEntry; MAX_SLOTS],
+    schedule: Box<Schedule>,
+    schedules: rtrb::Producer<Schedule>,
+    samples: rtrb::Producer<SolverSample>,
+}
+
+impl SolveStage {
+    /// Build with every buffer the stage will ever use. `k_max` becomes the
+    /// smaller of the configured bound and what every center can play, so a
+    /// solved schedule never fails the motion limits for its k.
+    pub fn new(
+        params: &CoreParams,
+        rig: Rig,
+        writer: MotionWriter,
+        shared: Arc<CoreShared>,
+        schedules: rtrb::Producer<Schedule>,
+        samples: rtrb::Producer<SolverSample>,
+    ) -> Result<Self, super::params::CoreParamsError> {
+        params.validate()?;
+        let probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
+        let k_max =
+            params.centers.iter().map(|&c| probe.max_playable_k(c)).fold(params.motion.k_max, f64::min);
+        let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
+        let mut solver = Solver::new(cap, SolverParams::default());
+        // First gemm on this thread allocates a thread-local buffer; the
+        // stage is built on the thread that will use it.
+        solver.warm_up();
+        let solution = solver.new_solution();
+        let mut limits = ValidationLimits::new(params.motion.plate_half_extent, 0);
+        limits.max_future_skew_ns = params.max_future_skew_ns;
+        limits.center_count = params.centers.len() as u32;
+        limits.k_max = k_max;
+        Ok(Self {
+            solver,
+            solution,
+            centers: params.centers.clone(),
+            mu_m_g: params.mu_m_g,
+            k_max,
+            rig,
+            writer,
+            shared,
+            limits,
+            parts: Box::new(PartStates::new()),
+            have_parts: false,
+            forces: [ForceConstraint { position: [0.0; 2], force: None }; MAX_PARTS],
+            curls: [CurlConstraint { position: [0.0; 2], curl: 0.0 }; MAX_CURLS],
+            entries: [ScheduleEntry::default(); MAX_SLOTS],
+            schedule: Box::new(Schedule::new()),
+            schedules,
+            samples,
+        })
+    }
+
+    /// The |k| bound schedules are solved under.
+    pub fn k_max(&self) -> f64 {
+        self.k_max
+    }
+
+    /// Validate and keep the newest part states. `now_ns` is the core's
+    /// clock at reception.
+    pub fn on_part_states(&mut self, msg: &PartStates, now_ns: u64) -> Result<(), PartStatesError> {
+        self.limits.now_ns = now_ns;
+        if let Err(e) = msg.validate(&self.limits) {
+            self.shared.rejected_parts.fetch_add(1, Relaxed);
+            return Err(e);
+        }
+        *self.parts = *msg;
+        self.have_parts = true;
+        self.shared.parts_stamp_ns.store(msg.stamp_ns.max(1), Relaxed);
+        let _ = self
+            .samples
+            .push(SolverSample { solve_ns: 0, ipc_ns: now_ns.saturating_sub(msg.stamp_ns).max(1) });
+        Ok(())
+    }
+
+    /// Validate a force request, solve it against the newest part states,
+    /// and hand the motion to the motor. `clock_ns` times the solve.
+    pub fn on_request(
+        &mut self,
+        msg: &ForceRequest,
+        now_ns: u64,
+        clock_ns: &dyn Fn() -> u64,
+    ) -> Result<(), RequestError> {
+        let r = self.solve_request(msg, now_ns, clock_ns);
+        self.account(r, msg.stamp_ns, msg.deadline_ns)
+    }
+
+    /// Validate an explicit schedule and hand it to the motor.
+    pub fn on_explicit(&mut self, msg: &ExplicitSchedule, now_ns: u64) -> Result<(), RequestError> {
+        let r = self.take_explicit(msg, now_ns);
+        self.account(r, msg.stamp_ns, u64::MAX)
+    }
+
+    fn account(
+        &mut self,
+        r: Result<(), RequestError>,
+        stamp_ns: u64,
+        deadline_ns: u64,
+    ) -> Result<(), RequestError> {
+        match r {
+            Ok(()) => {
+                self.shared.request_stamp_ns.store(stamp_ns.max(1), Relaxed);
+                self.shared.request_deadline_ns.store(deadline_ns, Relaxed);
+                // Dropped (not blocked on) if the io thread is a full ring behind.
+                let _ = self.schedules.push(*self.schedule);
+                Ok(())
+            }
+            Err(e) => {
+                self.shared.rejected_requests.fetch_add(1, Relaxed);
+                Err(e)
+            }
+        }
+    }
+
+    fn solve_request(
+        &mut self,
+        msg: &ForceRequest,
+        now_ns: u64,
+        clock_ns: &dyn Fn() -> u64,
+    ) -> Result<(), RequestError> {
+        self.limits.now_ns = now_ns;
+        msg.validate(&self.limits).map_err(RequestError::Invalid)?;
+        if !self.have_parts {
+            return Err(RequestError::NoPartStates);
+        }
+        let started = clock_ns();
+        let (mut np, mut nc) = (0, 0);
+        for e in msg.entries() {
+            let Some(p) = self.parts.parts().iter().find(|p| p.id == e.part_id) else {
+                return Err(RequestError::UnknownPart { id: e.part_id });
+            };
+            let position = [p.x, p.y];
+            self.forces[np] = ForceConstraint { position, force: e.requested_force() };
+            np += 1;
+            if let Some(curl) = e.requested_curl() {
+                // validate() caps curl entries at MAX_CURLS.
+                self.curls[nc] = CurlConstraint { position, curl };
+                nc += 1;
+            }
+        }
+        let problem = Problem {
+            mu_m_g: self.mu_m_g,
+            k_max: self.k_max,
+            centers: &self.centers,
+            parts: &self.forces[..np],
+            curls: &self.curls[..nc],
+        };
+        self.solver.solve(&problem, &mut self.solution).map_err(RequestError::Solve)?;
+        let n = self.solution.order().len();
+        for (slot, &j) in self.solution.order().iter().enumerate() {
+            self.entries[slot] =
+                ScheduleEntry { center: self.centers[j as usize], k: self.solution.k()[j as usize] };
+        }
+        self.stage_motion(n, msg.seq, self.parts.stamp_ns)?;
+        let solve_ns = clock_ns().saturating_sub(started).max(1);
+        let s = &self.solution;
+        let m = &mut *self.schedule;
+        m.clear();
+        m.seq = msg.seq;
+        m.stamp_ns = now_ns;
+        m.cycle = self.shared.cycle.load(Relaxed) + 1;
+        m.solve_time_ns = solve_ns;
+        m.residual = s.residual;
+        m.condition = s.condition;
+        m.rank = s.rank as u32;
+        m.saturated = u32::from(s.saturated);
+        for &j in s.order() {
+            let j = j as usize;
+            // Capacity equals MAX_SLOTS and n ≤ centers ≤ MAX_SLOTS.
+            let _ = m.push(ScheduleSlot::new(j as u32, self.centers[j], s.k()[j]));
+        }
+        let _ = self.samples.push(SolverSample { solve_ns, ipc_ns: 0 });
+        Ok(())
+    }
+
+    fn take_explicit(&mut self, msg: &ExplicitSchedule, now_ns: u64) -> Result<(), RequestError> {
+        self.limits.now_ns = now_ns;
+        msg.validate(&self.limits).map_err(RequestError::InvalidExplicit)?;
+        let n = msg.slots().len();
+        for (slot, e) in msg.slots().iter().enumerate() {
+            self.entries[slot] = ScheduleEntry { center: self.centers[e.center_index as usize], k: e.k };
+        }
+        self.stage_motion(n, msg.seq, 0)?;
+        let m = &mut *self.schedule;
+        m.clear();
+        m.seq = msg.seq;
+        m.stamp_ns = now_ns;
+        m.cycle = self.shared.cycle.load(Relaxed) + 1;
+        m.solve_time_ns = 0;
+        m.residual = 0.0;
+        m.condition = 0.0;
+        m.rank = 0;
+        m.saturated = 0;
+        for e in msg.slots() {
+            let i = e.center_index as usize;
+            let _ = m.push(ScheduleSlot::new(e.center_index, self.centers[i], e.k));
+        }
+        Ok(())
+    }
+
+    /// Build the motion for `entries[..n]` in the back buffer, check it, and
+    /// publish it. On error nothing is published.
+    fn stage_motion(&mut self, n: usize, seq: u64, frame_stamp_ns: u64) -> Result<(), RequestError> {
+        let staged = self.writer.staging();
+        staged.motion.set_schedule(&self.entries[..n]).map_err(RequestError::Motion)?;
+        self.rig.check_motion(&staged.motion).map_err(RequestError::Actuator)?;
+        staged.request_seq = seq;
+        staged.frame_stamp_ns = frame_stamp_ns;
+        self.writer.publish();
+        Ok(())
+    }
+}
