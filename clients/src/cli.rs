@@ -8,7 +8,11 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 
 #[derive(Debug, Parser)]
-#[command(name = "upm", version, about = "Universal planar manipulator: force synthesis, simulation and the closed loop")]
+#[command(
+    name = "upm",
+    version,
+    about = "Universal planar manipulator: force synthesis, simulation and the closed loop"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -20,6 +24,21 @@ pub enum Command {
     Solve {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
+    },
+    /// Snapshot of a running core's telemetry.
+    Status {
+        /// Print JSON (DESIGN.md §7) instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Service prefix of the rig (default: the config's, else "upm_").
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config to take the prefix from.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// How long to wait for telemetry (s).
+        #[arg(long, default_value_t = 2.0)]
+        timeout: f64,
     },
     /// Solve, then play the schedule on the physics simulator and report the
     /// forces and curls the parts really feel.
@@ -56,6 +75,23 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let input = crate::solve_json::parse(&text)?;
             let out = crate::solve_json::solve(&input)?;
             println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+        Command::Status { json, prefix, config, timeout } => {
+            let prefix = match (prefix, config) {
+                (Some(p), _) => p,
+                (None, Some(c)) => crate::config::Config::load(&c)?.service.prefix,
+                (None, None) => crate::config::Config::default().service.prefix,
+            };
+            if !(timeout.is_finite() && timeout > 0.0 && timeout < 3600.0) {
+                anyhow::bail!("--timeout must be a positive number of seconds below 3600, got {timeout}");
+            }
+            let t = crate::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&crate::status::to_json(&t))?);
+            } else {
+                println!("{}", crate::status::to_text(&t));
+            }
             Ok(())
         }
         Command::Validate { file, cycles, seed, plot } => {

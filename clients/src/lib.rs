@@ -2,5 +2,8 @@
 //! clients. Binaries in `src/bin` are thin wrappers over this library.
 
 pub mod cli;
+pub mod config;
+pub mod core_process;
 pub mod solve_json;
+pub mod status;
 pub mod validate;
