@@ -109,6 +109,7 @@ impl<D: PlateDriver> MotorLoop<D> {
         if self.phase == 0 && self.at_boundary(now_ns) == TickOutcome::Stopped {
             self.driver.hold();
             self.driver.advance();
+            self.shared.ticks.fetch_add(1, Relaxed);
             return TickOutcome::Stopped;
         }
         // write

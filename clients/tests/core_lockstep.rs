@@ -1,0 +1,225 @@
+//! The core's motor loop and solver stage in lock-step (one thread,
+//! hand-stepped clock), driving the physics simulator: determinism, hold on
+//! stale input, rejection of bad messages, and schedule swaps only at cycle
+//! boundaries.
+
+mod common;
+
+use common::{PAPER_PARTS, part_states, request};
+use drivers::{SimConfig, Simulator};
+use ipc_types::{CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, PROTOCOL_VERSION, PartState};
+use rt_core::runtime::CoreParams;
+use rt_core::runtime::lockstep::Lockstep;
+
+const START_NS: u64 = 1_000_000_000;
+const TICK_NS: u64 = 100_000;
+
+fn core() -> Lockstep<Simulator> {
+    let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
+    Lockstep::new(&CoreParams::default(), sim, START_NS).expect("core")
+}
+
+/// Feed fresh part states and a request every `every` ticks while `feed(t)`.
+fn run_fed(
+    core: &mut Lockstep<Simulator>,
+    ticks: u64,
+    every: u64,
+    feed: impl Fn(u64) -> bool,
+    mut each: impl FnMut(u64, &Lockstep<Simulator>),
+) {
+    let mut seq = 0;
+    for t in 0..ticks {
+        if t % every == 0 && feed(t) {
+            seq += 1;
+            let now = core.now_ns();
+            let scale = if t < ticks / 2 { 1.0 } else { 0.5 };
+            core.inbox().push_parts(&part_states(seq, now, &PAPER_PARTS));
+            core.inbox().push_request(&request(seq, now, &PAPER_PARTS, scale));
+        }
+        core.run_ticks(1, |_| {});
+        each(t, core);
+    }
+}
+
+/// Everything observable per tick, as bits.
+fn record(ticks: u64) -> Vec<[u64; 6]> {
+    let mut c = core();
+    let mut rec = Vec::new();
+    run_fed(&mut c, ticks, 100, |_| true, |_, c| {
+        let s = c.motor().plate_state();
+        let [x, y, th] = c.shared().pose();
+        rec.push([
+            s.pose.x.to_bits(),
+            s.pose.theta.to_bits(),
+            x.to_bits() ^ y.to_bits(),
+            th.to_bits(),
+            c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed),
+            c.shared().state() as u64,
+        ]);
+    });
+    assert!(c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed) > 5, "schedules were played");
+    rec
+}
+
+#[test]
+fn lockstep_runs_are_bit_identical() {
+    let a = record(4000);
+    let b = record(4000);
+    assert_eq!(a.len(), b.len());
+    assert!(a == b, "record A != record B");
+    // The plate really moved (the comparison is not between two idle runs).
+    assert!(a.iter().any(|r| f64::from_bits(r[1]) != 0.0));
+}
+
+#[test]
+fn plays_solved_schedule_and_swaps_only_at_cycle_boundaries() {
+    let mut c = core();
+    let mut prev_pose = [0.0; 3];
+    let mut prev_swaps = 0;
+    let mut swaps_seen = 0;
+    let mut running_ticks = 0;
+    run_fed(&mut c, 3000, 37, |_| true, |_, c| {
+        let swaps = c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed);
+        if swaps != prev_swaps {
+            // The plate was home when the new schedule took over.
+            assert_eq!(prev_pose, [0.0; 3], "schedule swapped mid-cycle");
+            swaps_seen += 1;
+        }
+        if c.shared().state() == CoreState::Running {
+            running_ticks += 1;
+        }
+        prev_swaps = swaps;
+        prev_pose = c.shared().pose();
+    });
+    assert!(swaps_seen > 3);
+    assert!(running_ticks > 2500, "running ticks {running_ticks}");
+    let published = c.published();
+    assert!(!published.is_empty());
+    // The published schedule is the solver's answer for the paper's §3.1.
+    let s = &published[0];
+    assert_eq!(s.len(), 4);
+    let mut k = [0.0; 4];
+    for slot in s.slots() {
+        k[slot.center_index as usize] = slot.k;
+    }
+    for (got, want) in k.iter().zip([0.584f64, -0.389, 0.480, -0.0946]) {
+        assert!((got - want).abs() < 0.006, "k {k:?}");
+    }
+}
+
+#[test]
+fn stale_input_holds_within_one_cycle_and_fresh_input_resumes() {
+    let params = CoreParams::default();
+    let max_age_ticks = params.parts_max_age_ns / TICK_NS;
+    let mut c = core();
+    let stop_feeding = 1000;
+    let resume = 5000;
+    let mut first_hold = None;
+    let mut resumed_at = None;
+    run_fed(&mut c, 7000, 50, |t| !(stop_feeding..resume).contains(&t), |t, c| {
+        let state = c.shared().state();
+        if state == CoreState::Hold {
+            first_hold.get_or_insert(t);
+            assert_eq!(c.shared().pose(), [0.0; 3], "plate moved while holding");
+        }
+        if t > resume && state == CoreState::Running {
+            resumed_at.get_or_insert(t);
+        }
+    });
+    let cycle = 4 * params.motion.slot_ticks as u64;
+    let last_input = stop_feeding - 50;
+    let hold = first_hold.expect("core never held");
+    assert!(hold > last_input + max_age_ticks, "held too early at {hold}");
+    assert!(hold <= last_input + max_age_ticks + cycle + 1, "held at {hold}, later than one cycle after stale");
+    let resumed = resumed_at.expect("core never resumed");
+    assert!(resumed <= resume + cycle + 1, "resumed at {resumed}");
+    assert_eq!(c.shared().hold_events.load(core::sync::atomic::Ordering::Relaxed), 1);
+}
+
+#[test]
+fn bad_messages_are_rejected_and_counted_and_the_core_keeps_running() {
+    use core::sync::atomic::Ordering::Relaxed;
+    let mut c = core();
+    run_fed(&mut c, 500, 50, |_| true, |_, _| {});
+    assert_eq!(c.shared().state(), CoreState::Running);
+    let now = c.now_ns();
+    let good = part_states(100, now, &PAPER_PARTS);
+
+    let mut bad_parts = Vec::new();
+    let mut m = good;
+    m.parts_mut()[0].x = f64::NAN;
+    bad_parts.push(m);
+    let mut m = good;
+    m.protocol_version = PROTOCOL_VERSION + 1;
+    bad_parts.push(m);
+    let mut m = good;
+    m.count = 1000;
+    bad_parts.push(m);
+    let mut m = good;
+    m.parts_mut()[1].id = m.parts()[0].id;
+    bad_parts.push(m);
+    let mut m = good;
+    m.parts_mut()[0] = PartState::new(1, 0, 0, [5.0, 0.0, 0.0], [0.0; 3]);
+    bad_parts.push(m);
+    let mut m = good;
+    m.stamp_ns = now + 10_000_000_000;
+    bad_parts.push(m);
+
+    let good_req = request(100, now, &PAPER_PARTS, 1.0);
+    let mut bad_reqs = Vec::new();
+    let mut r = good_req;
+    r.entries_mut()[0].fx = f64::INFINITY;
+    bad_reqs.push(r);
+    let mut r = good_req;
+    r.entries_mut()[0] = ForceEntry::force(99, [0.01, 0.0]);
+    bad_reqs.push(r);
+    let mut r = good_req;
+    r.count = u32::MAX;
+    bad_reqs.push(r);
+    let mut r = good_req;
+    r.protocol_version = 0;
+    bad_reqs.push(r);
+
+    let mut explicit = ExplicitSchedule::new();
+    explicit.stamp_ns = now;
+    explicit.push(ExplicitSlot::new(0, 1.5)).expect("capacity");
+    let mut explicit_bad_center = ExplicitSchedule::new();
+    explicit_bad_center.stamp_ns = now;
+    explicit_bad_center.push(ExplicitSlot::new(17, 0.1)).expect("capacity");
+
+    for m in &bad_parts {
+        c.inbox().push_parts(m);
+    }
+    for r in &bad_reqs {
+        c.inbox().push_request(r);
+    }
+    c.inbox().push_explicit(&explicit);
+    c.inbox().push_explicit(&explicit_bad_center);
+    let swaps_before = c.shared().schedule_swaps.load(Relaxed);
+    run_fed(&mut c, 1000, 50, |_| true, |_, c| assert_ne!(c.shared().state(), CoreState::Fault));
+    assert_eq!(c.shared().rejected_parts.load(Relaxed), bad_parts.len() as u64);
+    assert_eq!(c.shared().rejected_requests.load(Relaxed), bad_reqs.len() as u64 + 2);
+    assert_eq!(c.shared().state(), CoreState::Running);
+    assert!(c.shared().schedule_swaps.load(Relaxed) > swaps_before, "good input still played");
+    // The plate never left the actuators' limits.
+    assert_eq!(c.motor().plate_state().rejected, 0);
+}
+
+#[test]
+fn explicit_schedule_bypasses_the_solver() {
+    let mut c = core();
+    let now = c.now_ns();
+    c.inbox().push_parts(&part_states(1, now, &PAPER_PARTS));
+    let mut e = ExplicitSchedule::new();
+    e.seq = 7;
+    e.stamp_ns = now;
+    e.push(ExplicitSlot::new(2, 0.3)).expect("capacity");
+    e.push(ExplicitSlot::new(0, -0.2)).expect("capacity");
+    c.inbox().push_explicit(&e);
+    c.run_ticks(200, |_| {});
+    assert_eq!(c.shared().state(), CoreState::Running);
+    let s = c.published().last().expect("published");
+    assert_eq!(s.seq, 7);
+    let slots: Vec<_> = s.slots().iter().map(|s| (s.center_index, s.k)).collect();
+    assert_eq!(slots, vec![(2, 0.3), (0, -0.2)]);
+}
