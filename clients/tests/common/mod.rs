@@ -41,3 +41,35 @@ pub fn remove_prefix(prefix: &str) {
         let _ = unsafe { iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config) };
     }
 }
+
+/// Publish PartStates and ForceRequests for the paper's §3.1 parts on
+/// `prefix` every `period` until `stop` is set.
+pub fn feed(prefix: &str, period: std::time::Duration, stop: &std::sync::atomic::AtomicBool) {
+    use iceoryx2::prelude::*;
+    use ipc_types::ports::open_pub_sub;
+    use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
+    let config = ipc_types::ports::config_with_prefix(prefix).expect("prefix");
+    let node = NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .expect("node");
+    let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
+        .expect("service")
+        .publisher_builder()
+        .create()
+        .expect("publisher");
+    let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)
+        .expect("service")
+        .publisher_builder()
+        .create()
+        .expect("publisher");
+    let mut seq = 0;
+    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+        seq += 1;
+        let now = monotonic_now_ns();
+        parts.send_copy(part_states(seq, now, &PAPER_PARTS)).expect("send");
+        requests.send_copy(request(seq, now, &PAPER_PARTS, 1.0)).expect("send");
+        std::thread::sleep(period);
+    }
+}

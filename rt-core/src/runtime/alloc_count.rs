@@ -5,10 +5,11 @@
 
 use core::alloc::{GlobalAlloc, Layout};
 use core::cell::Cell;
-use core::sync::atomic::{AtomicU64, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::alloc::System;
 
 static RT_ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+static ABORT_ON_RT_ALLOCATION: AtomicBool = AtomicBool::new(false);
 
 thread_local! {
     // const-initialised Cell<bool>: no destructor, no lazy init, so it is
@@ -24,6 +25,9 @@ pub struct RtAllocCounter;
 fn count() {
     if IS_RT.with(Cell::get) {
         RT_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        if ABORT_ON_RT_ALLOCATION.load(Ordering::Relaxed) {
+            std::process::abort();
+        }
     }
 }
 
@@ -68,16 +72,24 @@ pub fn rt_allocations() -> u64 {
 /// allocating once on a marked thread); if false, the count means nothing.
 pub fn counter_installed() -> bool {
     let was = IS_RT.with(Cell::get);
+    let trap = ABORT_ON_RT_ALLOCATION.swap(false, Ordering::Relaxed);
     mark_rt_thread(true);
     let before = rt_allocations();
     let probe = std::hint::black_box(Box::new(0u64));
     let after = rt_allocations();
     drop(probe);
     mark_rt_thread(was);
+    ABORT_ON_RT_ALLOCATION.store(trap, Ordering::Relaxed);
     if after > before {
         RT_ALLOCATIONS.fetch_sub(after - before, Ordering::Relaxed);
         true
     } else {
         false
     }
+}
+
+/// Debugging aid: abort the process at the first allocation on an RT-marked
+/// thread, so a debugger shows where it came from.
+pub fn abort_on_rt_allocation(on: bool) {
+    ABORT_ON_RT_ALLOCATION.store(on, Ordering::Relaxed);
 }

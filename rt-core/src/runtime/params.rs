@@ -85,6 +85,8 @@ pub enum CoreParamsError {
     SolverPoll,
     TelemetryPeriod,
     Priority,
+    /// No center can play any k within the motion and actuator limits.
+    Unplayable,
 }
 
 impl fmt::Display for CoreParamsError {
@@ -101,6 +103,10 @@ impl fmt::Display for CoreParamsError {
             Self::MaxAge => f.write_str("safety: max ages must be positive"),
             Self::SolverPoll => f.write_str("rt.solver_poll_us must be positive"),
             Self::TelemetryPeriod => f.write_str("telemetry.period_ms must be positive"),
+            Self::Unplayable => f.write_str(
+                "motion: no rotation center can play any k within the motion and actuator limits \
+                 (raise motion.slot_ticks or the limits, or lower motion.displacement_mm)",
+            ),
             Self::Priority => {
                 f.write_str("rt: priorities must be in 1..=99 and the motor's above the solver's")
             }

@@ -304,7 +304,8 @@ pub fn fill_telemetry(
     let [x, y, theta] = shared.pose();
     (t.plate_x, t.plate_y, t.plate_theta) = (x, y, theta);
     t.counters = shared.counters();
-    t.counters.rt_thread_allocations = alloc_count::rt_allocations();
+    t.counters.rt_thread_allocations =
+        alloc_count::rt_allocations().saturating_sub(shared.allocation_baseline.load(Relaxed));
     let age = |stamp: u64| {
         let since = if stamp == 0 { start_ns } else { stamp };
         now.saturating_sub(since) as f64 / 1e6

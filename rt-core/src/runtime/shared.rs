@@ -34,12 +34,16 @@ pub struct CoreShared {
     pub stop: AtomicBool,
     /// Set by the motor thread once the plate is home after `stop`.
     pub motor_done: AtomicBool,
+    /// RT-thread allocation count when this core started (the counter is
+    /// process-wide; telemetry reports allocations since start).
+    pub allocation_baseline: AtomicU64,
 }
 
 impl CoreShared {
     pub fn new() -> Self {
         let s = Self::default();
         s.request_deadline_ns.store(u64::MAX, Relaxed);
+        s.allocation_baseline.store(super::alloc_count::rt_allocations(), Relaxed);
         s
     }
 

@@ -83,8 +83,8 @@ pub struct SolveStage {
 
 impl SolveStage {
     /// Build with every buffer the stage will ever use. `k_max` becomes the
-    /// smaller of the configured bound and what every center can play, so a
-    /// solved schedule never fails the motion limits for its k.
+    /// smaller of the configured bound and what every center can play within
+    /// the motion and actuator limits, so a solved schedule is always playable.
     pub fn new(
         params: &CoreParams,
         rig: Rig,
@@ -94,9 +94,7 @@ impl SolveStage {
         samples: rtrb::Producer<SolverSample>,
     ) -> Result<Self, super::params::CoreParamsError> {
         params.validate()?;
-        let probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
-        let k_max =
-            params.centers.iter().map(|&c| probe.max_playable_k(c)).fold(params.motion.k_max, f64::min);
+        let k_max = playable_k_max(params, &rig)?;
         let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
         let mut solver = Solver::new(cap, SolverParams::default());
         // First gemm on this thread allocates a thread-local buffer; the
@@ -286,4 +284,39 @@ impl SolveStage {
         self.writer.publish();
         Ok(())
     }
+}
+
+/// Largest |k| every center can play within the motion limits and the
+/// actuators' stroke, velocity and force limits. Slots are independent
+/// (each tick belongs to one slot), so a schedule whose every |k_j| is below
+/// this passes [`Rig::check_motion`]. Bisection at start-up only.
+fn playable_k_max(params: &CoreParams, rig: &Rig) -> Result<f64, super::params::CoreParamsError> {
+    let mut probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
+    let mut k_max = params.motion.k_max;
+    for &center in &params.centers {
+        k_max = k_max.min(probe.max_playable_k(center));
+    }
+    let playable = |k: f64, probe: &mut PlateMotion| {
+        params.centers.iter().all(|&center| {
+            [k, -k].iter().all(|&k| {
+                probe.set_schedule(&[ScheduleEntry { center, k }]).is_ok() && rig.check_motion(probe).is_ok()
+            })
+        })
+    };
+    if !playable(k_max, &mut probe) {
+        let (mut lo, mut hi) = (0.0, k_max);
+        for _ in 0..30 {
+            let mid = 0.5 * (lo + hi);
+            if playable(mid, &mut probe) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        k_max = lo;
+    }
+    if k_max <= 0.0 {
+        return Err(super::params::CoreParamsError::Unplayable);
+    }
+    Ok(k_max)
 }
