@@ -99,6 +99,33 @@ pub struct SimSection {
     pub bandwidth_hz: f64,
     pub damping: f64,
     pub substeps: u32,
+    /// Parts on the simulated plate (the simulated camera sees these).
+    pub parts: Vec<SimPartSection>,
+}
+
+/// One `[[sim.parts]]` entry.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SimPartSection {
+    pub id: u32,
+    #[serde(default)]
+    pub class: u32,
+    /// "point", "disc" or "square".
+    pub shape: String,
+    /// Disc radius or square side (m); a point's radius for contacts.
+    pub size: f64,
+    pub mass: f64,
+    pub position: [f64; 2],
+    #[serde(default)]
+    pub angle: f64,
+}
+
+/// The simulator's parts with the ids and classes the camera reports.
+#[derive(Debug, Clone, Default)]
+pub struct SimParts {
+    pub specs: Vec<drivers::PartSpec>,
+    pub ids: Vec<u32>,
+    pub classes: Vec<u32>,
 }
 
 impl Default for Config {
@@ -195,6 +222,7 @@ impl Default for SimSection {
             bandwidth_hz,
             damping,
             substeps: s.substeps,
+            parts: Vec::new(),
         }
     }
 }
@@ -323,6 +351,42 @@ impl Config {
         };
         cfg.validate().map_err(|e| ConfigError::Invalid { path: path.into(), message: e.to_string() })?;
         Ok(cfg)
+    }
+
+    /// `[[sim.parts]]` as simulator part specs; ids must be unique.
+    pub fn sim_parts(&self, path: &str) -> Result<SimParts, ConfigError> {
+        let invalid = |message: String| ConfigError::Invalid { path: path.into(), message };
+        let mut out = SimParts::default();
+        for (i, p) in self.sim.parts.iter().enumerate() {
+            let field = format!("sim.parts[{i}]");
+            if out.ids.contains(&p.id) {
+                return Err(invalid(format!("{field}.id {} is used twice", p.id)));
+            }
+            if !(p.size.is_finite() && p.size > 0.0) {
+                return Err(invalid(format!("{field}.size must be finite and positive")));
+            }
+            let shape = match p.shape.as_str() {
+                "point" => drivers::Shape::Point { radius: p.size },
+                "disc" => drivers::Shape::Disc { radius: p.size },
+                "square" => {
+                    let h = 0.5 * p.size;
+                    let mut vertices = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
+                    vertices[..4].copy_from_slice(&[[-h, -h], [h, -h], [h, h], [-h, h]]);
+                    drivers::Shape::Polygon { vertices, count: 4 }
+                }
+                other => {
+                    return Err(invalid(format!("{field}.shape {other:?}: expected \"point\", \"disc\" or \"square\"")));
+                }
+            };
+            out.specs.push(drivers::PartSpec { shape, mass: p.mass, position: p.position, angle: p.angle });
+            out.ids.push(p.id);
+            out.classes.push(p.class);
+        }
+        // The simulator checks mass, position and capacity; name the part.
+        if let Err(e) = drivers::Simulator::new(SimConfig::default(), &out.specs) {
+            return Err(invalid(format!("sim.parts: {e}")));
+        }
+        Ok(out)
     }
 
     pub fn histogram_dir(&self) -> Option<&Path> {

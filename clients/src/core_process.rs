@@ -7,7 +7,8 @@ use std::time::Duration;
 use anyhow::Context;
 use clap::Parser;
 use drivers::Simulator;
-use rt_core::runtime::{RunOptions, RunReport, run_core};
+use ipc_types::PartStates;
+use rt_core::runtime::{RunOptions, RunReport, TruthFill, run_core_with_truth};
 
 use crate::config::Config;
 
@@ -26,6 +27,26 @@ pub struct CoreArgs {
     /// Write latency histograms (*.hgrm) here at exit.
     #[arg(long)]
     pub histograms: Option<PathBuf>,
+    /// Publish the simulator's ground truth (for the simulated camera) at
+    /// this rate in Hz; 0 = off.
+    #[arg(long, default_value_t = 0.0)]
+    pub truth_hz: f64,
+}
+
+/// Ground truth of the simulator's parts as PartStates (world frame, ids
+/// and classes as configured). The closure only reads preallocated data.
+pub fn truth_fill(ids: Vec<u32>, classes: Vec<u32>) -> TruthFill<Simulator> {
+    Box::new(move |sim: &Simulator, out: &mut PartStates| {
+        out.clear();
+        for (i, p) in sim.parts().iter().enumerate() {
+            let id = ids.get(i).copied().unwrap_or(i as u32 + 1);
+            let class = classes.get(i).copied().unwrap_or(0);
+            let pose = [p.position[0], p.position[1], p.angle];
+            let vel = [p.velocity[0], p.velocity[1], p.angular_velocity];
+            // Capacity equals the simulator's part limit or more.
+            let _ = out.push(ipc_types::PartState::new(id, class, 0, pose, vel));
+        }
+    })
 }
 
 /// Run the core; prints one loud warning when it is not real-time.
@@ -38,8 +59,12 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         config.service.prefix.clone_from(prefix);
     }
     let params = config.core_params(&shown)?;
-    let sim =
-        Simulator::new(config.sim_config(&shown)?, &[]).map_err(|e| anyhow::anyhow!("simulator: {e}"))?;
+    let specs = config.sim_parts(&shown)?;
+    let sim = Simulator::new(config.sim_config(&shown)?, &specs.specs)
+        .map_err(|e| anyhow::anyhow!("simulator: {e}"))?;
+    if !(args.truth_hz.is_finite() && args.truth_hz >= 0.0 && args.truth_hz <= params.motion.tick_hz) {
+        anyhow::bail!("--truth-hz must be in 0..={}, got {}", params.motion.tick_hz, args.truth_hz);
+    }
     let duration = match args.duration {
         Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s)),
         Some(s) => anyhow::bail!("--duration must be a positive number of seconds, got {s}"),
@@ -49,6 +74,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         prefix: config.service.prefix.clone(),
         histogram_dir: args.histograms.clone().or_else(|| config.histogram_dir().map(Into::into)),
         duration,
+        truth_hz: args.truth_hz,
     };
     eprintln!(
         "upm-core: prefix {:?}, {} centers, {} Hz motor loop, pid {}",
@@ -57,7 +83,8 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         params.motion.tick_hz,
         std::process::id()
     );
-    let report = run_core(&params, sim, &options).context("upm-core")?;
+    let fill = truth_fill(specs.ids, specs.classes);
+    let report = run_core_with_truth(&params, sim, Some(fill), &options).context("upm-core")?;
     let rt = report.realtime;
     if !rt.is_realtime() {
         eprintln!(

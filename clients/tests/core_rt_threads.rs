@@ -10,8 +10,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use drivers::{SimConfig, Simulator};
-use rt_core::runtime::{CoreParams, RtAllocCounter, RunOptions, alloc_count, run_core};
+use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use rt_core::runtime::{CoreParams, RtAllocCounter, RunOptions, alloc_count, run_core_with_truth};
 
 #[global_allocator]
 static ALLOC: RtAllocCounter = RtAllocCounter;
@@ -41,17 +41,24 @@ fn rt_threads_make_no_allocations_over_a_thousand_cycles() {
     params.motion.slot_ticks = 20;
     let cycle_s = 4.0 * params.motion.slot_duration();
     let duration = Duration::from_secs_f64(1500.0 * cycle_s);
-    let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
+    // Parts on the plate, and their ground truth tapped every 10 ticks on
+    // the motor thread, as upm-core does for the simulated camera.
+    let parts: Vec<PartSpec> = [[0.5, 0.0], [-0.75, 0.25], [0.0, -0.3]]
+        .iter()
+        .map(|&position| PartSpec { shape: Shape::Disc { radius: 0.02 }, mass: 0.01, position, angle: 0.0 })
+        .collect();
+    let sim = Simulator::new(SimConfig::default(), &parts).expect("sim");
+    let fill = upm_clients::core_process::truth_fill(vec![1, 2, 3], vec![0, 1, 0]);
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || common::feed(&prefix, Duration::from_millis(10), &stop))
     };
-    let options = RunOptions { prefix: prefix.clone(), histogram_dir: None, duration: Some(duration) };
+    let options = RunOptions { prefix: prefix.clone(), duration: Some(duration), truth_hz: 1000.0, ..RunOptions::default() };
     if std::env::var_os("UPM_ABORT_ON_RT_ALLOCATION").is_some() {
         alloc_count::abort_on_rt_allocation(true);
     }
-    let report = run_core(&params, sim, &options);
+    let report = run_core_with_truth(&params, sim, Some(fill), &options);
     stop.store(true, Ordering::Relaxed);
     feeder.join().expect("feeder");
     common::remove_prefix(&prefix);

@@ -17,5 +17,9 @@ pub const SCHEDULE: &str = "upm/schedule";
 /// [`crate::Telemetry`], core → all.
 pub const TELEMETRY: &str = "upm/telemetry";
 
+/// Simulator ground truth ([`crate::PartStates`], world frame), core → the
+/// simulated camera. Only published when the driver is a simulator.
+pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
+
 /// Every name above, e.g. for tools that list or clean up a rig.
-pub const ALL: [&str; 5] = [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, SCHEDULE, TELEMETRY];
+pub const ALL: [&str; 6] = [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, SCHEDULE, TELEMETRY, SIM_GROUND_TRUTH];

@@ -23,6 +23,24 @@ pub enum TickOutcome {
     Stopped,
 }
 
+/// Copies what a driver knows beyond the plate (a simulator's parts) into
+/// a message. Called on the motor thread: it must not allocate or block.
+pub type TruthFill<D> = Box<dyn FnMut(&D, &mut ipc_types::PartStates) + Send>;
+
+/// Every `every` ticks, `fill` writes the driver's ground truth into the
+/// back buffer of a triple buffer the io thread publishes from.
+pub struct TruthTap<D> {
+    pub every: u64,
+    pub fill: TruthFill<D>,
+    pub out: triple_buffer::Input<ipc_types::PartStates>,
+}
+
+impl<D> core::fmt::Debug for TruthTap<D> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("TruthTap").field("every", &self.every).finish_non_exhaustive()
+    }
+}
+
 /// The motor thread's state. Built (allocating) at start-up; `tick` is the
 /// only call on the critical path.
 #[derive(Debug)]
@@ -43,6 +61,8 @@ pub struct MotorLoop<D: PlateDriver> {
     state: PlateState,
     frame_to_active_ns: u64,
     dropped_samples: u64,
+    truth: Option<TruthTap<D>>,
+    ticks: u64,
 }
 
 impl<D: PlateDriver> MotorLoop<D> {
@@ -73,7 +93,14 @@ impl<D: PlateDriver> MotorLoop<D> {
             state: PlateState::default(),
             frame_to_active_ns: 0,
             dropped_samples: 0,
+            truth: None,
+            ticks: 0,
         }
+    }
+
+    /// Publish the driver's ground truth through `tap` (start-up only).
+    pub fn set_truth_tap(&mut self, tap: TruthTap<D>) {
+        self.truth = Some(tap);
     }
 
     pub fn driver(&self) -> &D {
@@ -134,6 +161,16 @@ impl<D: PlateDriver> MotorLoop<D> {
         }
         self.driver.advance();
         self.shared.ticks.fetch_add(1, Relaxed);
+        self.ticks += 1;
+        if let Some(tap) = &mut self.truth {
+            if self.ticks % tap.every.max(1) == 0 {
+                let msg = tap.out.input_buffer_mut();
+                msg.seq = self.ticks;
+                msg.stamp_ns = now_ns;
+                (tap.fill)(&self.driver, msg);
+                tap.out.publish();
+            }
+        }
         TickOutcome::Continue
     }
 

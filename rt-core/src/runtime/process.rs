@@ -12,7 +12,7 @@ use std::sync::mpsc;
 use iceoryx2::node::{NodeView, NodeWaitFailure};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{config_with_prefix, open_pub_sub};
-use ipc_types::{CoreState, Schedule, Telemetry, monotonic_now_ns, service_names};
+use ipc_types::{CoreState, PartStates, Schedule, Telemetry, monotonic_now_ns, service_names};
 
 use super::alloc_count;
 use super::clock::{Clock, MonotonicClock};
@@ -20,7 +20,7 @@ use super::handoff::{StagedMotion, motion_handoff};
 use super::inbox::{InboxBuffers, drain};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
-use super::motor::MotorLoop;
+use super::motor::{MotorLoop, TruthFill, TruthTap};
 use super::params::CoreParams;
 use super::rt_setup::{
     RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime, prefault_stack,
@@ -45,6 +45,9 @@ pub struct RunOptions {
     pub histogram_dir: Option<PathBuf>,
     /// Stop by itself after this long (`None`: until SIGINT/SIGTERM).
     pub duration: Option<Duration>,
+    /// Ground truth published on `upm/sim/ground_truth` at this rate (Hz);
+    /// 0 = off. Only meaningful with a simulator driver and a `truth` fill.
+    pub truth_hz: f64,
 }
 
 /// What the run achieved, for the caller to report.
@@ -126,6 +129,17 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
     driver: D,
     options: &RunOptions,
 ) -> Result<RunReport, StartError> {
+    run_core_with_truth(params, driver, None, options)
+}
+
+/// [`run_core`] that also publishes the driver's ground truth (a
+/// simulator's parts) through `truth` at `options.truth_hz`.
+pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
+    params: &CoreParams,
+    driver: D,
+    truth: Option<TruthFill<D>>,
+    options: &RunOptions,
+) -> Result<RunReport, StartError> {
     params.validate().map_err(StartError::Params)?;
     let config = config_with_prefix(&options.prefix).map_err(|_| StartError::Prefix)?;
     claim_prefix(&config)?;
@@ -158,6 +172,23 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
     let (motor_tx, mut motor_rx) = rtrb::RingBuffer::<MotorSample>::new(MOTOR_RING);
     let (solver_tx, mut solver_rx) = rtrb::RingBuffer::<SolverSample>::new(SOLVER_RING);
     let (schedule_tx, mut schedule_rx) = rtrb::RingBuffer::<Schedule>::new(SCHEDULE_RING);
+    let truth_every = if options.truth_hz > 0.0 && options.truth_hz.is_finite() {
+        ((params.motion.tick_hz / options.truth_hz).round() as u64).max(1)
+    } else {
+        0
+    };
+    let (truth_tap, mut truth_rx, truth_pub) = match truth {
+        Some(fill) if truth_every > 0 => {
+            let (input, output) = triple_buffer::triple_buffer(&PartStates::new());
+            let publisher = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
+                .map_err(|error| StartError::Service { service: service_names::SIM_GROUND_TRUTH, error })?
+                .publisher_builder()
+                .create()
+                .map_err(|_| StartError::Port { service: service_names::SIM_GROUND_TRUTH })?;
+            (Some(TruthTap { every: truth_every, fill, out: input }), Some(output), Some(publisher))
+        }
+        _ => (None, None, None),
+    };
 
     // Solver thread: ports and solver built on the thread that uses them.
     let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
@@ -228,6 +259,9 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
                     p.parts_max_age_ns,
                     p.request_max_age_ns,
                 );
+                if let Some(tap) = truth_tap {
+                    motor.set_truth_tap(tap);
+                }
                 let _ = ready_tx.send(placement);
                 alloc_count::mark_rt_thread(true);
                 motor.run(&MonotonicClock, period);
@@ -256,6 +290,11 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
         }
         while let Ok(s) = schedule_rx.pop() {
             let _ = schedule_pub.send_copy(s);
+        }
+        if let (Some(rx), Some(p)) = (truth_rx.as_mut(), truth_pub.as_ref()) {
+            if rx.update() {
+                let _ = p.send_copy(*rx.peek_output_buffer());
+            }
         }
         let now = monotonic_now_ns();
         if force || now >= next_telemetry {
