@@ -29,6 +29,42 @@ pub struct Config {
     pub safety: SafetySection,
     pub telemetry: TelemetrySection,
     pub sim: SimSection,
+    pub vision: VisionSection,
+}
+
+/// The simulated camera and its tracker (`upm-vision`).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct VisionSection {
+    pub frame_hz: f64,
+    pub noise_mm: f64,
+    pub noise_deg: f64,
+    pub latency_ms: f64,
+    pub drop_probability: f64,
+    pub seed: u64,
+    pub alpha: f64,
+    pub beta: f64,
+    pub gate_mm: f64,
+    pub max_missed_frames: u32,
+}
+
+impl Default for VisionSection {
+    fn default() -> Self {
+        let c = crate::vision::CameraParams::default();
+        let t = crate::vision::TrackerParams::default();
+        Self {
+            frame_hz: c.frame_hz,
+            noise_mm: c.noise_m * 1e3,
+            noise_deg: c.noise_rad.to_degrees(),
+            latency_ms: c.latency_s * 1e3,
+            drop_probability: c.drop_probability,
+            seed: c.seed,
+            alpha: t.alpha,
+            beta: t.beta,
+            gate_mm: t.gate_m * 1e3,
+            max_missed_frames: t.max_missed,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize, PartialEq)]
@@ -138,6 +174,7 @@ impl Default for Config {
             safety: SafetySection::default(),
             telemetry: TelemetrySection::default(),
             sim: SimSection::default(),
+            vision: VisionSection::default(),
         }
     }
 }
@@ -375,7 +412,9 @@ impl Config {
                     drivers::Shape::Polygon { vertices, count: 4 }
                 }
                 other => {
-                    return Err(invalid(format!("{field}.shape {other:?}: expected \"point\", \"disc\" or \"square\"")));
+                    return Err(invalid(format!(
+                        "{field}.shape {other:?}: expected \"point\", \"disc\" or \"square\""
+                    )));
                 }
             };
             out.specs.push(drivers::PartSpec { shape, mass: p.mass, position: p.position, angle: p.angle });
@@ -387,6 +426,43 @@ impl Config {
             return Err(invalid(format!("sim.parts: {e}")));
         }
         Ok(out)
+    }
+
+    /// Camera and tracker parameters; errors name the field.
+    pub fn vision_params(
+        &self,
+        path: &str,
+    ) -> Result<(crate::vision::CameraParams, crate::vision::TrackerParams), ConfigError> {
+        let v = &self.vision;
+        let cam = crate::vision::CameraParams {
+            frame_hz: v.frame_hz,
+            noise_m: v.noise_mm * 1e-3,
+            noise_rad: v.noise_deg.to_radians(),
+            latency_s: v.latency_ms * 1e-3,
+            drop_probability: v.drop_probability,
+            seed: v.seed,
+        };
+        crate::vision::Camera::new(cam)
+            .map_err(|message| ConfigError::Invalid { path: path.into(), message })?;
+        if !(v.alpha > 0.0 && v.alpha <= 1.0 && v.beta > 0.0 && v.beta < 2.0) {
+            return Err(ConfigError::Invalid {
+                path: path.into(),
+                message: "vision: need 0 < alpha <= 1 and 0 < beta < 2".into(),
+            });
+        }
+        if !(v.gate_mm.is_finite() && v.gate_mm > 0.0) {
+            return Err(ConfigError::Invalid {
+                path: path.into(),
+                message: "vision.gate_mm must be positive".into(),
+            });
+        }
+        let tracker = crate::vision::TrackerParams {
+            alpha: v.alpha,
+            beta: v.beta,
+            gate_m: v.gate_mm * 1e-3,
+            max_missed: v.max_missed_frames,
+        };
+        Ok((cam, tracker))
     }
 
     pub fn histogram_dir(&self) -> Option<&Path> {

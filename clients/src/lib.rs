@@ -7,3 +7,4 @@ pub mod core_process;
 pub mod solve_json;
 pub mod status;
 pub mod validate;
+pub mod vision;

@@ -1,0 +1,119 @@
+//! Multi-part tracking for the camera: detections carry no ids, so each is
+//! associated to the nearest predicted track within a gate; an alpha-beta
+//! filter per track smooths position and estimates velocity.
+
+/// One detection in a frame (what a camera sees: where, which class).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Detection {
+    pub x: f64,
+    pub y: f64,
+    pub theta: f64,
+    pub class: u32,
+}
+
+/// One tracked part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Track {
+    pub id: u32,
+    pub class: u32,
+    /// Filtered pose (x, y, θ) and rates.
+    pub pose: [f64; 3],
+    pub velocity: [f64; 3],
+    /// Consecutive frames without a matching detection.
+    pub missed: u32,
+}
+
+/// Tunables of the tracker.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrackerParams {
+    /// Position gain of the alpha-beta filter (0, 1].
+    pub alpha: f64,
+    /// Velocity gain (0, 2).
+    pub beta: f64,
+    /// Largest distance (m) between a prediction and its detection.
+    pub gate_m: f64,
+    /// A track is dropped after this many frames unseen.
+    pub max_missed: u32,
+}
+
+impl Default for TrackerParams {
+    fn default() -> Self {
+        Self { alpha: 0.5, beta: 0.1, gate_m: 0.05, max_missed: 30 }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Tracker {
+    params: TrackerParams,
+    tracks: Vec<Track>,
+    next_id: u32,
+}
+
+impl Tracker {
+    pub fn new(params: TrackerParams) -> Self {
+        Self { params, tracks: Vec::new(), next_id: 1 }
+    }
+
+    pub fn tracks(&self) -> &[Track] {
+        &self.tracks
+    }
+
+    /// Update with one frame taken `dt` seconds after the previous one.
+    /// Greedy nearest-neighbour association, closest pairs first; new
+    /// tracks get ids in detection order.
+    pub fn update(&mut self, detections: &[Detection], dt: f64) {
+        let p = self.params;
+        let predicted: Vec<[f64; 3]> =
+            self.tracks.iter().map(|t| [0, 1, 2].map(|k| t.pose[k] + t.velocity[k] * dt)).collect();
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (ti, pr) in predicted.iter().enumerate() {
+            for (di, d) in detections.iter().enumerate() {
+                let dist = (d.x - pr[0]).hypot(d.y - pr[1]);
+                if dist <= p.gate_m && d.class == self.tracks[ti].class {
+                    pairs.push((dist, ti, di));
+                }
+            }
+        }
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut track_used = vec![false; self.tracks.len()];
+        let mut det_used = vec![false; detections.len()];
+        for (_, ti, di) in pairs {
+            if track_used[ti] || det_used[di] {
+                continue;
+            }
+            track_used[ti] = true;
+            det_used[di] = true;
+            let d = detections[di];
+            let t = &mut self.tracks[ti];
+            let z = [d.x, d.y, d.theta];
+            for k in 0..3 {
+                let r = z[k] - predicted[ti][k];
+                t.pose[k] = predicted[ti][k] + p.alpha * r;
+                if dt > 0.0 {
+                    t.velocity[k] += p.beta * r / dt;
+                }
+            }
+            t.missed = 0;
+        }
+        for (ti, used) in track_used.iter().enumerate() {
+            if !used {
+                let t = &mut self.tracks[ti];
+                t.pose = predicted[ti];
+                t.missed += 1;
+            }
+        }
+        self.tracks.retain(|t| t.missed <= p.max_missed);
+        for (di, d) in detections.iter().enumerate() {
+            if !det_used[di] {
+                self.tracks.push(Track {
+                    id: self.next_id,
+                    class: d.class,
+                    pose: [d.x, d.y, d.theta],
+                    velocity: [0.0; 3],
+                    missed: 0,
+                });
+                self.next_id += 1;
+            }
+        }
+    }
+}
