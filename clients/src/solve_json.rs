@@ -93,8 +93,13 @@ impl SolveInput {
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let parts = input.force_constraints();
     let curls = input.curl_constraints();
-    let problem =
-        Problem { mu_m_g: input.mu_m_g, k_max: input.k_max(), centers: &input.centers, parts: &parts, curls: &curls };
+    let problem = Problem {
+        mu_m_g: input.mu_m_g,
+        k_max: input.k_max(),
+        centers: &input.centers,
+        parts: &parts,
+        curls: &curls,
+    };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut solution = solver.new_solution();
     solver.solve(&problem, &mut solution).map_err(InputError::Solve)?;

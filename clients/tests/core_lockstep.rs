@@ -45,19 +45,28 @@ fn run_fed(
 fn record(ticks: u64) -> Vec<[u64; 6]> {
     let mut c = core();
     let mut rec = Vec::new();
-    run_fed(&mut c, ticks, 100, |_| true, |_, c| {
-        let s = c.motor().plate_state();
-        let [x, y, th] = c.shared().pose();
-        rec.push([
-            s.pose.x.to_bits(),
-            s.pose.theta.to_bits(),
-            x.to_bits() ^ y.to_bits(),
-            th.to_bits(),
-            c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed),
-            c.shared().state() as u64,
-        ]);
-    });
-    assert!(c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed) > 5, "schedules were played");
+    run_fed(
+        &mut c,
+        ticks,
+        100,
+        |_| true,
+        |_, c| {
+            let s = c.motor().plate_state();
+            let [x, y, th] = c.shared().pose();
+            rec.push([
+                s.pose.x.to_bits(),
+                s.pose.theta.to_bits(),
+                x.to_bits() ^ y.to_bits(),
+                th.to_bits(),
+                c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed),
+                c.shared().state() as u64,
+            ]);
+        },
+    );
+    assert!(
+        c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed) > 5,
+        "schedules were played"
+    );
     rec
 }
 
@@ -78,19 +87,25 @@ fn plays_solved_schedule_and_swaps_only_at_cycle_boundaries() {
     let mut prev_swaps = 0;
     let mut swaps_seen = 0;
     let mut running_ticks = 0;
-    run_fed(&mut c, 3000, 37, |_| true, |_, c| {
-        let swaps = c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed);
-        if swaps != prev_swaps {
-            // The plate was home when the new schedule took over.
-            assert_eq!(prev_pose, [0.0; 3], "schedule swapped mid-cycle");
-            swaps_seen += 1;
-        }
-        if c.shared().state() == CoreState::Running {
-            running_ticks += 1;
-        }
-        prev_swaps = swaps;
-        prev_pose = c.shared().pose();
-    });
+    run_fed(
+        &mut c,
+        3000,
+        37,
+        |_| true,
+        |_, c| {
+            let swaps = c.shared().schedule_swaps.load(core::sync::atomic::Ordering::Relaxed);
+            if swaps != prev_swaps {
+                // The plate was home when the new schedule took over.
+                assert_eq!(prev_pose, [0.0; 3], "schedule swapped mid-cycle");
+                swaps_seen += 1;
+            }
+            if c.shared().state() == CoreState::Running {
+                running_ticks += 1;
+            }
+            prev_swaps = swaps;
+            prev_pose = c.shared().pose();
+        },
+    );
     assert!(swaps_seen > 3);
     assert!(running_ticks > 2500, "running ticks {running_ticks}");
     let published = c.published();
@@ -116,21 +131,30 @@ fn stale_input_holds_within_one_cycle_and_fresh_input_resumes() {
     let resume = 5000;
     let mut first_hold = None;
     let mut resumed_at = None;
-    run_fed(&mut c, 7000, 50, |t| !(stop_feeding..resume).contains(&t), |t, c| {
-        let state = c.shared().state();
-        if state == CoreState::Hold {
-            first_hold.get_or_insert(t);
-            assert_eq!(c.shared().pose(), [0.0; 3], "plate moved while holding");
-        }
-        if t > resume && state == CoreState::Running {
-            resumed_at.get_or_insert(t);
-        }
-    });
+    run_fed(
+        &mut c,
+        7000,
+        50,
+        |t| !(stop_feeding..resume).contains(&t),
+        |t, c| {
+            let state = c.shared().state();
+            if state == CoreState::Hold {
+                first_hold.get_or_insert(t);
+                assert_eq!(c.shared().pose(), [0.0; 3], "plate moved while holding");
+            }
+            if t > resume && state == CoreState::Running {
+                resumed_at.get_or_insert(t);
+            }
+        },
+    );
     let cycle = 4 * params.motion.slot_ticks as u64;
     let last_input = stop_feeding - 50;
     let hold = first_hold.expect("core never held");
     assert!(hold > last_input + max_age_ticks, "held too early at {hold}");
-    assert!(hold <= last_input + max_age_ticks + cycle + 1, "held at {hold}, later than one cycle after stale");
+    assert!(
+        hold <= last_input + max_age_ticks + cycle + 1,
+        "held at {hold}, later than one cycle after stale"
+    );
     let resumed = resumed_at.expect("core never resumed");
     assert!(resumed <= resume + cycle + 1, "resumed at {resumed}");
     assert_eq!(c.shared().hold_events.load(core::sync::atomic::Ordering::Relaxed), 1);

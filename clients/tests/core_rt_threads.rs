@@ -54,7 +54,12 @@ fn rt_threads_make_no_allocations_over_a_thousand_cycles() {
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || common::feed(&prefix, Duration::from_millis(10), &stop))
     };
-    let options = RunOptions { prefix: prefix.clone(), duration: Some(duration), truth_hz: 1000.0, ..RunOptions::default() };
+    let options = RunOptions {
+        prefix: prefix.clone(),
+        duration: Some(duration),
+        truth_hz: 1000.0,
+        ..RunOptions::default()
+    };
     if std::env::var_os("UPM_ABORT_ON_RT_ALLOCATION").is_some() {
         alloc_count::abort_on_rt_allocation(true);
     }
@@ -87,7 +92,9 @@ fn rt_threads_make_no_allocations_over_a_thousand_cycles() {
     assert_eq!(report.dropped_samples, 0);
     assert_eq!(h.motor_wakeup.len(), t.counters.ticks);
     assert_eq!(h.motor_tick.len(), t.counters.ticks);
-    for p in [t.latency.motor_wakeup, t.latency.solver, t.latency.ipc_vision_to_core, t.latency.frame_to_schedule] {
+    for p in
+        [t.latency.motor_wakeup, t.latency.solver, t.latency.ipc_vision_to_core, t.latency.frame_to_schedule]
+    {
         assert!(p.is_ordered(), "{p:?}");
         assert!(p.samples > 0, "{p:?}");
     }

@@ -30,7 +30,8 @@ pub fn request(seq: u64, stamp_ns: u64, parts: &[(u32, [f64; 2], [f64; 2])], sca
 
 /// A service prefix no other test or rig uses.
 pub fn unique_prefix(tag: &str) -> String {
-    let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
+    let nanos =
+        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
     format!("upmt_{tag}_{}_{nanos}_", std::process::id())
 }
 
@@ -38,7 +39,9 @@ pub fn unique_prefix(tag: &str) -> String {
 pub fn remove_prefix(prefix: &str) {
     if let Ok(config) = ipc_types::ports::config_with_prefix(prefix) {
         // SAFETY: every node on this prefix belongs to this test and is gone.
-        let _ = unsafe { iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config) };
+        let _ = unsafe {
+            iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config)
+        };
     }
 }
 
