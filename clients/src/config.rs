@@ -7,7 +7,7 @@ use std::path::Path;
 use drivers::{ActuatorModel, SimConfig};
 use rt_core::motion::{MotionLimits, MotionParams, RigParams};
 use rt_core::runtime::{CoreParams, RtParams};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
@@ -19,7 +19,7 @@ pub enum ConfigError {
     Invalid { path: String, message: String },
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Config {
     pub service: ServiceSection,
@@ -33,7 +33,7 @@ pub struct Config {
 }
 
 /// The simulated camera and its tracker (`upm-vision`).
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct VisionSection {
     pub frame_hz: f64,
@@ -67,14 +67,14 @@ impl Default for VisionSection {
     }
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct ServiceSection {
     /// iceoryx2 prefix: one per rig, so rigs (and tests) never see each other.
     pub prefix: String,
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlateSection {
     pub half_extent: [f64; 2],
@@ -82,7 +82,7 @@ pub struct PlateSection {
     pub centers: Vec<[f64; 2]>,
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct MotionSection {
     pub tick_hz: f64,
@@ -96,7 +96,7 @@ pub struct MotionSection {
     pub max_point_acceleration: f64,
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct RtSection {
     pub motor_priority: u8,
@@ -108,7 +108,7 @@ pub struct RtSection {
     pub solver_poll_us: u64,
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct SafetySection {
     pub parts_max_age_ms: f64,
@@ -116,7 +116,7 @@ pub struct SafetySection {
     pub max_future_skew_ms: f64,
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct TelemetrySection {
     pub period_ms: f64,
@@ -124,7 +124,7 @@ pub struct TelemetrySection {
     pub histogram_dir: String,
 }
 
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimSection {
     pub seed: u64,
@@ -140,7 +140,7 @@ pub struct SimSection {
 }
 
 /// One `[[sim.parts]]` entry.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SimPartSection {
     pub id: u32,

@@ -4,6 +4,7 @@
 pub mod cli;
 pub mod config;
 pub mod core_process;
+pub mod launcher;
 pub mod solve_json;
 pub mod status;
 pub mod validate;

@@ -31,7 +31,10 @@ pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};
 pub use motor::{MotorLoop, TickOutcome, TruthFill, TruthTap};
 pub use params::{CoreParams, CoreParamsError, RtParams};
-pub use process::{CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth};
+pub use process::{
+    CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, core_running, fill_telemetry, run_core,
+    run_core_with_truth,
+};
 pub use samples::{MotorSample, SolverSample};
 pub use shared::CoreShared;
 pub use solve_stage::{RequestError, SolveStage};

@@ -78,8 +78,13 @@ pub enum CoreParamsError {
     Motion(ParamsError),
     Rig(RigError),
     NoCenters,
-    TooManyCenters { given: usize, capacity: usize },
-    NonFiniteCenter { index: usize },
+    TooManyCenters {
+        given: usize,
+        capacity: usize,
+    },
+    NonFiniteCenter {
+        index: usize,
+    },
     MuMg,
     MaxAge,
     SolverPoll,

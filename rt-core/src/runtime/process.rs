@@ -96,6 +96,13 @@ impl RealtimeStatus {
     }
 }
 
+/// True if a live upm-core owns `prefix` (dead cores' resources are
+/// cleaned up on the way).
+pub fn core_running(prefix: &str) -> Result<bool, StartError> {
+    let config = config_with_prefix(prefix).map_err(|_| StartError::Prefix)?;
+    Ok(claim_prefix(&config) == Err(StartError::AlreadyRunning))
+}
+
 /// Refuse to start if a live core owns `config`'s prefix; clean up the
 /// resources of dead ones (a core killed with SIGKILL).
 fn claim_prefix(config: &Config) -> Result<(), StartError> {

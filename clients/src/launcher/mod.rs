@@ -1,0 +1,216 @@
+//! `upm run SCENARIO`: start upm-core, upm-vision and upm-planner as
+//! separate processes on the scenario's own service prefix, show progress,
+//! restart a client that dies (with backoff), stop everything cleanly at
+//! the end or on Ctrl-C, and write `metrics.json`, `trails.svg` and
+//! `latency/*.hgrm` into the output directory.
+
+pub mod plot;
+pub mod recorder;
+pub mod supervisor;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, bail};
+use iceoryx2::node::NodeWaitFailure;
+use iceoryx2::prelude::*;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::{Value, json};
+
+use crate::config::Config;
+pub use recorder::{PartTrail, Recorder, Trails};
+use supervisor::Supervised;
+
+/// Everything the launcher needs to run one scenario.
+#[derive(Debug, Clone)]
+pub struct RunPlan {
+    pub scenario: String,
+    pub seed: u64,
+    pub duration_s: f64,
+    /// The rig config all three processes get (with the scenario's parts).
+    pub config: Config,
+    pub planner: String,
+    /// Passed to upm-planner as `--scenario`.
+    pub scenario_file: Option<PathBuf>,
+}
+
+/// What the run produced.
+#[derive(Debug)]
+pub struct RunOutcome {
+    pub metrics: Value,
+    pub trails: Trails,
+    pub interrupted: bool,
+}
+
+fn sibling_binary(name: &str) -> anyhow::Result<PathBuf> {
+    let exe = std::env::current_exe().context("locating the upm binary")?;
+    let dir = exe.parent().context("binary directory")?;
+    // Test binaries live in target/*/deps; the programs one level up.
+    for d in [dir.to_path_buf(), dir.join("..")] {
+        let p = d.join(name);
+        if p.is_file() {
+            return Ok(p);
+        }
+    }
+    bail!("{name} not found next to {} (build the workspace with `cargo build --release`)", exe.display())
+}
+
+fn latency_json(p: &ipc_types::LatencyPercentiles) -> Value {
+    let us = |ns: u64| ns as f64 / 1e3;
+    json!({ "p50": us(p.p50_ns), "p99": us(p.p99_ns), "p999": us(p.p999_ns), "max": us(p.max_ns), "samples": p.samples })
+}
+
+/// Run `plan`, writing into `out`. `evaluate` turns the trails into the
+/// scenario's goal metrics (merged into metrics.json).
+pub fn run_plan(
+    plan: &RunPlan,
+    out: &Path,
+    show_progress: bool,
+    evaluate: &dyn Fn(&Trails) -> Value,
+) -> anyhow::Result<RunOutcome> {
+    let prefix = plan.config.service.prefix.clone();
+    if rt_core::runtime::core_running(&prefix).map_err(|e| anyhow::anyhow!("{e}"))? {
+        bail!(
+            "a upm-core is already running on service prefix {prefix:?}; stop it first or use another prefix"
+        );
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let cfg_path = out.join("config.toml");
+    std::fs::write(&cfg_path, toml::to_string(&plan.config).context("serialising the config")?)
+        .with_context(|| format!("writing {}", cfg_path.display()))?;
+    let logs = out.join("logs");
+    std::fs::create_dir_all(&logs)?;
+    let cfg = cfg_path.display().to_string();
+
+    let mut core = Supervised::new(
+        "upm-core",
+        sibling_binary("upm-core")?,
+        vec![
+            "--config".into(),
+            cfg.clone(),
+            "--truth-hz".into(),
+            "1000".into(),
+            "--histograms".into(),
+            out.join("latency").display().to_string(),
+        ],
+        Some(logs.join("core.log")),
+    );
+    let mut vision = Supervised::new(
+        "upm-vision",
+        sibling_binary("upm-vision")?,
+        vec!["--config".into(), cfg.clone()],
+        Some(logs.join("vision.log")),
+    );
+    let mut planner_args = vec!["--config".into(), cfg.clone(), "--planner".into(), plan.planner.clone()];
+    if let Some(s) = &plan.scenario_file {
+        planner_args.extend(["--scenario".into(), s.display().to_string()]);
+    }
+    let mut planner = Supervised::new(
+        "upm-planner",
+        sibling_binary("upm-planner")?,
+        planner_args,
+        Some(logs.join("planner.log")),
+    );
+
+    let mut recorder = Recorder::new(&prefix, 20.0)?;
+    core.start()?;
+    // Wait until the core is up before starting its clients.
+    let up = Instant::now();
+    while !rt_core::runtime::core_running(&prefix).unwrap_or(false) {
+        if let Some(s) = core.exited() {
+            bail!("upm-core exited at start-up ({s}); see {}", logs.join("core.log").display());
+        }
+        if up.elapsed() > Duration::from_secs(20) {
+            bail!("upm-core did not come up within 20 s; see {}", logs.join("core.log").display());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    vision.start()?;
+    planner.start()?;
+
+    // The launcher's own node handles Ctrl-C (SIGINT) and SIGTERM.
+    let config = ipc_types::ports::config_with_prefix(&prefix)?;
+    let node = NodeBuilder::new()
+        .config(&config)
+        .create::<ipc::Service>()
+        .map_err(|e| anyhow::anyhow!("launcher node: {e:?}"))?;
+    let bar =
+        if show_progress { ProgressBar::new((plan.duration_s * 10.0) as u64) } else { ProgressBar::hidden() };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {pos}/{len} ds  (elapsed {elapsed})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(format!("{} seed {}", plan.scenario, plan.seed));
+    let mut interrupted = false;
+    let mut sim_s = 0.0;
+    let mut core_failed = None;
+    while sim_s < plan.duration_s {
+        sim_s = recorder.poll()?;
+        bar.set_position((sim_s * 10.0) as u64);
+        for c in [&mut vision, &mut planner] {
+            if c.restart_if_dead()? {
+                bar.println(format!("upm run: {} died; restarted (restart {})", c.name, c.restarts));
+            }
+        }
+        if let Some(s) = core.exited() {
+            core_failed = Some(s);
+            break;
+        }
+        match node.wait(Duration::from_millis(20)) {
+            Ok(()) => {}
+            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => {
+                interrupted = true;
+                break;
+            }
+        }
+    }
+    bar.finish_and_clear();
+    let _ = recorder.poll();
+    let pids = json!({ "core": core.pid(), "vision": vision.pid(), "planner": planner.pid() });
+    let restarts = json!({ "vision": vision.restarts, "planner": planner.restarts });
+    planner.stop(Duration::from_secs(3));
+    vision.stop(Duration::from_secs(3));
+    let core_exit = core.stop(Duration::from_secs(5));
+    if let Some(s) = core_failed {
+        bail!("upm-core died during the run ({s}); see {}", logs.join("core.log").display());
+    }
+    let t = recorder.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
+    let mut metrics = json!({
+        "scenario": plan.scenario,
+        "seed": plan.seed,
+        "sim_seconds": recorder.trails.duration(),
+        "interrupted": interrupted,
+        "core": {
+            "cycles": t.cycle,
+            "ticks": t.counters.ticks,
+            "overruns": t.counters.overruns,
+            "hold_events": t.counters.hold_events,
+            "schedule_swaps": t.counters.schedule_swaps,
+            "rt_thread_allocations": t.counters.rt_thread_allocations,
+            "rejected_parts": t.counters.rejected_parts,
+            "rejected_requests": t.counters.rejected_requests,
+            "realtime_flags": t.realtime_flags,
+            "exit_ok": core_exit.is_some_and(|s| s.success()),
+        },
+        "latency_us": {
+            "motor_wakeup": latency_json(&t.latency.motor_wakeup),
+            "solver": latency_json(&t.latency.solver),
+            "ipc_vision_to_core": latency_json(&t.latency.ipc_vision_to_core),
+            "frame_to_schedule": latency_json(&t.latency.frame_to_schedule),
+        },
+        "processes": pids,
+        "restarts": restarts,
+    });
+    if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&recorder.trails)) {
+        m.extend(goals);
+    }
+    std::fs::write(out.join("metrics.json"), serde_json::to_string_pretty(&metrics)?)?;
+    plot::draw_trails(
+        &out.join("trails.svg"),
+        &format!("{} (seed {})", plan.scenario, plan.seed),
+        plan.config.plate.half_extent,
+        &plan.config.plate.centers,
+        &recorder.trails,
+    )?;
+    Ok(RunOutcome { metrics, trails: recorder.trails, interrupted })
+}

@@ -1,0 +1,93 @@
+//! What `upm run` records while the loop runs: part trails from the
+//! simulator's ground truth and the core's newest telemetry.
+
+use std::collections::BTreeMap;
+
+use iceoryx2::prelude::*;
+use ipc_types::ports::{Sub, config_with_prefix, open_pub_sub};
+use ipc_types::{PartStates, Telemetry, service_names};
+use serde::Serialize;
+
+/// Positions of one part over the run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct PartTrail {
+    pub class: u32,
+    /// (t, x, y, θ), t in seconds since the first sample.
+    pub points: Vec<[f64; 4]>,
+}
+
+/// Every part's trail, by ground-truth id.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Trails {
+    pub parts: BTreeMap<u32, PartTrail>,
+}
+
+impl Trails {
+    pub fn duration(&self) -> f64 {
+        self.parts.values().filter_map(|p| p.points.last()).map(|p| p[0]).fold(0.0, f64::max)
+    }
+}
+
+#[derive(Debug)]
+pub struct Recorder {
+    _node: Node<ipc::Service>,
+    truth: Sub<PartStates>,
+    telemetry: Sub<Telemetry>,
+    pub trails: Trails,
+    pub last_telemetry: Option<Telemetry>,
+    first_stamp: Option<u64>,
+    last_sample: u64,
+    sample_ns: u64,
+}
+
+impl Recorder {
+    /// Record at most `sample_hz` trail points per second.
+    pub fn new(prefix: &str, sample_hz: f64) -> anyhow::Result<Self> {
+        let config = config_with_prefix(prefix)?;
+        let node = NodeBuilder::new()
+            .config(&config)
+            .signal_handling_mode(SignalHandlingMode::Disabled)
+            .create::<ipc::Service>()
+            .map_err(|e| anyhow::anyhow!("recorder node: {e:?}"))?;
+        let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| anyhow::anyhow!("ground-truth subscriber: {e:?}"))?;
+        let telemetry = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| anyhow::anyhow!("telemetry subscriber: {e:?}"))?;
+        Ok(Self {
+            _node: node,
+            truth,
+            telemetry,
+            trails: Trails::default(),
+            last_telemetry: None,
+            first_stamp: None,
+            last_sample: 0,
+            sample_ns: (1e9 / sample_hz.max(1.0)) as u64,
+        })
+    }
+
+    /// Take whatever arrived. Returns the seconds of ground truth seen.
+    pub fn poll(&mut self) -> anyhow::Result<f64> {
+        while let Some(s) = self.telemetry.receive().map_err(|e| anyhow::anyhow!("telemetry: {e:?}"))? {
+            self.last_telemetry = Some(*s.payload());
+        }
+        while let Some(s) = self.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
+            let m = s.payload();
+            let first = *self.first_stamp.get_or_insert(m.stamp_ns);
+            if m.stamp_ns < self.last_sample + self.sample_ns && self.last_sample != 0 {
+                continue;
+            }
+            self.last_sample = m.stamp_ns;
+            let t = m.stamp_ns.saturating_sub(first) as f64 / 1e9;
+            for p in m.parts() {
+                let trail = self.trails.parts.entry(p.id).or_default();
+                trail.class = p.class;
+                trail.points.push([t, p.x, p.y, p.theta]);
+            }
+        }
+        Ok(self.trails.duration())
+    }
+}

@@ -1,0 +1,96 @@
+//! Child processes of `upm run`: spawn, watch, restart with backoff, stop
+//! with SIGINT (then SIGKILL if they do not exit).
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Backoff after a crash: doubles from `FIRST_BACKOFF` up to `MAX_BACKOFF`.
+const FIRST_BACKOFF: Duration = Duration::from_millis(100);
+const MAX_BACKOFF: Duration = Duration::from_secs(2);
+
+#[derive(Debug)]
+pub struct Supervised {
+    pub name: &'static str,
+    program: PathBuf,
+    args: Vec<String>,
+    log: Option<PathBuf>,
+    child: Option<Child>,
+    pub restarts: u32,
+    backoff: Duration,
+    restart_at: Option<Instant>,
+}
+
+impl Supervised {
+    pub fn new(name: &'static str, program: PathBuf, args: Vec<String>, log: Option<PathBuf>) -> Self {
+        Self { name, program, args, log, child: None, restarts: 0, backoff: FIRST_BACKOFF, restart_at: None }
+    }
+
+    pub fn start(&mut self) -> anyhow::Result<()> {
+        let mut cmd = Command::new(&self.program);
+        cmd.args(&self.args).stdin(Stdio::null());
+        if let Some(log) = &self.log {
+            let f = std::fs::OpenOptions::new().create(true).append(true).open(log)?;
+            cmd.stdout(f.try_clone()?).stderr(f);
+        }
+        let child = cmd
+            .spawn()
+            .map_err(|e| anyhow::anyhow!("starting {} ({}): {e}", self.name, self.program.display()))?;
+        self.child = Some(child);
+        Ok(())
+    }
+
+    pub fn pid(&self) -> Option<u32> {
+        self.child.as_ref().map(Child::id)
+    }
+
+    /// Exit status if the process has ended (and is not yet restarted).
+    pub fn exited(&mut self) -> Option<std::process::ExitStatus> {
+        self.child.as_mut().and_then(|c| c.try_wait().ok().flatten())
+    }
+
+    /// Restart a dead process once its backoff has passed. Returns true
+    /// when it restarted it now.
+    pub fn restart_if_dead(&mut self) -> anyhow::Result<bool> {
+        if let Some(at) = self.restart_at {
+            if Instant::now() >= at {
+                self.restart_at = None;
+                self.restarts += 1;
+                self.start()?;
+                return Ok(true);
+            }
+            return Ok(false);
+        }
+        if self.exited().is_some() {
+            self.child = None;
+            self.restart_at = Some(Instant::now() + self.backoff);
+            self.backoff = (self.backoff * 2).min(MAX_BACKOFF);
+        }
+        Ok(false)
+    }
+
+    /// SIGINT, wait up to `grace`, then SIGKILL. Returns the exit status.
+    pub fn stop(&mut self, grace: Duration) -> Option<std::process::ExitStatus> {
+        let mut child = self.child.take()?;
+        if let Ok(Some(s)) = child.try_wait() {
+            return Some(s);
+        }
+        // SAFETY: kill(2) on our own child's pid.
+        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+        let start = Instant::now();
+        while start.elapsed() < grace {
+            if let Ok(Some(s)) = child.try_wait() {
+                return Some(s);
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let _ = child.kill();
+        child.wait().ok()
+    }
+}
+
+impl Drop for Supervised {
+    fn drop(&mut self) {
+        self.stop(Duration::from_secs(2));
+    }
+}
