@@ -54,7 +54,9 @@ fn two_parts_one_millimetre_apart_with_opposite_forces() {
     // Achieved forces are what K really gives, not the request.
     for (a, p) in out.achieved_forces().iter().zip(&parts) {
         let f = cycle_force(out.k(), &centers, 0.1, p.position);
-        assert_eq!(a, &f);
+        // Same model, different summation order: equal to rounding.
+        let tol = 1e-12 * f[0].hypot(f[1]).max(1e-300);
+        assert!((a[0] - f[0]).abs() <= tol && (a[1] - f[1]).abs() <= tol, "{a:?} vs {f:?}");
         assert!((a[0] - p.force.expect("set")[0]).abs() > 1e-3, "the request is not reachable");
     }
     // And the reported residual is the true one.

@@ -8,8 +8,18 @@ use super::field::unit_tangent;
 use super::{Problem, SolveError};
 
 /// Fills `rows[..m*n]` and `b[..m]`; returns m. `b` is scaled by N/μmg.
-pub(crate) fn assemble(problem: &Problem<'_>, rows: &mut [f64], b: &mut [f64]) -> Result<usize, SolveError> {
+/// `min_dist[j]` gets the distance from center j to its nearest constrained
+/// point (∞ if none), which the play order needs: computed here so each
+/// distance is taken once.
+pub(crate) fn assemble(
+    problem: &Problem<'_>,
+    rows: &mut [f64],
+    b: &mut [f64],
+    min_dist: &mut [f64],
+) -> Result<usize, SolveError> {
     let n = problem.centers.len();
+    let min_dist = &mut min_dist[..n];
+    min_dist.fill(f64::INFINITY);
     let scale = n as f64 / problem.mu_m_g;
     let mf = problem.force_rows();
     let mut i = 0;
@@ -18,9 +28,10 @@ pub(crate) fn assemble(problem: &Problem<'_>, rows: &mut [f64], b: &mut [f64]) -
         let (x_row, rest) = rows[i * n..].split_at_mut(n);
         let y_row = &mut rest[(mf - 1) * n..mf * n];
         for (j, &c) in problem.centers.iter().enumerate() {
-            let (t, _) = unit_tangent(part.position, c);
+            let (t, r) = unit_tangent(part.position, c);
             x_row[j] = t[0];
             y_row[j] = t[1];
+            min_dist[j] = min_dist[j].min(r);
         }
         b[i] = scale * f[0];
         b[mf + i] = scale * f[1];
@@ -32,6 +43,7 @@ pub(crate) fn assemble(problem: &Problem<'_>, rows: &mut [f64], b: &mut [f64]) -
         for (j, &c) in problem.centers.iter().enumerate() {
             let (_, r) = unit_tangent(q.position, c);
             row[j] = 1.0 / r;
+            min_dist[j] = min_dist[j].min(r);
         }
         b[i] = scale * q.curl;
         i += 1;

@@ -3,12 +3,21 @@
 //! A rotation about `c` with intensity `k` (k > 0 = CCW) drags a sliding part
 //! at `p` with φ(p) = k·μmg·R90(p − c)/|p − c|, R90(x, y) = (−y, x).
 
+/// |p − c| as √(dx² + dy²): libm's `hypot` was a fifth of a small solve,
+/// and validation already rejects distances whose squares overflow.
+#[inline]
+pub fn distance(p: [f64; 2], c: [f64; 2]) -> f64 {
+    let dx = p[0] - c[0];
+    let dy = p[1] - c[1];
+    (dx * dx + dy * dy).sqrt()
+}
+
 /// Unit tangential direction R90(p − c)/|p − c| and the distance |p − c|.
 #[inline]
 pub fn unit_tangent(p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
     let dx = p[0] - c[0];
     let dy = p[1] - c[1];
-    let r = dx.hypot(dy);
+    let r = (dx * dx + dy * dy).sqrt();
     ([-dy / r, dx / r], r)
 }
 
@@ -32,7 +41,7 @@ pub fn rotation_curl(k: f64, mu_m_g: f64, c: [f64; 2], p: [f64; 2]) -> f64 {
 pub fn rotation_divergence(k: f64, mu_m_g: f64, c: [f64; 2], p: [f64; 2]) -> f64 {
     let dx = p[0] - c[0];
     let dy = p[1] - c[1];
-    let r = dx.hypot(dy);
+    let r = (dx * dx + dy * dy).sqrt();
     let r3 = r * r * r;
     let dfx_dx = k * mu_m_g * dy * dx / r3;
     let dfy_dy = -k * mu_m_g * dx * dy / r3;

@@ -10,11 +10,11 @@ use faer::linalg::qr::col_pivoting::factor as colpiv;
 use faer::linalg::qr::no_pivoting::factor::recommended_block_size;
 use faer::linalg::triangular_solve;
 use faer::reborrow::*;
-use faer::{Conj, MatMut, MatRef, Par};
+use faer::{Conj, MatMut, Par};
 
 /// Block size used for the Householder factor of a `rows × cols` QR.
 pub(crate) fn block_size(rows: usize, cols: usize) -> usize {
-    recommended_block_size::<f64>(rows, cols)
+    if cols <= 64 { 1 } else { recommended_block_size::<f64>(rows, cols) }
 }
 
 /// Scratch for any QR solve up to `max_m × max_n`.
@@ -66,10 +66,9 @@ pub(crate) struct QrSummary {
     pub rank: usize,
 }
 
-/// R as a faer view (upper triangle of the top `dim × dim` block).
-pub(crate) fn r_factor(buf: &QrBuffers, s: QrSummary) -> MatRef<'_, f64> {
-    MatRef::from_column_major_slice(&buf.factor[..s.lead * s.dim], s.lead, s.dim)
-        .submatrix(0, 0, s.dim, s.dim)
+/// R (upper triangle of the top `dim × dim` block of the factor).
+pub(crate) fn r_factor(buf: &QrBuffers, s: QrSummary) -> super::condition::UpperTriangular<'_> {
+    super::condition::UpperTriangular { data: &buf.factor[..s.lead * s.dim], lead: s.lead, dim: s.dim }
 }
 
 /// Solve with `rows` = A row-major (m × n). Writes k into `k[..n]`. When the

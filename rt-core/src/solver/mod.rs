@@ -47,6 +47,7 @@ pub struct Solver {
     exact_k: Vec<f64>,
     cond_v: Vec<f64>,
     cond_w: Vec<f64>,
+    min_dist: Vec<f64>,
     mem: MemBuffer,
 }
 
@@ -77,6 +78,7 @@ impl Solver {
             exact_k: vec![0.0; n],
             cond_v: vec![0.0; m.min(n)],
             cond_w: vec![0.0; m.min(n)],
+            min_dist: vec![0.0; n],
             mem: MemBuffer::new(Self::scratch(cap)),
         }
     }
@@ -131,7 +133,7 @@ impl Solver {
     pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
         validate::validate_problem(problem, &self.cap, &self.params)?;
         let n = problem.centers.len();
-        let m = assemble::assemble(problem, &mut self.rows, &mut self.b)?;
+        let m = assemble::assemble(problem, &mut self.rows, &mut self.b, &mut self.min_dist)?;
         let stack = MemStack::new(&mut self.mem);
 
         out.k.clear();
@@ -193,21 +195,24 @@ impl Solver {
         let r2: f64 = self.residual[..m].iter().zip(&self.b[..m]).map(|(ak, b)| (ak - b) * (ak - b)).sum();
         out.residual = r2.sqrt() * problem.mu_m_g / n as f64;
 
+        // Achieved forces and curls: the model's A·k (already in `residual`,
+        // in units scaled by N/μmg) for constrained rows; the field sum for
+        // parts whose force is free (they have no row).
+        let unscale = problem.mu_m_g / n as f64;
+        let mf = problem.force_rows();
         out.achieved_forces.clear();
-        out.achieved_forces.extend(
-            problem
-                .parts
-                .iter()
-                .map(|p| field::cycle_force(&out.k, problem.centers, problem.mu_m_g, p.position)),
-        );
+        let mut i = 0;
+        for p in problem.parts {
+            if p.force.is_some() {
+                out.achieved_forces.push([self.residual[i] * unscale, self.residual[mf + i] * unscale]);
+                i += 1;
+            } else {
+                out.achieved_forces.push(field::cycle_force(&out.k, problem.centers, problem.mu_m_g, p.position));
+            }
+        }
         out.achieved_curls.clear();
-        out.achieved_curls.extend(
-            problem
-                .curls
-                .iter()
-                .map(|q| field::cycle_curl(&out.k, problem.centers, problem.mu_m_g, q.position)),
-        );
-        order::play_order(problem, &out.k, &mut out.priority, &mut out.order);
+        out.achieved_curls.extend(self.residual[2 * mf..m].iter().map(|r| r * unscale));
+        order::play_order(&out.k, &self.min_dist, &mut out.priority, &mut out.order);
         Ok(())
     }
 }

@@ -70,7 +70,7 @@ fn nearest_too_close(
     params: &SolverParams,
 ) -> Result<Option<usize>, SolveError> {
     for (j, &c) in centers.iter().enumerate() {
-        let r = (p[0] - c[0]).hypot(p[1] - c[1]);
+        let r = super::field::distance(p, c);
         if !r.is_finite() {
             return Err(SolveError::Overflow);
         }
