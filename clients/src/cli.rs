@@ -25,6 +25,22 @@ pub enum Command {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
     },
+    /// Benchmarks side by side with their references (BENCHMARKS.md).
+    Bench {
+        what: BenchTarget,
+        /// Print JSON (DESIGN.md §7) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Shorter runs (smoke test).
+        #[arg(long)]
+        quick: bool,
+        /// latency: seconds per run.
+        #[arg(long, default_value_t = 5.0)]
+        seconds: f64,
+        /// latency: A/B rounds.
+        #[arg(long, default_value_t = 2)]
+        rounds: usize,
+    },
     /// Snapshot of a running core's telemetry.
     Status {
         /// Print JSON (DESIGN.md §7) instead of text.
@@ -57,6 +73,17 @@ pub enum Command {
     },
 }
 
+/// What `upm bench` measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchTarget {
+    /// Solver vs nalgebra's pseudo-inverse.
+    Solver,
+    /// Motor-thread wake-up vs cyclictest.
+    Latency,
+    /// One-way PartStates latency vs raw iceoryx2 ping-pong.
+    Ipc,
+}
+
 /// Read a file, or stdin for `-`.
 pub fn read_input(path: &Path) -> anyhow::Result<String> {
     if path == Path::new("-") {
@@ -75,6 +102,22 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let input = crate::solve_json::parse(&text)?;
             let out = crate::solve_json::solve(&input)?;
             println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+        Command::Bench { what, json, quick, seconds, rounds } => {
+            let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match what {
+                BenchTarget::Solver => (crate::bench_solver::run(quick)?, crate::bench_solver::to_text),
+                BenchTarget::Latency => {
+                    let s = if quick { seconds.min(1.0) } else { seconds };
+                    (crate::bench_latency::run(s, rounds)?, crate::bench_latency::to_text)
+                }
+                BenchTarget::Ipc => anyhow::bail!("upm bench ipc is not implemented yet (issue 6)"),
+            };
+            if json {
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!("{}", text(&v));
+            }
             Ok(())
         }
         Command::Status { json, prefix, config, timeout } => {

@@ -1,12 +1,14 @@
 //! UPM user-facing processes: the `upm` command line, vision and planner
 //! clients. Binaries in `src/bin` are thin wrappers over this library.
 
+pub mod bench_latency;
+pub mod bench_solver;
 pub mod cli;
 pub mod config;
 pub mod core_process;
+pub mod feeder;
 pub mod launcher;
 pub mod solve_json;
 pub mod status;
 pub mod validate;
 pub mod vision;
-pub mod feeder;

@@ -104,3 +104,12 @@ pub fn to_text(t: &Telemetry) -> String {
         t.core_pid,
     )
 }
+
+/// Remove the per-prefix segment iceoryx2 keeps in /dev/shm after every
+/// node on the prefix is gone (benches use a prefix per run).
+pub fn remove_prefix_segment(prefix: &str) {
+    if let Ok(config) = config_with_prefix(prefix) {
+        // SAFETY: called only after every node on this prefix has ended.
+        let _ = unsafe { iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&config) };
+    }
+}

@@ -1,4 +1,9 @@
 use clap::Parser;
+use rt_core::runtime::RtAllocCounter;
+
+// Counts allocations on threads marked real-time (`upm bench` reports them).
+#[global_allocator]
+static ALLOC: RtAllocCounter = RtAllocCounter;
 
 fn main() -> std::process::ExitCode {
     let cli = upm_clients::cli::Cli::parse();
@@ -6,7 +11,7 @@ fn main() -> std::process::ExitCode {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             // One line, naming the field: the contract scripts rely on.
-            eprintln!("upm: error: {e:#}");
+            eprintln!("upm: error: {}", format!("{e:#}").replace('\n', " "));
             std::process::ExitCode::FAILURE
         }
     }

@@ -14,8 +14,9 @@ pub fn unique_prefix(tag: &str) -> String {
 pub fn remove_prefix(prefix: &str) {
     if let Ok(config) = ipc_types::ports::config_with_prefix(prefix) {
         // SAFETY: every node on this prefix belongs to this test and is gone.
-        let _ =
-            unsafe { iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config) };
+        let _ = unsafe {
+            iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config)
+        };
     }
 }
 

@@ -48,6 +48,7 @@ pub struct Solver {
     cond_v: Vec<f64>,
     cond_w: Vec<f64>,
     min_dist: Vec<f64>,
+    cond_diag: Vec<f64>,
     mem: MemBuffer,
 }
 
@@ -79,6 +80,7 @@ impl Solver {
             cond_v: vec![0.0; m.min(n)],
             cond_w: vec![0.0; m.min(n)],
             min_dist: vec![0.0; n],
+            cond_diag: vec![0.0; m.min(n)],
             mem: MemBuffer::new(Self::scratch(cap)),
         }
     }
@@ -164,6 +166,7 @@ impl Solver {
                     self.params.condition_iterations,
                     &mut self.cond_v,
                     &mut self.cond_w,
+                    &mut self.cond_diag,
                 )
             };
             let exact_ok = summary.rank == summary.dim
@@ -207,7 +210,12 @@ impl Solver {
                 out.achieved_forces.push([self.residual[i] * unscale, self.residual[mf + i] * unscale]);
                 i += 1;
             } else {
-                out.achieved_forces.push(field::cycle_force(&out.k, problem.centers, problem.mu_m_g, p.position));
+                out.achieved_forces.push(field::cycle_force(
+                    &out.k,
+                    problem.centers,
+                    problem.mu_m_g,
+                    p.position,
+                ));
             }
         }
         out.achieved_curls.clear();

@@ -1,0 +1,177 @@
+//! `upm bench latency`: the core's motor-thread wake-up latency against
+//! cyclictest (rt-tests) at the same interval, priority and CPU, in the same
+//! run, alternating A B A B so machine drift hits both.
+
+use std::process::Command;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use anyhow::{Context, bail};
+use drivers::{SimConfig, Simulator};
+use hdrhistogram::Histogram;
+use rt_core::runtime::{CoreParams, RunOptions, run_core};
+use serde_json::{Value, json};
+
+/// Percentiles in µs.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct Summary {
+    pub samples: u64,
+    pub p50: f64,
+    pub p99: f64,
+    pub p999: f64,
+    pub max: f64,
+}
+
+fn summary_ns(h: &Histogram<u64>) -> Summary {
+    let us = |ns: u64| ns as f64 / 1e3;
+    Summary {
+        samples: h.len(),
+        p50: us(h.value_at_quantile(0.5)),
+        p99: us(h.value_at_quantile(0.99)),
+        p999: us(h.value_at_quantile(0.999)),
+        max: us(h.max()),
+    }
+}
+
+fn new_histogram() -> anyhow::Result<Histogram<u64>> {
+    Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")
+}
+
+/// One run of the real core (motor + solver + io threads, simulator driver)
+/// fed with the §3.1 inputs; returns its motor wake-up histogram (ns).
+fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<Histogram<u64>> {
+    let prefix = format!("upm_bench_lat_{}_{round}_", std::process::id());
+    let stop = Arc::new(AtomicBool::new(false));
+    let feeder = {
+        let (p, s) = (prefix.clone(), stop.clone());
+        std::thread::spawn(move || crate::feeder::feed(&p, Duration::from_millis(10), &s))
+    };
+    let sim = Simulator::new(SimConfig::default(), &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let options = RunOptions {
+        prefix: prefix.clone(),
+        duration: Some(Duration::from_secs_f64(seconds)),
+        ..RunOptions::default()
+    };
+    let report = run_core(params, sim, &options).map_err(|e| anyhow::anyhow!("{e}"));
+    stop.store(true, Ordering::Relaxed);
+    let _ = feeder.join();
+    crate::status::remove_prefix_segment(&prefix);
+    let report = report?;
+    if !report.realtime.motor.fifo {
+        eprintln!("upm bench latency: WARNING: the motor thread is not SCHED_FIFO; run as root");
+    }
+    Ok(report.histograms.motor_wakeup)
+}
+
+/// One cyclictest run with the same interval/priority/CPU; its per-µs
+/// histogram goes into an ns histogram (bucket value × 1000).
+fn run_cyclictest(
+    interval_us: u64,
+    priority: u8,
+    cpu: Option<usize>,
+    loops: u64,
+) -> anyhow::Result<Histogram<u64>> {
+    let mut cmd = Command::new("cyclictest");
+    cmd.args(["-m", "-q", "-t1", "-h", "20000"])
+        .arg(format!("-p{priority}"))
+        .arg(format!("-i{interval_us}"))
+        .arg(format!("-l{loops}"));
+    if let Some(c) = cpu {
+        cmd.arg(format!("-a{c}"));
+    }
+    let out = cmd.output().context("running cyclictest")?;
+    if !out.status.success() {
+        bail!("cyclictest failed: {}", String::from_utf8_lossy(&out.stderr).trim());
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut h = new_histogram()?;
+    let mut max_us = 0u64;
+    for line in text.lines() {
+        if let Some(rest) = line.strip_prefix("# Max Latencies:") {
+            max_us = rest.trim().parse().unwrap_or(0);
+        }
+        let mut it = line.split_whitespace();
+        if let (Some(a), Some(b), None) = (it.next(), it.next(), it.next()) {
+            if let (Ok(us), Ok(n)) = (a.parse::<u64>(), b.parse::<u64>()) {
+                if n > 0 {
+                    h.saturating_record_n(us.max(1) * 1000, n);
+                }
+            }
+        }
+    }
+    // Overflows (> 20 ms) are not in the buckets; keep the max honest.
+    if max_us * 1000 > h.max() {
+        h.saturating_record(max_us * 1000);
+    }
+    Ok(h)
+}
+
+/// Run `rounds` × (upm, cyclictest), each `seconds` long.
+pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
+    if Command::new("cyclictest").arg("--help").output().is_err() {
+        bail!(
+            "cyclictest not found: install Debian's rt-tests (`apt-get install -y rt-tests`); \
+             the latency bench compares against it in the same run"
+        );
+    }
+    if !(seconds.is_finite() && seconds > 0.0) || rounds == 0 {
+        bail!("--seconds must be positive and --rounds at least 1");
+    }
+    let params = CoreParams::default();
+    let interval_us = params.tick_ns() / 1000;
+    let loops = (seconds * 1e6 / interval_us as f64) as u64;
+    let (mut upm, mut ct) = (new_histogram()?, new_histogram()?);
+    let mut per_round = Vec::new();
+    for round in 0..rounds {
+        let a = run_upm(&params, seconds, round)?;
+        let b = run_cyclictest(interval_us, params.rt.motor_priority, params.rt.motor_cpu, loops)?;
+        per_round.push(json!({ "upm": summary_ns(&a), "cyclictest": summary_ns(&b) }));
+        upm.add(&a).context("merging")?;
+        ct.add(&b).context("merging")?;
+    }
+    let (u, c) = (summary_ns(&upm), summary_ns(&ct));
+    let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
+    Ok(json!({
+        "interval_us": interval_us,
+        "priority": params.rt.motor_priority,
+        "cpu": params.rt.motor_cpu,
+        "seconds_per_run": seconds,
+        "rounds": rounds,
+        "upm": u,
+        "cyclictest": c,
+        "ratio_p50": ratio(u.p50, c.p50),
+        "ratio_p99": ratio(u.p99, c.p99),
+        "ratio_p999": ratio(u.p999, c.p999),
+        "ratio_max": ratio(u.max, c.max),
+        "per_round": per_round,
+        "note": "upm: wake-up lateness of the real core's motor thread (SCHED_FIFO, absolute clock_nanosleep) with solver and io threads running; cyclictest: same interval, priority and CPU. cyclictest resolves 1 µs.",
+    }))
+}
+
+/// Human-readable table.
+pub fn to_text(v: &Value) -> String {
+    let row = |name: &str, s: &Value| {
+        format!(
+            "{name:<12} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
+            s["p50"].as_f64().unwrap_or(f64::NAN),
+            s["p99"].as_f64().unwrap_or(f64::NAN),
+            s["p999"].as_f64().unwrap_or(f64::NAN),
+            s["max"].as_f64().unwrap_or(f64::NAN)
+        )
+    };
+    format!(
+        "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<12} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+        v["interval_us"],
+        v["rounds"],
+        "",
+        "p50",
+        "p99",
+        "p99.9",
+        "max",
+        row("upm", &v["upm"]),
+        row("cyclictest", &v["cyclictest"]),
+        v["ratio_p99"].as_f64().unwrap_or(f64::NAN),
+        v["ratio_p999"].as_f64().unwrap_or(f64::NAN),
+    )
+}
