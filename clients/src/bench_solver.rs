@@ -181,7 +181,17 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
 pub fn to_text(v: &Value) -> String {
     let mut s = format!(
         "{:>4} {:>4} {:>8} {:>10} {:>10} {:>12} {:>12} {:>8} {:>6} {:>10} {:>9}\n",
-        "m", "n", "path", "upm p50", "upm p99", "nalg p50", "nalg p99", "speedup", "alloc", "max rel", "max κ"
+        "m",
+        "n",
+        "path",
+        "upm p50",
+        "upm p99",
+        "nalg p50",
+        "nalg p99",
+        "speedup",
+        "alloc",
+        "max rel",
+        "max κ"
     );
     for c in
         v["cases"].as_array().into_iter().flatten().chain(v["bounded_cases"].as_array().into_iter().flatten())

@@ -25,6 +25,26 @@ pub enum Command {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
     },
+    /// The closed loop: core, vision and planner as separate processes.
+    Run {
+        /// Scenario name (scenarios/NAME.toml) or path.
+        scenario: String,
+        /// Output directory (metrics.json, trails.svg, latency/*.hgrm).
+        #[arg(long, default_value = "out/run")]
+        out: PathBuf,
+        /// Override the scenario's duration (s).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Override the scenario's seed.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Service prefix (default: one per run).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
         what: BenchTarget,
@@ -102,6 +122,32 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let input = crate::solve_json::parse(&text)?;
             let out = crate::solve_json::solve(&input)?;
             println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+        Command::Run { scenario, out, duration, seed, prefix, quiet } => {
+            let path = crate::scenario::resolve(&scenario);
+            let sc = crate::scenario::Scenario::load(&path)?;
+            let seed = seed.unwrap_or(sc.seed);
+            let duration_s = match duration {
+                Some(d) if d.is_finite() && d > 0.0 => d,
+                Some(d) => anyhow::bail!("--duration must be a positive number of seconds, got {d}"),
+                None => sc.duration_s,
+            };
+            let prefix = prefix.unwrap_or_else(|| format!("upm_run_{}_", std::process::id()));
+            let config = sc.config(seed, &prefix)?;
+            let plan = crate::launcher::RunPlan {
+                scenario: sc.name.clone(),
+                seed,
+                duration_s,
+                config: config.clone(),
+                planner: sc.planner.name.clone(),
+                scenario_file: Some(path.clone()),
+            };
+            let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
+            crate::status::remove_prefix_segment(&prefix);
+            let outcome = outcome?;
+            println!("{}", serde_json::to_string_pretty(&outcome.metrics)?);
+            eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
             Ok(())
         }
         Command::Bench { what, json, quick, seconds, rounds } => {

@@ -83,6 +83,10 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         params.motion.tick_hz,
         std::process::id()
     );
+    if std::env::var_os("UPM_ABORT_ON_RT_ALLOCATION").is_some() {
+        // Debugging aid: stop at the first RT-thread allocation (run under gdb).
+        rt_core::runtime::alloc_count::abort_on_rt_allocation(true);
+    }
     let fill = truth_fill(specs.ids, specs.classes);
     let report = run_core_with_truth(&params, sim, Some(fill), &options).context("upm-core")?;
     let rt = report.realtime;

@@ -4,10 +4,13 @@
 pub mod bench_latency;
 pub mod bench_solver;
 pub mod cli;
+pub mod closed_loop;
 pub mod config;
 pub mod core_process;
 pub mod feeder;
 pub mod launcher;
+pub mod planner;
+pub mod scenario;
 pub mod solve_json;
 pub mod status;
 pub mod validate;

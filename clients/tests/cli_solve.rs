@@ -116,6 +116,8 @@ fn status_without_a_core_says_so() {
     assert!(err.contains("no upm-core is running"), "{err}");
     if let Ok(config) = ipc_types::ports::config_with_prefix(&prefix) {
         // SAFETY: no node on this prefix is alive.
-        let _ = unsafe { iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config) };
+        let _ = unsafe {
+            iceoryx2::testing::remove_global_mgmt_segment::<iceoryx2::prelude::ipc::Service>(&config)
+        };
     }
 }

@@ -109,3 +109,61 @@ impl Inbox for QueueInbox {
         })
     }
 }
+
+/// One inbound message, moved through a ring by value.
+#[derive(Debug, Clone, Copy)]
+#[allow(clippy::large_enum_variant)] // fixed-size by design: the ring is preallocated
+pub enum InboundMessage {
+    Parts(PartStates),
+    Request(ForceRequest),
+    Explicit(ExplicitSchedule),
+}
+
+/// Ring capacity between the iceoryx2 receiver thread and the solver.
+pub const INBOUND_RING: usize = 64;
+
+/// The solver side of the receiver thread's ring: no iceoryx2 call, no
+/// allocation. (iceoryx2 0.10 allocates inside `receive()` whenever a new
+/// publisher connects, so `receive()` runs on a non-RT receiver thread.)
+#[derive(Debug)]
+pub struct RingInbox(pub rtrb::Consumer<InboundMessage>);
+
+impl Inbox for RingInbox {
+    fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound> {
+        Some(match self.0.pop().ok()? {
+            InboundMessage::Parts(m) => {
+                *buf.parts = m;
+                Inbound::PartStates
+            }
+            InboundMessage::Request(m) => {
+                *buf.request = m;
+                Inbound::Request
+            }
+            InboundMessage::Explicit(m) => {
+                *buf.explicit = m;
+                Inbound::Explicit
+            }
+        })
+    }
+}
+
+/// Move everything `source` has into `ring`; returns how many messages were
+/// dropped because the ring was full (the solver is a full ring behind).
+pub fn forward<I: Inbox>(
+    source: &mut I,
+    buf: &mut InboxBuffers,
+    ring: &mut rtrb::Producer<InboundMessage>,
+) -> u64 {
+    let mut dropped = 0;
+    while let Some(kind) = source.next(buf) {
+        let msg = match kind {
+            Inbound::PartStates => InboundMessage::Parts(*buf.parts),
+            Inbound::Request => InboundMessage::Request(*buf.request),
+            Inbound::Explicit => InboundMessage::Explicit(*buf.explicit),
+        };
+        if ring.push(msg).is_err() {
+            dropped += 1;
+        }
+    }
+    dropped
+}

@@ -1,7 +1,10 @@
-//! The solver thread's iceoryx2 subscribers. iceoryx2 `ipc::Service` ports
-//! are not `Send`, so they are created on the solver thread itself, before
-//! its loop starts. Only `receive()` is called in the loop (measured
-//! allocation-free in iceoryx2 0.10; see ipc-types/tests).
+//! The core's iceoryx2 subscribers. They live on the receiver thread
+//! (normal priority), which forwards messages to the solver through a ring:
+//! `receive()` is allocation-free per message in iceoryx2 0.10, but it
+//! allocates when it sets up a connection to a new publisher (a client
+//! starting or restarting), which must not happen on an RT thread.
+//! `ipc::Service` ports are not `Send`, so they are created on the thread
+//! that uses them.
 
 use iceoryx2::prelude::*;
 use ipc_types::ports::{Sub, open_pub_sub};

@@ -26,7 +26,9 @@ mod start_error;
 pub use alloc_count::RtAllocCounter;
 pub use clock::{Clock, ManualClock, MonotonicClock};
 pub use handoff::{MotionReader, MotionWriter, StagedMotion, motion_handoff};
-pub use inbox::{Inbound, Inbox, InboxBuffers, QueueInbox, drain};
+pub use inbox::{
+    INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, RingInbox, drain, forward,
+};
 pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};
 pub use motor::{MotorLoop, TickOutcome, TruthFill, TruthTap};

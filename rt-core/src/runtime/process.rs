@@ -17,7 +17,7 @@ use ipc_types::{CoreState, PartStates, Schedule, Telemetry, monotonic_now_ns, se
 use super::alloc_count;
 use super::clock::{Clock, MonotonicClock};
 use super::handoff::{StagedMotion, motion_handoff};
-use super::inbox::{InboxBuffers, drain};
+use super::inbox::{INBOUND_RING, InboundMessage, InboxBuffers, RingInbox, drain, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, TruthFill, TruthTap};
@@ -197,28 +197,64 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         _ => (None, None, None),
     };
 
-    // Solver thread: ports and solver built on the thread that uses them.
+    // Receiver thread (normal priority): iceoryx2 `receive()` allocates when
+    // a publisher connects, so it runs here and feeds the solver a ring.
+    let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<InboundMessage>::new(INBOUND_RING);
+    let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<(), StartError>>();
+    let receiver_thread = {
+        let (shared, config, poll_ns) = (shared.clone(), config.clone(), params.solver_poll_ns);
+        std::thread::Builder::new()
+            .name("upm-ipc-rx".into())
+            .spawn(move || {
+                let mut inbox = match IpcInbox::new(&config) {
+                    Ok(i) => i,
+                    Err(e) => {
+                        let _ = rx_ready_tx.send(Err(e));
+                        return;
+                    }
+                };
+                let _ = rx_ready_tx.send(Ok(()));
+                let mut ring = inbound_tx;
+                let mut buf = InboxBuffers::default();
+                let clock = MonotonicClock;
+                // Polls twice per solver period so the hop adds little latency.
+                let period = (poll_ns / 2).max(50_000);
+                while !shared.stop.load(Relaxed) {
+                    let dropped = forward(&mut inbox, &mut buf, &mut ring);
+                    shared.rejected_requests.fetch_add(dropped, Relaxed);
+                    clock.sleep_until(clock.now_ns() + period);
+                }
+            })
+            .map_err(|_| StartError::Thread { thread: "ipc receiver" })?
+    };
+    match rx_ready_rx.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => {
+            let _ = receiver_thread.join();
+            return Err(e);
+        }
+        Err(_) => return Err(StartError::ThreadStartup { thread: "ipc receiver" }),
+    }
+
+    // Solver thread: the solver is built (and warmed up) on its own thread.
     let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
     let solver_thread = {
-        let (params, shared, config, rig) = (params.clone(), shared.clone(), config.clone(), rig.clone());
+        let (params, shared, rig) = (params.clone(), shared.clone(), rig.clone());
         std::thread::Builder::new()
             .name("upm-solver".into())
             .stack_size(RT_STACK_BYTES)
             .spawn(move || {
                 let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
                 prefault_stack();
-                let built = IpcInbox::new(&config).and_then(|inbox| {
-                    SolveStage::new(&params, rig, writer, shared.clone(), schedule_tx, solver_tx)
-                        .map(|stage| (inbox, stage))
-                        .map_err(StartError::Params)
-                });
-                let (mut inbox, mut stage) = match built {
-                    Ok(x) => x,
-                    Err(e) => {
-                        let _ = ready_tx.send(Err(e));
-                        return;
-                    }
-                };
+                let mut stage =
+                    match SolveStage::new(&params, rig, writer, shared.clone(), schedule_tx, solver_tx) {
+                        Ok(s) => s,
+                        Err(e) => {
+                            let _ = ready_tx.send(Err(StartError::Params(e)));
+                            return;
+                        }
+                    };
+                let mut inbox = RingInbox(inbound_rx);
                 let mut buf = InboxBuffers::default();
                 let _ = ready_tx.send(Ok(placement));
                 let clock = MonotonicClock;
@@ -241,6 +277,8 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         Ok(Ok(p)) => p,
         Ok(Err(e)) => {
             let _ = solver_thread.join();
+            shared.stop.store(true, Relaxed);
+            let _ = receiver_thread.join();
             return Err(e);
         }
         Err(_) => return Err(StartError::ThreadStartup { thread: "solver" }),
@@ -324,6 +362,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     shared.stop.store(true, Relaxed);
     let dropped_samples = motor_thread.join().unwrap_or(0);
     let _ = solver_thread.join();
+    let _ = receiver_thread.join();
     shared.set_state(CoreState::Idle);
     publish(&mut histograms, &mut telemetry, true);
     if let Some(dir) = &options.histogram_dir {

@@ -1,0 +1,34 @@
+//! Run a scenario in lock-step and print its goal metrics (debug aid).
+fn main() -> anyhow::Result<()> {
+    let name = std::env::args().nth(1).unwrap_or("sort".into());
+    let secs: f64 = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(20.0);
+    let seed: u64 = std::env::args().nth(3).and_then(|s| s.parse().ok()).unwrap_or(1);
+    let sc = upm_clients::scenario::Scenario::load(&upm_clients::scenario::resolve(&name))?;
+    let config = sc.config(seed, "unused_")?;
+    let mut planner = upm_clients::planner::planner_by_name(&sc.planner_params(&config))?;
+    let t = std::time::Instant::now();
+    let r = upm_clients::closed_loop::run(&config, planner.as_mut(), secs)?;
+    let m = sc.evaluate(&config, &r.trails);
+    println!(
+        "k_max {:.3} mean residual {:.4} N first (rank, κ) {:?}",
+        r.k_max, r.mean_residual, r.first_rank_condition
+    );
+    println!(
+        "{} s sim in {:.1} s wall; holds {} rejected {} saturated {}/{}",
+        secs,
+        t.elapsed().as_secs_f64(),
+        r.hold_events,
+        r.rejected_requests,
+        r.saturated_schedules,
+        r.schedules
+    );
+    for p in m["parts"].as_array().unwrap() {
+        println!("{} {} {:?} -> {:?} {}", p["id"], p["class"], p["start"], p["final"], p["goal_met"]);
+    }
+    for k in ["sorted_fraction", "tracking_rms_m", "path_length_m", "spin_angle_error_deg"] {
+        if !m[k].is_null() {
+            println!("{k} {}", m[k]);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,189 @@
+//! The built-in planners share one controller: every part gets a desired
+//! velocity towards its goal (speed-limited), and the requested force is
+//! m·k_v·(v_desired − v), clamped to a fraction of μmg. What differs is the
+//! goal: the side for `sort`, a point moving along a rectangle for `track`,
+//! staying put (plus a curl) for `spin`, one goal and zero force on every
+//! other part for `local`.
+
+use ipc_types::{ForceEntry, ForceRequest, PartState, PartStates};
+
+use super::{Planner, PlannerParams};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    Track,
+    Sort,
+    Spin,
+    Local,
+}
+
+#[derive(Debug)]
+pub struct GoalPlanner {
+    mode: Mode,
+    p: PlannerParams,
+    /// Start position per part id, for goals relative to the start.
+    starts: Vec<(u32, [f64; 2])>,
+}
+
+impl GoalPlanner {
+    pub fn new(mode: Mode, p: PlannerParams) -> anyhow::Result<Self> {
+        let pos = |x: f64| x.is_finite() && x > 0.0;
+        if !(pos(p.max_speed) && pos(p.position_gain) && pos(p.velocity_gain) && pos(p.mu_m_g) && pos(p.mass))
+        {
+            anyhow::bail!("planner: max_speed, gains, mu_m_g and mass must be positive");
+        }
+        if !(p.max_force_fraction > 0.0 && p.max_force_fraction <= 1.0) {
+            anyhow::bail!("planner.max_force_fraction must be in (0, 1]");
+        }
+        if mode == Mode::Track && (p.track_rects.is_empty() || !pos(p.track_speed)) {
+            anyhow::bail!("planner: track needs track_rects and a positive track_speed");
+        }
+        Ok(Self { mode, p, starts: Vec::new() })
+    }
+
+    fn start_of(&mut self, part: &PartState) -> [f64; 2] {
+        if let Some((_, s)) = self.starts.iter().find(|(id, _)| *id == part.id) {
+            return *s;
+        }
+        self.starts.push((part.id, [part.x, part.y]));
+        [part.x, part.y]
+    }
+
+    /// Force that drives `part` to `goal` (with feed-forward velocity `vff`).
+    fn force_to(&self, part: &PartState, goal: [f64; 2], vff: [f64; 2]) -> [f64; 2] {
+        let p = &self.p;
+        let mut vd =
+            [vff[0] + p.position_gain * (goal[0] - part.x), vff[1] + p.position_gain * (goal[1] - part.y)];
+        let s = vd[0].hypot(vd[1]);
+        if s > p.max_speed {
+            vd = [vd[0] * p.max_speed / s, vd[1] * p.max_speed / s];
+        }
+        let mut f =
+            [p.mass * p.velocity_gain * (vd[0] - part.vx), p.mass * p.velocity_gain * (vd[1] - part.vy)];
+        let fmax = p.max_force_fraction * p.mu_m_g;
+        let n = f[0].hypot(f[1]);
+        if n > fmax {
+            f = [f[0] * fmax / n, f[1] * fmax / n];
+        }
+        f
+    }
+}
+
+impl GoalPlanner {
+    /// Drive the `sort_batch` unsorted parts nearest to their side; leave
+    /// the others free.
+    fn plan_sort(&mut self, parts: &PartStates, out: &mut ForceRequest) -> bool {
+        let x_goal = self.p.sort_x + 0.1;
+        let side = |p: &PartState| if p.class == 0 { -1.0 } else { 1.0 };
+        let mut todo: Vec<&PartState> = parts.parts().iter().filter(|p| side(p) * p.x < x_goal).collect();
+        todo.sort_by(|a, b| {
+            (x_goal - side(a) * a.x).total_cmp(&(x_goal - side(b) * b.x)).then(a.id.cmp(&b.id))
+        });
+        let active: Vec<&PartState> = todo.into_iter().take(self.p.sort_batch.max(1)).collect();
+        for part in &active {
+            let start = self.start_of(part);
+            let goal = [side(part) * (x_goal + 0.05), start[1]];
+            if out.push(ForceEntry::force(part.id, self.force_to(part, goal, [0.0; 2]))).is_err() {
+                return true;
+            }
+        }
+        // Hold still the parts nearest to the driven ones.
+        let dist =
+            |p: &PartState| active.iter().map(|a| (a.x - p.x).hypot(a.y - p.y)).fold(f64::INFINITY, f64::min);
+        let mut others: Vec<&PartState> =
+            parts.parts().iter().filter(|p| active.iter().all(|a| a.id != p.id)).collect();
+        others.sort_by(|a, b| dist(a).total_cmp(&dist(b)).then(a.id.cmp(&b.id)));
+        for part in others.into_iter().take(self.p.sort_hold) {
+            if out.push(ForceEntry::force(part.id, [0.0; 2])).is_err() {
+                break;
+            }
+        }
+        !out.is_empty()
+    }
+}
+
+/// Point at arc length `s` along the rectangle (cx, cy, w, h), counter-
+/// clockwise from its lower-left corner, and the unit direction there.
+pub fn rectangle_point(r: [f64; 4], s: f64) -> ([f64; 2], [f64; 2]) {
+    let [cx, cy, w, h] = r;
+    let per = 2.0 * (w + h);
+    let s = s.rem_euclid(per);
+    let (x0, y0) = (cx - w / 2.0, cy - h / 2.0);
+    if s < w {
+        ([x0 + s, y0], [1.0, 0.0])
+    } else if s < w + h {
+        ([x0 + w, y0 + s - w], [0.0, 1.0])
+    } else if s < 2.0 * w + h {
+        ([x0 + w - (s - w - h), y0 + h], [-1.0, 0.0])
+    } else {
+        ([x0, y0 + h - (s - 2.0 * w - h)], [0.0, -1.0])
+    }
+}
+
+/// Distance from `p` to the rectangle's outline.
+pub fn distance_to_rectangle(r: [f64; 4], p: [f64; 2]) -> f64 {
+    let [cx, cy, w, h] = r;
+    let (dx, dy) = ((p[0] - cx).abs() - w / 2.0, (p[1] - cy).abs() - h / 2.0);
+    if dx > 0.0 || dy > 0.0 { dx.max(0.0).hypot(dy.max(0.0)) } else { (-dx).min(-dy) }
+}
+
+impl Planner for GoalPlanner {
+    fn name(&self) -> &'static str {
+        match self.mode {
+            Mode::Track => "track",
+            Mode::Sort => "sort",
+            Mode::Spin => "spin",
+            Mode::Local => "local",
+        }
+    }
+
+    fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {
+        out.clear();
+        if self.mode == Mode::Sort {
+            return self.plan_sort(parts, out);
+        }
+        for part in parts.parts() {
+            let start = self.start_of(part);
+            let entry = match self.mode {
+                Mode::Sort => {
+                    let side = if part.class == 0 { -1.0 } else { 1.0 };
+                    let goal = [side * (self.p.sort_x + 0.1), start[1]];
+                    ForceEntry::force(part.id, self.force_to(part, goal, [0.0; 2]))
+                }
+                Mode::Track => {
+                    // Parts without a path hold their start.
+                    match self.p.track_rects.get(part.id.wrapping_sub(1) as usize) {
+                        Some(&rect) => {
+                            let (goal, dir) = rectangle_point(rect, self.p.track_speed * t);
+                            let vff = [dir[0] * self.p.track_speed, dir[1] * self.p.track_speed];
+                            ForceEntry::force(part.id, self.force_to(part, goal, vff))
+                        }
+                        None => ForceEntry::force(part.id, self.force_to(part, start, [0.0; 2])),
+                    }
+                }
+                Mode::Spin => {
+                    let f = self.force_to(part, start, [0.0; 2]);
+                    if part.id == self.p.spin_id {
+                        let err = self.p.spin_angle - part.theta;
+                        let curl = (self.p.spin_gain * err).clamp(-self.p.max_curl, self.p.max_curl);
+                        ForceEntry::force_and_curl(part.id, f, curl)
+                    } else {
+                        ForceEntry::force(part.id, f)
+                    }
+                }
+                Mode::Local => {
+                    if part.id == self.p.local_id {
+                        ForceEntry::force(part.id, self.force_to(part, self.p.local_goal, [0.0; 2]))
+                    } else {
+                        // Everyone else holds still: a zero-force constraint.
+                        ForceEntry::force(part.id, [0.0; 2])
+                    }
+                }
+            };
+            if out.push(entry).is_err() {
+                break;
+            }
+        }
+        !out.is_empty()
+    }
+}

@@ -1,0 +1,200 @@
+//! Scenarios (`scenarios/*.toml`): the rig, the parts, the planner and the
+//! run length of one closed-loop experiment, and how its goals are judged.
+
+use std::path::{Path, PathBuf};
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use crate::config::{Config, SimPartSection};
+use crate::launcher::Trails;
+use crate::planner::PlannerParams;
+use crate::planner::goal::distance_to_rectangle;
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub name: String,
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    pub duration_s: f64,
+    /// Rig and simulator settings (the same sections as a core config);
+    /// `[rig.sim].parts` may be left empty when `random_parts` places them.
+    #[serde(default)]
+    pub rig: Config,
+    #[serde(default)]
+    pub planner: PlannerParams,
+    /// Parts placed at random (seeded): count per class, shape and size.
+    #[serde(default)]
+    pub random_parts: Vec<RandomParts>,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomParts {
+    pub count: u32,
+    pub class: u32,
+    pub shape: String,
+    pub size: f64,
+    /// Region (x0, y0, x1, y1) to scatter in.
+    pub region: [f64; 4],
+    /// Smallest distance between parts (m).
+    pub min_spacing: f64,
+}
+
+/// `name` (a file under `scenarios/`) or a path.
+pub fn resolve(name_or_path: &str) -> PathBuf {
+    let p = Path::new(name_or_path);
+    if p.extension().is_some() || p.components().count() > 1 {
+        return p.to_path_buf();
+    }
+    let here = Path::new("scenarios").join(format!("{name_or_path}.toml"));
+    if here.is_file() {
+        return here;
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios").join(format!("{name_or_path}.toml"))
+}
+
+impl Scenario {
+    pub fn load(path: &Path) -> anyhow::Result<Self> {
+        let text =
+            std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("reading {}: {e}", path.display()))?;
+        let de = toml::Deserializer::parse(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let s: Scenario = serde_path_to_error::deserialize(de).map_err(|e| {
+            let field = e.path().to_string();
+            anyhow::anyhow!("{}: {field}: {}", path.display(), e.into_inner().to_string().replace('\n', " "))
+        })?;
+        if !(s.duration_s.is_finite() && s.duration_s > 0.0) {
+            anyhow::bail!("{}: duration_s must be positive", path.display());
+        }
+        Ok(s)
+    }
+
+    /// The rig config every process gets: the scenario's parts (random ones
+    /// placed with `seed`), part mass consistent with μmg, and `prefix`.
+    pub fn config(&self, seed: u64, prefix: &str) -> anyhow::Result<Config> {
+        let mut c = self.rig.clone();
+        c.service.prefix = prefix.to_owned();
+        c.sim.seed = seed;
+        c.vision.seed = seed;
+        let mass = c.plate.mu_m_g / (c.sim.mu_kinetic * 9.81);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut next_id = c.sim.parts.iter().map(|p| p.id).max().unwrap_or(0) + 1;
+        for group in &self.random_parts {
+            for _ in 0..group.count {
+                let mut tries = 0;
+                let pos = loop {
+                    let [x0, y0, x1, y1] = group.region;
+                    let p = [rng.random_range(x0..x1), rng.random_range(y0..y1)];
+                    let free = c
+                        .sim
+                        .parts
+                        .iter()
+                        .all(|q| (q.position[0] - p[0]).hypot(q.position[1] - p[1]) >= group.min_spacing);
+                    tries += 1;
+                    if free {
+                        break p;
+                    }
+                    if tries > 10_000 {
+                        anyhow::bail!(
+                            "random_parts: cannot place {} parts {} m apart",
+                            group.count,
+                            group.min_spacing
+                        );
+                    }
+                };
+                c.sim.parts.push(SimPartSection {
+                    id: next_id,
+                    class: group.class,
+                    shape: group.shape.clone(),
+                    size: group.size,
+                    mass,
+                    position: pos,
+                    angle: 0.0,
+                });
+                next_id += 1;
+            }
+        }
+        for p in &mut c.sim.parts {
+            p.mass = mass;
+        }
+        Ok(c)
+    }
+
+    /// Planner parameters consistent with the rig.
+    pub fn planner_params(&self, config: &Config) -> PlannerParams {
+        let mut p = self.planner.clone();
+        p.mu_m_g = config.plate.mu_m_g;
+        p.mass = config.plate.mu_m_g / (config.sim.mu_kinetic * 9.81);
+        p
+    }
+
+    /// Goal metrics from the recorded trails (DESIGN.md §7).
+    pub fn evaluate(&self, config: &Config, trails: &Trails) -> Value {
+        let p = &self.planner;
+        let mut parts = Vec::new();
+        let mut sorted = 0usize;
+        let mut rms_sum = 0.0;
+        let mut rms_n = 0usize;
+        for (id, trail) in &trails.parts {
+            let (Some(first), Some(last)) = (trail.points.first(), trail.points.last()) else { continue };
+            let goal_met = match p.name.as_str() {
+                "sort" => {
+                    let ok = if trail.class == 0 { last[1] <= -p.sort_x } else { last[1] >= p.sort_x };
+                    sorted += usize::from(ok);
+                    ok
+                }
+                "track" => match p.track_rects.get(*id as usize - 1) {
+                    Some(&rect) => {
+                        // After one lap's worth of settling time? No: after 20 % of the run.
+                        let settle = 0.2 * trails.duration();
+                        for q in trail.points.iter().filter(|q| q[0] >= settle) {
+                            let d = distance_to_rectangle(rect, [q[1], q[2]]);
+                            rms_sum += d * d;
+                            rms_n += 1;
+                        }
+                        true
+                    }
+                    None => true,
+                },
+                "spin" if *id == p.spin_id => (last[3] - p.spin_angle).abs() <= 5f64.to_radians(),
+                "local" if *id == p.local_id => {
+                    (last[1] - p.local_goal[0]).hypot(last[2] - p.local_goal[1]) <= 0.02
+                }
+                _ => true,
+            };
+            parts.push(json!({
+                "id": id, "class": trail.class,
+                "start": [first[1], first[2], first[3]],
+                "final": [last[1], last[2], last[3]],
+                "goal_met": goal_met,
+            }));
+        }
+        let n = parts.len().max(1);
+        let mut v =
+            json!({ "parts": parts, "collisions": Value::Null, "centers": config.plate.centers.len() });
+        match p.name.as_str() {
+            "sort" => v["sorted_fraction"] = json!(sorted as f64 / n as f64),
+            "track" => {
+                let path: f64 = p.track_rects.iter().map(|r| 2.0 * (r[2] + r[3])).sum::<f64>()
+                    / p.track_rects.len().max(1) as f64;
+                v["tracking_rms_m"] =
+                    json!(if rms_n > 0 { (rms_sum / rms_n as f64).sqrt() } else { f64::NAN });
+                v["path_length_m"] = json!(path);
+            }
+            "spin" => {
+                if let Some(t) = trails.parts.get(&p.spin_id).and_then(|t| t.points.last()) {
+                    v["spin_angle_error_deg"] = json!((t[3] - p.spin_angle).to_degrees());
+                }
+            }
+            _ => {}
+        }
+        v
+    }
+}
