@@ -25,6 +25,15 @@ pub enum Command {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
     },
+    /// The RT core (same as the `upm-core` binary); `upm run` starts it so.
+    #[command(hide = true)]
+    Core(crate::core_process::CoreArgs),
+    /// The camera client (same as `upm-vision`).
+    #[command(hide = true)]
+    Vision(crate::vision::process::VisionArgs),
+    /// The planner client (same as `upm-planner`).
+    #[command(hide = true)]
+    Planner(crate::planner::process::PlannerArgs),
     /// The closed loop: core, vision and planner as separate processes.
     Run {
         /// Scenario name (scenarios/NAME.toml) or path.
@@ -122,6 +131,29 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let input = crate::solve_json::parse(&text)?;
             let out = crate::solve_json::solve(&input)?;
             println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+        Command::Core(args) => {
+            let report = crate::core_process::run(args)?;
+            let t = &report.telemetry;
+            eprintln!(
+                "upm-core: stopped cleanly, plate home; {} ticks, {} cycles, {} overruns, {} hold events, {} rt allocations",
+                t.counters.ticks,
+                t.cycle,
+                t.counters.overruns,
+                t.counters.hold_events,
+                t.counters.rt_thread_allocations
+            );
+            Ok(())
+        }
+        Command::Vision(args) => {
+            let frames = crate::vision::process::run_vision(args)?;
+            eprintln!("upm-vision: stopped after {frames} frames");
+            Ok(())
+        }
+        Command::Planner(args) => {
+            let n = crate::planner::process::run_planner_process(args)?;
+            eprintln!("upm-planner: stopped after {n} requests");
             Ok(())
         }
         Command::Run { scenario, out, duration, seed, prefix, quiet } => {

@@ -42,17 +42,14 @@ pub struct RunOutcome {
     pub interrupted: bool,
 }
 
-fn sibling_binary(name: &str) -> anyhow::Result<PathBuf> {
-    let exe = std::env::current_exe().context("locating the upm binary")?;
-    let dir = exe.parent().context("binary directory")?;
-    // Test binaries live in target/*/deps; the programs one level up.
-    for d in [dir.to_path_buf(), dir.join("..")] {
-        let p = d.join(name);
-        if p.is_file() {
-            return Ok(p);
-        }
+/// The `upm` executable: it runs each process through a hidden
+/// subcommand (`upm core|vision|planner`), so `cargo run --bin upm` is all a
+/// fresh checkout needs. Set `UPM_EXE` to use another build.
+fn upm_exe() -> anyhow::Result<PathBuf> {
+    if let Some(p) = std::env::var_os("UPM_EXE") {
+        return Ok(PathBuf::from(p));
     }
-    bail!("{name} not found next to {} (build the workspace with `cargo build --release`)", exe.display())
+    std::env::current_exe().context("locating the upm binary")
 }
 
 fn latency_json(p: &ipc_types::LatencyPercentiles) -> Value {
@@ -82,10 +79,12 @@ pub fn run_plan(
     std::fs::create_dir_all(&logs)?;
     let cfg = cfg_path.display().to_string();
 
+    let exe = upm_exe()?;
     let mut core = Supervised::new(
         "upm-core",
-        sibling_binary("upm-core")?,
+        exe.clone(),
         vec![
+            "core".into(),
             "--config".into(),
             cfg.clone(),
             "--truth-hz".into(),
@@ -97,20 +96,16 @@ pub fn run_plan(
     );
     let mut vision = Supervised::new(
         "upm-vision",
-        sibling_binary("upm-vision")?,
-        vec!["--config".into(), cfg.clone()],
+        exe.clone(),
+        vec!["vision".into(), "--config".into(), cfg.clone()],
         Some(logs.join("vision.log")),
     );
-    let mut planner_args = vec!["--config".into(), cfg.clone(), "--planner".into(), plan.planner.clone()];
+    let mut planner_args =
+        vec!["planner".into(), "--config".into(), cfg.clone(), "--planner".into(), plan.planner.clone()];
     if let Some(s) = &plan.scenario_file {
         planner_args.extend(["--scenario".into(), s.display().to_string()]);
     }
-    let mut planner = Supervised::new(
-        "upm-planner",
-        sibling_binary("upm-planner")?,
-        planner_args,
-        Some(logs.join("planner.log")),
-    );
+    let mut planner = Supervised::new("upm-planner", exe, planner_args, Some(logs.join("planner.log")));
 
     let mut recorder = Recorder::new(&prefix, 20.0)?;
     core.start()?;
@@ -149,7 +144,8 @@ pub fn run_plan(
         bar.set_position((sim_s * 10.0) as u64);
         for c in [&mut vision, &mut planner] {
             if c.restart_if_dead()? {
-                bar.println(format!("upm run: {} died; restarted (restart {})", c.name, c.restarts));
+                let msg = format!("upm run: {} died; restarted (restart {})", c.name, c.restarts);
+                if bar.is_hidden() { eprintln!("{msg}") } else { bar.println(msg) }
             }
         }
         if let Some(s) = core.exited() {

@@ -4,6 +4,7 @@
 //! calls [`run::run_planner`] (see `clients/examples/external_planner.rs`).
 
 pub mod goal;
+pub mod process;
 pub mod run;
 
 use ipc_types::{ForceRequest, PartStates};

@@ -4,6 +4,7 @@
 //! parts without using the simulator's ids, and publishes PartStates.
 
 pub mod camera;
+pub mod process;
 pub mod tracker;
 
 use std::time::Duration;
