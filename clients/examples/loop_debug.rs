@@ -22,7 +22,7 @@ fn main() -> anyhow::Result<()> {
         r.saturated_schedules,
         r.schedules
     );
-    for p in m["parts"].as_array().unwrap() {
+    for p in m["parts"].as_array().into_iter().flatten() {
         println!("{} {} {:?} -> {:?} {}", p["id"], p["class"], p["start"], p["final"], p["goal_met"]);
     }
     for k in ["sorted_fraction", "tracking_rms_m", "path_length_m", "spin_angle_error_deg"] {

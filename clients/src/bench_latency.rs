@@ -92,12 +92,11 @@ fn run_cyclictest(
             max_us = rest.trim().parse().unwrap_or(0);
         }
         let mut it = line.split_whitespace();
-        if let (Some(a), Some(b), None) = (it.next(), it.next(), it.next()) {
-            if let (Ok(us), Ok(n)) = (a.parse::<u64>(), b.parse::<u64>()) {
-                if n > 0 {
-                    h.saturating_record_n(us.max(1) * 1000, n);
-                }
-            }
+        if let (Some(a), Some(b), None) = (it.next(), it.next(), it.next())
+            && let (Ok(us), Ok(n)) = (a.parse::<u64>(), b.parse::<u64>())
+            && n > 0
+        {
+            h.saturating_record_n(us.max(1) * 1000, n);
         }
     }
     // Overflows (> 20 ms) are not in the buckets; keep the max honest.

@@ -21,6 +21,7 @@ pub enum ConfigError {
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
+#[derive(Default)]
 pub struct Config {
     pub service: ServiceSection,
     pub plate: PlateSection,
@@ -162,21 +163,6 @@ pub struct SimParts {
     pub specs: Vec<drivers::PartSpec>,
     pub ids: Vec<u32>,
     pub classes: Vec<u32>,
-}
-
-impl Default for Config {
-    fn default() -> Self {
-        Self {
-            service: ServiceSection::default(),
-            plate: PlateSection::default(),
-            motion: MotionSection::default(),
-            rt: RtSection::default(),
-            safety: SafetySection::default(),
-            telemetry: TelemetrySection::default(),
-            sim: SimSection::default(),
-            vision: VisionSection::default(),
-        }
-    }
 }
 
 impl Default for ServiceSection {

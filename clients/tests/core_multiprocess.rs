@@ -27,10 +27,10 @@ impl Drop for Core {
 fn wait_state(prefix: &str, want: CoreState, within: Duration) -> bool {
     let start = Instant::now();
     while start.elapsed() < within {
-        if let Ok(t) = read_telemetry(prefix, Duration::from_secs(1)) {
-            if t.core_state() == Some(want) {
-                return true;
-            }
+        if let Ok(t) = read_telemetry(prefix, Duration::from_secs(1))
+            && t.core_state() == Some(want)
+        {
+            return true;
         }
         std::thread::sleep(Duration::from_millis(20));
     }

@@ -135,13 +135,13 @@ fn a_killed_planner_is_restarted() {
         std::thread::sleep(Duration::from_millis(500));
         let ps =
             Command::new("pgrep").args(["-f", &format!("planner --config {cfg}")]).output().expect("pgrep");
-        if let Some(pid) = String::from_utf8_lossy(&ps.stdout).split_whitespace().next() {
-            if start.elapsed() > Duration::from_secs(2) {
-                let pid: i32 = pid.parse().expect("pid");
-                // SAFETY: kill(2) on a process this test's child started.
-                unsafe { libc::kill(pid, libc::SIGKILL) };
-                killed = true;
-            }
+        if let Some(pid) = String::from_utf8_lossy(&ps.stdout).split_whitespace().next()
+            && start.elapsed() > Duration::from_secs(2)
+        {
+            let pid: i32 = pid.parse().expect("pid");
+            // SAFETY: kill(2) on a process this test's child started.
+            unsafe { libc::kill(pid, libc::SIGKILL) };
+            killed = true;
         }
     }
     assert!(killed, "planner process not found");

@@ -22,4 +22,5 @@ pub const TELEMETRY: &str = "upm/telemetry";
 pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 
 /// Every name above, e.g. for tools that list or clean up a rig.
-pub const ALL: [&str; 6] = [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, SCHEDULE, TELEMETRY, SIM_GROUND_TRUTH];
+pub const ALL: [&str; 6] =
+    [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, SCHEDULE, TELEMETRY, SIM_GROUND_TRUTH];

@@ -34,7 +34,7 @@ fn main() {
     let t = std::time::Instant::now();
     let iters = 20000;
     for _ in 0..iters {
-        s.solve(&p, &mut sol).unwrap();
+        s.solve(&p, &mut sol).expect("solve");
     }
     println!(
         "{:?} cond {:.1e} {:.2} us/solve",

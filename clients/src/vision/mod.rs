@@ -71,11 +71,11 @@ pub fn run(
                 next_frame = now + period_ns;
             }
             // No core yet (or a dead one): wait, never crash.
-            if let Some(t) = &newest {
-                if last_frame_stamp != Some(t.stamp_ns) {
-                    cam.capture(t);
-                    last_frame_stamp = Some(t.stamp_ns);
-                }
+            if let Some(t) = &newest
+                && last_frame_stamp != Some(t.stamp_ns)
+            {
+                cam.capture(t);
+                last_frame_stamp = Some(t.stamp_ns);
             }
         }
         while let Some(frame) = cam.ready(now) {

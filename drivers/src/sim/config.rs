@@ -107,10 +107,10 @@ impl SimConfig {
         if !(pos(self.mu_kinetic) && self.mu_static.is_finite() && self.mu_static >= self.mu_kinetic) {
             return Err(SimConfigError::Friction);
         }
-        if let ActuatorModel::SecondOrder { bandwidth_hz, damping } = self.actuator {
-            if !(pos(bandwidth_hz) && pos(damping)) {
-                return Err(SimConfigError::Actuator);
-            }
+        if let ActuatorModel::SecondOrder { bandwidth_hz, damping } = self.actuator
+            && !(pos(bandwidth_hz) && pos(damping))
+        {
+            return Err(SimConfigError::Actuator);
         }
         if !(pos(self.plate_half_extent[0]) && pos(self.plate_half_extent[1])) {
             return Err(SimConfigError::PlateExtent);

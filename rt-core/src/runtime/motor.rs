@@ -162,14 +162,14 @@ impl<D: PlateDriver> MotorLoop<D> {
         self.driver.advance();
         self.shared.ticks.fetch_add(1, Relaxed);
         self.ticks += 1;
-        if let Some(tap) = &mut self.truth {
-            if self.ticks % tap.every.max(1) == 0 {
-                let msg = tap.out.input_buffer_mut();
-                msg.seq = self.ticks;
-                msg.stamp_ns = now_ns;
-                (tap.fill)(&self.driver, msg);
-                tap.out.publish();
-            }
+        if let Some(tap) = &mut self.truth
+            && self.ticks.is_multiple_of(tap.every.max(1))
+        {
+            let msg = tap.out.input_buffer_mut();
+            msg.seq = self.ticks;
+            msg.stamp_ns = now_ns;
+            (tap.fill)(&self.driver, msg);
+            tap.out.publish();
         }
         TickOutcome::Continue
     }

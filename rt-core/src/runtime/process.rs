@@ -336,10 +336,10 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         while let Ok(s) = schedule_rx.pop() {
             let _ = schedule_pub.send_copy(s);
         }
-        if let (Some(rx), Some(p)) = (truth_rx.as_mut(), truth_pub.as_ref()) {
-            if rx.update() {
-                let _ = p.send_copy(*rx.peek_output_buffer());
-            }
+        if let (Some(rx), Some(p)) = (truth_rx.as_mut(), truth_pub.as_ref())
+            && rx.update()
+        {
+            let _ = p.send_copy(*rx.peek_output_buffer());
         }
         let now = monotonic_now_ns();
         if force || now >= next_telemetry {

@@ -39,10 +39,10 @@ pub(crate) fn validate_problem(
         if !finite2(p.position) {
             return Err(SolveError::NonFinitePartPosition { part });
         }
-        if let Some(f) = p.force {
-            if !finite2(f) {
-                return Err(SolveError::NonFinitePartForce { part });
-            }
+        if let Some(f) = p.force
+            && !finite2(f)
+        {
+            return Err(SolveError::NonFinitePartForce { part });
         }
         if let Some(center) = nearest_too_close(p.position, problem.centers, params)? {
             return Err(SolveError::PartOnCenter { part, center });
