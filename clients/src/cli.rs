@@ -189,7 +189,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (crate::bench_latency::run(s, rounds)?, crate::bench_latency::to_text)
                 }
-                BenchTarget::Ipc => anyhow::bail!("upm bench ipc is not implemented yet (issue 6)"),
+                BenchTarget::Ipc => {
+                    let s = if quick { seconds.min(1.0) } else { seconds };
+                    (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
+                }
             };
             if json {
                 println!("{}", serde_json::to_string_pretty(&v)?);

@@ -15,3 +15,4 @@ pub mod solve_json;
 pub mod status;
 pub mod validate;
 pub mod vision;
+pub mod bench_ipc;
