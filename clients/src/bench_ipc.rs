@@ -46,8 +46,14 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || -> anyhow::Result<()> {
             let n = node(&prefix)?;
-            let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?.subscriber_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
-            let pong = open_pub_sub::<PartStates>(&n, "bench/pong")?.publisher_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?
+                .subscriber_builder()
+                .create()
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            let pong = open_pub_sub::<PartStates>(&n, "bench/pong")?
+                .publisher_builder()
+                .create()
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
             while !stop.load(Ordering::Relaxed) {
                 if let Some(s) = ping.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
                     pong.send_copy(*s.payload()).map_err(|e| anyhow::anyhow!("{e:?}"))?;
@@ -57,8 +63,14 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
         })
     };
     let n = node(&prefix)?;
-    let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?.publisher_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
-    let pong = open_pub_sub::<PartStates>(&n, "bench/pong")?.subscriber_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?
+        .publisher_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let pong = open_pub_sub::<PartStates>(&n, "bench/pong")?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     std::thread::sleep(Duration::from_millis(100));
     let mut h = Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")?;
     let mut msg = PartStates::new();
@@ -97,8 +109,11 @@ fn upm_one_way(seconds: f64, poll_ns: u64) -> anyhow::Result<Histogram<u64>> {
         std::thread::spawn(move || crate::feeder::feed(&p, Duration::from_millis(1), &s))
     };
     let sim = Simulator::new(SimConfig::default(), &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let options =
-        RunOptions { prefix: prefix.clone(), duration: Some(Duration::from_secs_f64(seconds)), ..RunOptions::default() };
+    let options = RunOptions {
+        prefix: prefix.clone(),
+        duration: Some(Duration::from_secs_f64(seconds)),
+        ..RunOptions::default()
+    };
     let params = CoreParams { solver_poll_ns: poll_ns, ..CoreParams::default() };
     let report = run_core(&params, sim, &options).map_err(|e| anyhow::anyhow!("{e}"));
     stop.store(true, Ordering::Relaxed);

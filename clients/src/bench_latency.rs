@@ -106,8 +106,55 @@ fn run_cyclictest(
     Ok(h)
 }
 
+/// Percentile curves (x: 1/(1−q), y: µs), both log-scaled, as an SVG.
+pub fn plot(path: &std::path::Path, curves: &[(&str, &Histogram<u64>)]) -> anyhow::Result<()> {
+    use plotters::prelude::*;
+    let e = |x: &dyn std::fmt::Display| anyhow::anyhow!("{x}");
+    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let ymax = curves.iter().map(|(_, h)| h.max() as f64 / 1e3).fold(10.0, f64::max) * 1.5;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("motor wake-up latency: upm vs cyclictest (same run)", ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((1f64..1e6).log_scale(), (0.5f64..ymax).log_scale())
+        .map_err(|x| e(&x))?;
+    chart
+        .configure_mesh()
+        .x_desc("1 / (1 − percentile)   (10 = p90, 100 = p99, 1000 = p99.9)")
+        .y_desc("latency (µs)")
+        .draw()
+        .map_err(|x| e(&x))?;
+    for (i, (name, h)) in curves.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        let pts: Vec<(f64, f64)> = h
+            .iter_quantiles(5)
+            .filter(|v| v.quantile_iterated_to() < 1.0)
+            .map(|v| (1.0 / (1.0 - v.quantile_iterated_to()), (v.value_iterated_to() as f64 / 1e3).max(0.5)))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+            .map_err(|x| e(&x))?
+            .label(*name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+    }
+    chart.configure_series_labels().border_style(BLACK).draw().map_err(|x| e(&x))?;
+    root.present().map_err(|x| e(&x))?;
+    Ok(())
+}
+
 /// Run `rounds` × (upm, cyclictest), each `seconds` long.
 pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
+    run_with_plot(seconds, rounds, None)
+}
+
+/// [`run`], also drawing the two distributions to `plot_path`.
+pub fn run_with_plot(
+    seconds: f64,
+    rounds: usize,
+    plot_path: Option<&std::path::Path>,
+) -> anyhow::Result<Value> {
     if Command::new("cyclictest").arg("--help").output().is_err() {
         bail!(
             "cyclictest not found: install Debian's rt-tests (`apt-get install -y rt-tests`); \
@@ -128,6 +175,9 @@ pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
         per_round.push(json!({ "upm": summary_ns(&a), "cyclictest": summary_ns(&b) }));
         upm.add(&a).context("merging")?;
         ct.add(&b).context("merging")?;
+    }
+    if let Some(p) = plot_path {
+        plot(p, &[("upm motor loop", &upm), ("cyclictest", &ct)])?;
     }
     let (u, c) = (summary_ns(&upm), summary_ns(&ct));
     let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };

@@ -69,6 +69,9 @@ pub enum Command {
         /// latency: A/B rounds.
         #[arg(long, default_value_t = 2)]
         rounds: usize,
+        /// latency: draw upm vs cyclictest distributions into this SVG.
+        #[arg(long)]
+        plot: Option<PathBuf>,
     },
     /// Snapshot of a running core's telemetry.
     Status {
@@ -182,12 +185,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
             Ok(())
         }
-        Command::Bench { what, json, quick, seconds, rounds } => {
+        Command::Bench { what, json, quick, seconds, rounds, plot } => {
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match what {
                 BenchTarget::Solver => (crate::bench_solver::run(quick)?, crate::bench_solver::to_text),
                 BenchTarget::Latency => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
-                    (crate::bench_latency::run(s, rounds)?, crate::bench_latency::to_text)
+                    (
+                        crate::bench_latency::run_with_plot(s, rounds, plot.as_deref())?,
+                        crate::bench_latency::to_text,
+                    )
                 }
                 BenchTarget::Ipc => {
                     let s = if quick { seconds.min(1.0) } else { seconds };

@@ -1,6 +1,7 @@
 //! UPM user-facing processes: the `upm` command line, vision and planner
 //! clients. Binaries in `src/bin` are thin wrappers over this library.
 
+pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_solver;
 pub mod cli;
@@ -15,4 +16,3 @@ pub mod solve_json;
 pub mod status;
 pub mod validate;
 pub mod vision;
-pub mod bench_ipc;

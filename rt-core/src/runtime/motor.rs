@@ -219,9 +219,10 @@ impl<D: PlateDriver> MotorLoop<D> {
     }
 
     /// The motor thread body: absolute deadlines every `period_ns` on
-    /// `clock` until stopped. Overruns (a tick ending past the next
-    /// deadline) are counted; ticks are never skipped, so the motion keeps
-    /// its timing in ticks.
+    /// `clock` until stopped. A tick ending past the next deadline skips to
+    /// the next future one; skipped periods are counted as overruns. The
+    /// motion advances one tick per tick played, so it stays closed (it
+    /// only stretches in wall time when periods are skipped).
     pub fn run<C: Clock>(&mut self, clock: &C, period_ns: u64) {
         let mut deadline = clock.now_ns() + period_ns;
         loop {
@@ -235,7 +236,13 @@ impl<D: PlateDriver> MotorLoop<D> {
             }
             deadline += period_ns;
             if done > deadline {
-                self.shared.overruns.fetch_add(1, Relaxed);
+                // Missed deadlines are skipped, not caught up in a burst (as
+                // cyclictest does): the next tick waits for the next future
+                // deadline, the motion continues from the next tick, and
+                // every skipped period counts as an overrun.
+                let missed = (done - deadline) / period_ns + 1;
+                deadline += missed * period_ns;
+                self.shared.overruns.fetch_add(missed, Relaxed);
             }
         }
     }
