@@ -15,18 +15,7 @@ use ipc_types::{PartStates, monotonic_now_ns};
 use rt_core::runtime::{CoreParams, RunOptions, run_core};
 use serde_json::{Value, json};
 
-use crate::bench_latency::Summary;
-
-fn summary(h: &Histogram<u64>) -> Summary {
-    let us = |ns: u64| ns as f64 / 1e3;
-    Summary {
-        samples: h.len(),
-        p50: us(h.value_at_quantile(0.5)),
-        p99: us(h.value_at_quantile(0.99)),
-        p999: us(h.value_at_quantile(0.999)),
-        max: us(h.max()),
-    }
-}
+use crate::bench_latency::{summary_ns as summary, summary_row};
 
 fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
     let config = config_with_prefix(prefix)?;
@@ -142,17 +131,9 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
 }
 
 pub fn to_text(v: &Value) -> String {
-    let row = |name: &str, s: &Value| {
-        format!(
-            "{name:<14} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
-            s["p50"].as_f64().unwrap_or(f64::NAN),
-            s["p99"].as_f64().unwrap_or(f64::NAN),
-            s["p999"].as_f64().unwrap_or(f64::NAN),
-            s["max"].as_f64().unwrap_or(f64::NAN)
-        )
-    };
+    let row = summary_row;
     format!(
-        "one-way PartStates latency (µs), payload {} B\n{:<14} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.1}\n{}\nratio p99 (50 µs poll) {:.1}",
+        "one-way PartStates latency (µs), payload {} B\n{:<16} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.1}\n{}\nratio p99 (50 µs poll) {:.1}",
         v["payload_bytes"],
         "",
         "p50",

@@ -23,7 +23,8 @@ pub struct Summary {
     pub max: f64,
 }
 
-fn summary_ns(h: &Histogram<u64>) -> Summary {
+/// p50/p99/p99.9/max of an ns histogram, in µs.
+pub fn summary_ns(h: &Histogram<u64>) -> Summary {
     let us = |ns: u64| ns as f64 / 1e3;
     Summary {
         samples: h.len(),
@@ -198,19 +199,21 @@ pub fn run_with_plot(
     }))
 }
 
+/// One table row of a [`Summary`] in JSON form.
+pub fn summary_row(name: &str, s: &Value) -> String {
+    format!(
+        "{name:<16} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
+        s["p50"].as_f64().unwrap_or(f64::NAN),
+        s["p99"].as_f64().unwrap_or(f64::NAN),
+        s["p999"].as_f64().unwrap_or(f64::NAN),
+        s["max"].as_f64().unwrap_or(f64::NAN)
+    )
+}
+
 /// Human-readable table.
 pub fn to_text(v: &Value) -> String {
-    let row = |name: &str, s: &Value| {
-        format!(
-            "{name:<12} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
-            s["p50"].as_f64().unwrap_or(f64::NAN),
-            s["p99"].as_f64().unwrap_or(f64::NAN),
-            s["p999"].as_f64().unwrap_or(f64::NAN),
-            s["max"].as_f64().unwrap_or(f64::NAN)
-        )
-    };
     format!(
-        "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<12} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+        "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<16} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
         v["interval_us"],
         v["rounds"],
         "",
@@ -218,8 +221,8 @@ pub fn to_text(v: &Value) -> String {
         "p99",
         "p99.9",
         "max",
-        row("upm", &v["upm"]),
-        row("cyclictest", &v["cyclictest"]),
+        summary_row("upm", &v["upm"]),
+        summary_row("cyclictest", &v["cyclictest"]),
         v["ratio_p99"].as_f64().unwrap_or(f64::NAN),
         v["ratio_p999"].as_f64().unwrap_or(f64::NAN),
     )

@@ -6,6 +6,10 @@ use rt_core::runtime::RtAllocCounter;
 static ALLOC: RtAllocCounter = RtAllocCounter;
 
 fn main() -> std::process::ExitCode {
+    // Like other Unix tools: `upm … | head` ends quietly instead of
+    // panicking on a closed pipe.
+    // SAFETY: restoring the default disposition of one signal at start-up.
+    unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
     let cli = upm_clients::cli::Cli::parse();
     match upm_clients::cli::run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
