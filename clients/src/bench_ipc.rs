@@ -10,7 +10,8 @@ use anyhow::Context;
 use drivers::{SimConfig, Simulator};
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
+use ipc_types::rig_node::rig_node;
 use ipc_types::{PartStates, monotonic_now_ns};
 use rt_core::runtime::{CoreParams, RunOptions, run_core};
 use serde_json::{Value, json};
@@ -18,12 +19,7 @@ use serde_json::{Value, json};
 use crate::bench_latency::{summary_ns as summary, summary_row};
 
 fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
-    let config = config_with_prefix(prefix)?;
-    NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .map_err(|e| anyhow::anyhow!("node: {e:?}"))
+    Ok(rig_node(prefix, None, SignalHandlingMode::Disabled)?)
 }
 
 /// Raw iceoryx2: ping on one service, echo on another, busy polling both

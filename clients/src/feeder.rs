@@ -6,7 +6,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
+use ipc_types::rig_node::rig_node;
 use ipc_types::{ForceEntry, ForceRequest, PartState, PartStates, monotonic_now_ns, service_names};
 
 /// The paper's §3.1 parts: (id, position, force).
@@ -36,12 +37,7 @@ pub fn request(seq: u64, stamp_ns: u64, parts: &[(u32, [f64; 2], [f64; 2])], sca
 
 /// Publish the §3.1 inputs on `prefix` every `period` until `stop`.
 pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result<()> {
-    let config = config_with_prefix(prefix)?;
-    let node = NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .map_err(|e| anyhow::anyhow!("feeder node: {e:?}"))?;
+    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
     let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)?
         .publisher_builder()
         .create()

@@ -8,6 +8,7 @@ pub mod cli;
 pub mod closed_loop;
 pub mod config;
 pub mod core_process;
+pub mod core_watch;
 pub mod feeder;
 pub mod launcher;
 pub mod planner;

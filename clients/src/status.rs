@@ -3,20 +3,16 @@
 
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use iceoryx2::prelude::*;
 use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::rig_node::rig_node;
 use ipc_types::{LatencyPercentiles, Telemetry, ValidationLimits, monotonic_now_ns, service_names};
 use serde_json::{Value, json};
 
 /// Wait up to `timeout` for a telemetry sample of the core on `prefix`.
 pub fn read_telemetry(prefix: &str, timeout: Duration) -> anyhow::Result<Telemetry> {
-    let config = config_with_prefix(prefix).context("service prefix")?;
-    let node = NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .map_err(|e| anyhow::anyhow!("creating an iceoryx2 node: {e:?}"))?;
+    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
     let sub = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)?
         .subscriber_builder()
         .create()

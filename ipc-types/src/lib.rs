@@ -27,6 +27,7 @@ mod force_request;
 mod latency_percentiles;
 mod part_states;
 pub mod ports;
+pub mod rig_node;
 mod schedule;
 pub mod service_names;
 mod telemetry;

@@ -124,11 +124,7 @@ pub fn run_plan(
     planner.start()?;
 
     // The launcher's own node handles Ctrl-C (SIGINT) and SIGTERM.
-    let config = ipc_types::ports::config_with_prefix(&prefix)?;
-    let node = NodeBuilder::new()
-        .config(&config)
-        .create::<ipc::Service>()
-        .map_err(|e| anyhow::anyhow!("launcher node: {e:?}"))?;
+    let node = ipc_types::rig_node::rig_node(&prefix, None, SignalHandlingMode::HandleTerminationRequests)?;
     let bar =
         if show_progress { ProgressBar::new((plan.duration_s * 10.0) as u64) } else { ProgressBar::hidden() };
     bar.set_style(
@@ -167,9 +163,6 @@ pub fn run_plan(
     planner.stop(Duration::from_secs(3));
     vision.stop(Duration::from_secs(3));
     let core_exit = core.stop(Duration::from_secs(5));
-    if let Some(s) = core_failed {
-        bail!("upm-core died during the run ({s}); see {}", logs.join("core.log").display());
-    }
     let t = recorder.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
     let mut metrics = json!({
         "scenario": plan.scenario,
@@ -187,6 +180,7 @@ pub fn run_plan(
             "rejected_requests": t.counters.rejected_requests,
             "realtime_flags": t.realtime_flags,
             "exit_ok": core_exit.is_some_and(|s| s.success()),
+            "died": core_failed.map(|s| s.to_string()),
         },
         "latency_us": {
             "motor_wakeup": latency_json(&t.latency.motor_wakeup),
@@ -208,5 +202,13 @@ pub fn run_plan(
         &plan.config.plate.centers,
         &recorder.trails,
     )?;
+    // What was recorded is written first: a dead core loses nothing.
+    if let Some(s) = core_failed {
+        bail!(
+            "upm-core died during the run ({s}); see {}; what was recorded is in {}",
+            logs.join("core.log").display(),
+            out.display()
+        );
+    }
     Ok(RunOutcome { metrics, trails: recorder.trails, interrupted })
 }

@@ -4,7 +4,8 @@
 use std::collections::BTreeMap;
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::{Sub, config_with_prefix, open_pub_sub};
+use ipc_types::ports::{Sub, open_pub_sub};
+use ipc_types::rig_node::rig_node;
 use ipc_types::{PartStates, Telemetry, service_names};
 use serde::Serialize;
 
@@ -43,12 +44,7 @@ pub struct Recorder {
 impl Recorder {
     /// Record at most `sample_hz` trail points per second.
     pub fn new(prefix: &str, sample_hz: f64) -> anyhow::Result<Self> {
-        let config = config_with_prefix(prefix)?;
-        let node = NodeBuilder::new()
-            .config(&config)
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<ipc::Service>()
-            .map_err(|e| anyhow::anyhow!("recorder node: {e:?}"))?;
+        let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
         let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?
             .subscriber_builder()
             .create()

@@ -4,10 +4,10 @@
 
 use std::time::Duration;
 
-use anyhow::Context;
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
+use ipc_types::rig_node::rig_node;
 use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
 
 use super::Planner;
@@ -22,12 +22,7 @@ pub fn run_planner(
     prefix: &str,
     duration: Option<Duration>,
 ) -> anyhow::Result<u64> {
-    let config = config_with_prefix(prefix).context("service prefix")?;
-    let node = NodeBuilder::new()
-        .name(&NodeName::new("upm-planner").map_err(|e| anyhow::anyhow!("{e:?}"))?)
-        .config(&config)
-        .create::<ipc::Service>()
-        .map_err(|e| anyhow::anyhow!("creating the iceoryx2 node: {e:?}"))?;
+    let node = rig_node(prefix, Some("upm-planner"), SignalHandlingMode::HandleTerminationRequests)?;
     let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)?
         .subscriber_builder()
         .create()
@@ -41,7 +36,9 @@ pub fn run_planner(
     let mut first_frame: Option<u64> = None;
     let mut msg = ForceRequest::new();
     let mut sent = 0u64;
+    let mut core = crate::core_watch::CoreWatch::new("upm-planner", prefix);
     loop {
+        core.poll();
         let mut newest = None;
         while let Some(s) = parts.receive().map_err(|e| anyhow::anyhow!("receiving part states: {e:?}"))? {
             newest = Some(*s.payload());

@@ -9,10 +9,10 @@ pub mod tracker;
 
 use std::time::Duration;
 
-use anyhow::Context;
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
+use ipc_types::rig_node::rig_node;
 use ipc_types::{PartState, PartStates, monotonic_now_ns, service_names};
 
 pub use camera::{Camera, CameraParams};
@@ -38,12 +38,7 @@ pub fn run(
 ) -> anyhow::Result<u64> {
     let mut cam = Camera::new(camera).map_err(anyhow::Error::msg)?;
     let mut tracker = Tracker::new(tracker);
-    let config = config_with_prefix(prefix).context("service prefix")?;
-    let node = NodeBuilder::new()
-        .name(&NodeName::new("upm-vision").map_err(|e| anyhow::anyhow!("{e:?}"))?)
-        .config(&config)
-        .create::<ipc::Service>()
-        .map_err(|e| anyhow::anyhow!("creating the iceoryx2 node: {e:?}"))?;
+    let node = rig_node(prefix, Some("upm-vision"), SignalHandlingMode::HandleTerminationRequests)?;
     let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?
         .subscriber_builder()
         .create()
@@ -60,7 +55,9 @@ pub fn run(
     let mut last_frame_stamp: Option<u64> = None;
     let mut seq = 0;
     let mut msg = PartStates::new();
+    let mut core = crate::core_watch::CoreWatch::new("upm-vision", prefix);
     loop {
+        core.poll();
         while let Some(s) = truth.receive().map_err(|e| anyhow::anyhow!("receiving ground truth: {e:?}"))? {
             newest = Some(*s.payload());
         }

@@ -12,6 +12,7 @@ use std::sync::mpsc;
 use iceoryx2::node::{NodeView, NodeWaitFailure};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::rig_node::rig_node;
 use ipc_types::{CoreState, PartStates, Schedule, Telemetry, monotonic_now_ns, service_names};
 
 use super::alloc_count;
@@ -150,10 +151,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     params.validate().map_err(StartError::Params)?;
     let config = config_with_prefix(&options.prefix).map_err(|_| StartError::Prefix)?;
     claim_prefix(&config)?;
-    let node = NodeBuilder::new()
-        .name(&NodeName::new(CORE_NODE_NAME).map_err(|_| StartError::Node)?)
-        .config(&config)
-        .create::<ipc::Service>()
+    let node = rig_node(&options.prefix, Some(CORE_NODE_NAME), SignalHandlingMode::HandleTerminationRequests)
         .map_err(|_| StartError::Node)?;
     let schedule_pub = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)
         .map_err(|error| StartError::Service { service: service_names::SCHEDULE, error })?

@@ -1,0 +1,91 @@
+//! A node on a rig's prefix whose shared memory only its user can open.
+//!
+//! iceoryx2 0.10 creates the per-prefix node counter segment
+//! (`<prefix>…global_mgmt` in /dev/shm) world-writable so that several
+//! users can share one domain. A rig's prefix belongs to one user, so every
+//! UPM process tightens what it created to 0600 right after creating its node.
+
+use core::fmt;
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
+
+use iceoryx2::node::NodeCreationFailure;
+use iceoryx2::prelude::*;
+
+use crate::ports::config_with_prefix;
+
+/// Where POSIX shared memory lives on Linux.
+pub const SHM_DIR: &str = "/dev/shm";
+
+/// Why a rig node could not be created.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RigNodeError {
+    InvalidPrefix,
+    InvalidName,
+    Create(NodeCreationFailure),
+}
+
+impl fmt::Display for RigNodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::InvalidPrefix => f.write_str("invalid service prefix (not a valid file name)"),
+            Self::InvalidName => f.write_str("invalid iceoryx2 node name"),
+            Self::Create(e) => write!(f, "creating the iceoryx2 node: {e:?}"),
+        }
+    }
+}
+
+impl core::error::Error for RigNodeError {}
+
+/// Create a node on `prefix`, optionally named, then restrict the prefix's
+/// shared memory to its owner.
+pub fn rig_node(
+    prefix: &str,
+    name: Option<&str>,
+    signals: SignalHandlingMode,
+) -> Result<Node<ipc::Service>, RigNodeError> {
+    let config = config_with_prefix(prefix).map_err(|_| RigNodeError::InvalidPrefix)?;
+    let mut builder = NodeBuilder::new().config(&config).signal_handling_mode(signals);
+    if let Some(n) = name {
+        builder = builder.name(&NodeName::new(n).map_err(|_| RigNodeError::InvalidName)?);
+    }
+    let node = builder.create::<ipc::Service>().map_err(RigNodeError::Create)?;
+    restrict_to_owner(prefix);
+    Ok(node)
+}
+
+/// Make every file of `prefix` in /dev/shm that this user owns readable and
+/// writable by this user only. Returns how many files it changed. Best
+/// effort: a file that vanishes meanwhile is skipped.
+#[allow(unsafe_code)]
+pub fn restrict_to_owner(prefix: &str) -> usize {
+    // SAFETY: geteuid(2) has no preconditions and cannot fail.
+    let me = unsafe { libc::geteuid() };
+    let Ok(dir) = std::fs::read_dir(SHM_DIR) else { return 0 };
+    let mut changed = 0;
+    for entry in dir.flatten() {
+        if !entry.file_name().as_encoded_bytes().starts_with(prefix.as_bytes()) {
+            continue;
+        }
+        let Ok(meta) = entry.metadata() else { continue };
+        if meta.uid() == me && meta.mode() & 0o077 != 0 {
+            let mode = meta.mode() & 0o700;
+            if std::fs::set_permissions(entry.path(), std::fs::Permissions::from_mode(mode)).is_ok() {
+                changed += 1;
+            }
+        }
+    }
+    changed
+}
+
+/// Files of `prefix` in /dev/shm that someone other than their owner may
+/// open (what a security check looks for).
+pub fn files_open_to_others(prefix: &str) -> Vec<(String, u32)> {
+    let Ok(dir) = std::fs::read_dir(SHM_DIR) else { return Vec::new() };
+    dir.flatten()
+        .filter(|e| e.file_name().as_encoded_bytes().starts_with(prefix.as_bytes()))
+        .filter_map(|e| {
+            let mode = e.metadata().ok()?.mode() & 0o777;
+            (mode & 0o077 != 0).then(|| (e.file_name().to_string_lossy().into_owned(), mode))
+        })
+        .collect()
+}
