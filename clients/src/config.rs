@@ -344,7 +344,8 @@ impl Config {
                 lock_memory: self.rt.lock_memory,
             },
         };
-        params.validate().map_err(|e| e.to_string())?;
+        // Complete validation: the core would refuse an unplayable rig at start.
+        params.playable_k_max().map_err(|e| e.to_string())?;
         Ok(params)
     }
 

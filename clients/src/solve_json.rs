@@ -69,10 +69,17 @@ pub fn parse(text: &str) -> Result<SolveInput, InputError> {
     let de = &mut serde_json::Deserializer::from_str(text);
     let input: SolveInput = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
-        let path = if path == "." { "input".to_owned() } else { path };
-        InputError::Json { path, message: e.into_inner().to_string() }
+        // Top level (or an empty key): name the document itself.
+        let path = if path == "." || path.is_empty() { "input".to_owned() } else { path };
+        InputError::Json { path: printable(&path), message: printable(&e.into_inner().to_string()) }
     })?;
     Ok(input)
+}
+
+/// Control characters (a newline inside a key, say) shown escaped, so an
+/// error stays on one line.
+fn printable(s: &str) -> String {
+    s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
 }
 
 impl SolveInput {

@@ -76,7 +76,8 @@ fn bad_inputs_exit_nonzero_with_one_line_naming_the_field() {
     rejects(&GOOD.replace("[0.5,0.0]", "[1,0.5]"), "parts[0]");
     rejects(&GOOD.replace("[[-1,-0.5],[1,-0.5],[1,0.5],[-1,0.5]]", "[]"), "centers");
     rejects(&GOOD.replace("[0.01,0.01]", "[1e999,0.01]"), "parts[0].force");
-    rejects(&GOOD.replace("[0.5,0.0]", "[1e300,1e300]"), "overflow");
+    rejects(&GOOD.replace("[0.5,0.0]", "[1e300,1e300]"), "parts[0].position");
+    rejects(&GOOD.replace("[0.01,0.01]", "[1e200,0.01]"), "parts[0].force");
     rejects(&GOOD.replace("\"mu_m_g\"", "\"mu_mg\""), "mu_mg");
     rejects("{\"mu_m_g\": 0.1, \"centers\": [[0,0]", "line");
     rejects("", "line");

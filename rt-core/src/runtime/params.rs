@@ -155,6 +155,15 @@ impl CoreParams {
         Ok(())
     }
 
+    /// Everything [`Self::validate`] checks, plus that every center can play
+    /// some k within the motion and actuator limits. Returns that bound on
+    /// |k|: the k_max the core will actually use.
+    pub fn playable_k_max(&self) -> Result<f64, CoreParamsError> {
+        self.validate()?;
+        let rig = crate::motion::Rig::new(self.rig).map_err(CoreParamsError::Rig)?;
+        super::solve_stage::playable_k_max(self, &rig)
+    }
+
     /// Motor tick period (ns).
     pub fn tick_ns(&self) -> u64 {
         (1e9 / self.motion.tick_hz).round() as u64

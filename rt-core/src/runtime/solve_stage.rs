@@ -290,7 +290,7 @@ impl SolveStage {
 /// actuators' stroke, velocity and force limits. Slots are independent
 /// (each tick belongs to one slot), so a schedule whose every |k_j| is below
 /// this passes [`Rig::check_motion`]. Bisection at start-up only.
-fn playable_k_max(params: &CoreParams, rig: &Rig) -> Result<f64, super::params::CoreParamsError> {
+pub(crate) fn playable_k_max(params: &CoreParams, rig: &Rig) -> Result<f64, super::params::CoreParamsError> {
     let mut probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
     let mut k_max = params.motion.k_max;
     for &center in &params.centers {

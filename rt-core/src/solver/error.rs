@@ -48,6 +48,28 @@ pub enum SolveError {
     },
     /// Distances or scaled targets overflowed f64 (absurdly large inputs).
     Overflow,
+    /// A finite input beyond [`MAX_INPUT_MAGNITUDE`] (positions in m, forces
+    /// and curls relative to μmg, μmg itself), where sums could overflow.
+    OutOfRange {
+        field: InputField,
+        index: usize,
+    },
+}
+
+/// Largest magnitude the solver accepts for a coordinate (m), for μmg (N),
+/// and for a requested force or curl divided by μmg. Far beyond any plate,
+/// small enough that no sum of squares of the system overflows f64.
+pub const MAX_INPUT_MAGNITUDE: f64 = 1e12;
+
+/// Which input an [`SolveError::OutOfRange`] names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputField {
+    MuMg,
+    Center,
+    PartPosition,
+    PartForce,
+    CurlPosition,
+    Curl,
 }
 
 impl fmt::Display for SolveError {
@@ -85,6 +107,21 @@ impl fmt::Display for SolveError {
                 write!(f, "curls[{curl}].position: sits on centers[{center}] (the field is singular there)")
             }
             Self::Overflow => write!(f, "input: numbers too large, the system overflows f64"),
+            Self::OutOfRange { field, index } => {
+                let limit = MAX_INPUT_MAGNITUDE;
+                match field {
+                    InputField::MuMg => write!(f, "mu_m_g: beyond {limit:e} N"),
+                    InputField::Center => write!(f, "centers[{index}]: a coordinate beyond {limit:e} m"),
+                    InputField::PartPosition => {
+                        write!(f, "parts[{index}].position: a coordinate beyond {limit:e} m")
+                    }
+                    InputField::PartForce => write!(f, "parts[{index}].force: beyond {limit:e} × mu_m_g"),
+                    InputField::CurlPosition => {
+                        write!(f, "curls[{index}].position: a coordinate beyond {limit:e} m")
+                    }
+                    InputField::Curl => write!(f, "curls[{index}].curl: beyond {limit:e} × mu_m_g per m"),
+                }
+            }
         }
     }
 }

@@ -31,7 +31,7 @@ mod validate;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 
-pub use error::SolveError;
+pub use error::{InputField, MAX_INPUT_MAGNITUDE, SolveError};
 pub use params::{SolverCapacity, SolverParams};
 pub use problem::{CurlConstraint, ForceConstraint, Problem};
 pub use solution::{Solution, SolveMethod};

@@ -1,10 +1,20 @@
 //! Input checks that run before any arithmetic, so nothing downstream sees
 //! NaN, infinities or a singular field.
 
+use super::error::{InputField, MAX_INPUT_MAGNITUDE};
 use super::{Problem, SolveError, SolverCapacity, SolverParams};
 
 fn finite2(p: [f64; 2]) -> bool {
     p[0].is_finite() && p[1].is_finite()
+}
+
+/// Finite values beyond the range: an error naming `field[index]`.
+fn in_range(values: [f64; 2], scale: f64, field: InputField, index: usize) -> Result<(), SolveError> {
+    if values.iter().all(|v| v.abs() <= MAX_INPUT_MAGNITUDE * scale) {
+        Ok(())
+    } else {
+        Err(SolveError::OutOfRange { field, index })
+    }
 }
 
 pub(crate) fn validate_problem(
@@ -15,6 +25,7 @@ pub(crate) fn validate_problem(
     if !(problem.mu_m_g.is_finite() && problem.mu_m_g > 0.0) {
         return Err(SolveError::InvalidMuMg);
     }
+    in_range([problem.mu_m_g; 2], 1.0, InputField::MuMg, 0)?;
     if !(problem.k_max.is_finite() && problem.k_max > 0.0 && problem.k_max <= 1.0) {
         return Err(SolveError::InvalidKMax);
     }
@@ -34,15 +45,20 @@ pub(crate) fn validate_problem(
         if !finite2(c) {
             return Err(SolveError::NonFiniteCenter { center });
         }
+        in_range(c, 1.0, InputField::Center, center)?;
     }
     for (part, p) in problem.parts.iter().enumerate() {
         if !finite2(p.position) {
             return Err(SolveError::NonFinitePartPosition { part });
         }
+        in_range(p.position, 1.0, InputField::PartPosition, part)?;
         if let Some(f) = p.force
             && !finite2(f)
         {
             return Err(SolveError::NonFinitePartForce { part });
+        }
+        if let Some(f) = p.force {
+            in_range(f, problem.mu_m_g, InputField::PartForce, part)?;
         }
         if let Some(center) = nearest_too_close(p.position, problem.centers, params)? {
             return Err(SolveError::PartOnCenter { part, center });
@@ -52,9 +68,11 @@ pub(crate) fn validate_problem(
         if !finite2(q.position) {
             return Err(SolveError::NonFiniteCurlPosition { curl });
         }
+        in_range(q.position, 1.0, InputField::CurlPosition, curl)?;
         if !q.curl.is_finite() {
             return Err(SolveError::NonFiniteCurl { curl });
         }
+        in_range([q.curl; 2], problem.mu_m_g, InputField::Curl, curl)?;
         if let Some(center) = nearest_too_close(q.position, problem.centers, params)? {
             return Err(SolveError::CurlOnCenter { curl, center });
         }

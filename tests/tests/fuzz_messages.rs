@@ -1,4 +1,4 @@
-//! Any bytes a peer writes into shared memory, read as a payload, must
+//! Fuzz: message validation. Any bytes a peer writes into shared memory, read as a payload, must
 //! neither panic in validate() or the accessors nor pass validation while
 //! breaking an invariant the core relies on.
 
@@ -59,7 +59,7 @@ fn body() -> impl Strategy<Value = Vec<u8>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(upm_tests::fuzz_config(4096, 1))]
 
     #[test]
     fn part_states_never_panic(mut bytes in body(), count in 0u32..80, patch in any::<bool>(), l in limits_strategy()) {
@@ -160,7 +160,7 @@ fn to_bytes<T: Copy>(value: &T) -> Vec<u8> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(upm_tests::fuzz_config(4096, 1))]
 
     /// A valid message with a few corrupted bytes: reaches the deep checks
     /// (duplicates, curls, flags) that random bodies rarely get to.
