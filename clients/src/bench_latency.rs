@@ -147,14 +147,52 @@ pub fn plot(path: &std::path::Path, curves: &[(&str, &Histogram<u64>)]) -> anyho
 
 /// Run `rounds` × (upm, cyclictest), each `seconds` long.
 pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
-    run_with_plot(seconds, rounds, None)
+    run_with_plot(seconds, rounds, None, false)
 }
 
-/// [`run`], also drawing the two distributions to `plot_path`.
+/// Merged histograms of `rounds` A/B pairs, and each round's summaries.
+fn ab_rounds(
+    params: &CoreParams,
+    seconds: f64,
+    rounds: usize,
+) -> anyhow::Result<(Histogram<u64>, Histogram<u64>, Vec<Value>)> {
+    let interval_us = params.tick_ns() / 1000;
+    let loops = (seconds * 1e6 / interval_us as f64) as u64;
+    let (mut upm, mut ct) = (new_histogram()?, new_histogram()?);
+    let mut per_round = Vec::new();
+    for round in 0..rounds {
+        let a = run_upm(params, seconds, round)?;
+        let b = run_cyclictest(interval_us, params.rt.motor_priority, params.rt.motor_cpu, loops)?;
+        per_round.push(json!({ "upm": summary_ns(&a), "cyclictest": summary_ns(&b) }));
+        upm.add(&a).context("merging")?;
+        ct.add(&b).context("merging")?;
+    }
+    Ok((upm, ct, per_round))
+}
+
+/// Summaries and ratios of one A/B comparison.
+fn comparison(upm: &Histogram<u64>, ct: &Histogram<u64>, per_round: Vec<Value>) -> Value {
+    let (u, c) = (summary_ns(upm), summary_ns(ct));
+    let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
+    json!({
+        "upm": u,
+        "cyclictest": c,
+        "ratio_p50": ratio(u.p50, c.p50),
+        "ratio_p99": ratio(u.p99, c.p99),
+        "ratio_p999": ratio(u.p999, c.p999),
+        "ratio_max": ratio(u.max, c.max),
+        "per_round": per_round,
+    })
+}
+
+/// [`run`], also drawing the distributions to `plot_path`. With `stress`,
+/// the same A/B rounds run again under CPU load on every CPU but the
+/// motor's (stress-ng, else a built-in burner), reported as `stressed`.
 pub fn run_with_plot(
     seconds: f64,
     rounds: usize,
     plot_path: Option<&std::path::Path>,
+    stress: bool,
 ) -> anyhow::Result<Value> {
     if Command::new("cyclictest").arg("--help").output().is_err() {
         bail!(
@@ -166,37 +204,32 @@ pub fn run_with_plot(
         bail!("--seconds must be positive and --rounds at least 1");
     }
     let params = CoreParams::default();
-    let interval_us = params.tick_ns() / 1000;
-    let loops = (seconds * 1e6 / interval_us as f64) as u64;
-    let (mut upm, mut ct) = (new_histogram()?, new_histogram()?);
-    let mut per_round = Vec::new();
-    for round in 0..rounds {
-        let a = run_upm(&params, seconds, round)?;
-        let b = run_cyclictest(interval_us, params.rt.motor_priority, params.rt.motor_cpu, loops)?;
-        per_round.push(json!({ "upm": summary_ns(&a), "cyclictest": summary_ns(&b) }));
-        upm.add(&a).context("merging")?;
-        ct.add(&b).context("merging")?;
+    let (upm, ct, per_round) = ab_rounds(&params, seconds, rounds)?;
+    let mut v = comparison(&upm, &ct, per_round);
+    let mut curves = vec![("upm motor loop".to_owned(), upm), ("cyclictest".to_owned(), ct)];
+    if stress {
+        let load = crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(params.rt.motor_cpu))?;
+        let (su, sc, per_round) = ab_rounds(&params, seconds, rounds)?;
+        let mut stressed = comparison(&su, &sc, per_round);
+        stressed["stressor"] = json!(load.description());
+        drop(load);
+        v["stressed"] = stressed;
+        curves.push(("upm, CPU stress".to_owned(), su));
+        curves.push(("cyclictest, CPU stress".to_owned(), sc));
     }
     if let Some(p) = plot_path {
-        plot(p, &[("upm motor loop", &upm), ("cyclictest", &ct)])?;
+        let named: Vec<(&str, &Histogram<u64>)> = curves.iter().map(|(n, h)| (n.as_str(), h)).collect();
+        plot(p, &named)?;
     }
-    let (u, c) = (summary_ns(&upm), summary_ns(&ct));
-    let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
-    Ok(json!({
-        "interval_us": interval_us,
-        "priority": params.rt.motor_priority,
-        "cpu": params.rt.motor_cpu,
-        "seconds_per_run": seconds,
-        "rounds": rounds,
-        "upm": u,
-        "cyclictest": c,
-        "ratio_p50": ratio(u.p50, c.p50),
-        "ratio_p99": ratio(u.p99, c.p99),
-        "ratio_p999": ratio(u.p999, c.p999),
-        "ratio_max": ratio(u.max, c.max),
-        "per_round": per_round,
-        "note": "upm: wake-up lateness of the real core's motor thread (SCHED_FIFO, absolute clock_nanosleep) with solver and io threads running; cyclictest: same interval, priority and CPU. cyclictest resolves 1 µs.",
-    }))
+    v["interval_us"] = json!(params.tick_ns() / 1000);
+    v["priority"] = json!(params.rt.motor_priority);
+    v["cpu"] = json!(params.rt.motor_cpu);
+    v["seconds_per_run"] = json!(seconds);
+    v["rounds"] = json!(rounds);
+    v["note"] = json!(
+        "upm: wake-up lateness of the real core's motor thread (SCHED_FIFO, absolute clock_nanosleep) with solver and io threads running; cyclictest: same interval, priority and CPU. cyclictest resolves 1 µs."
+    );
+    Ok(v)
 }
 
 /// One table row of a [`Summary`] in JSON form.
@@ -212,7 +245,7 @@ pub fn summary_row(name: &str, s: &Value) -> String {
 
 /// Human-readable table.
 pub fn to_text(v: &Value) -> String {
-    format!(
+    let mut text = format!(
         "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<16} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
         v["interval_us"],
         v["rounds"],
@@ -225,5 +258,17 @@ pub fn to_text(v: &Value) -> String {
         summary_row("cyclictest", &v["cyclictest"]),
         v["ratio_p99"].as_f64().unwrap_or(f64::NAN),
         v["ratio_p999"].as_f64().unwrap_or(f64::NAN),
-    )
+    );
+    let s = &v["stressed"];
+    if !s.is_null() {
+        text += &format!(
+            "\nunder CPU stress ({}):\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+            s["stressor"].as_str().unwrap_or("?"),
+            summary_row("upm", &s["upm"]),
+            summary_row("cyclictest", &s["cyclictest"]),
+            s["ratio_p99"].as_f64().unwrap_or(f64::NAN),
+            s["ratio_p999"].as_f64().unwrap_or(f64::NAN),
+        );
+    }
+    text
 }

@@ -50,6 +50,10 @@ pub enum Command {
         /// Service prefix (default: one per run).
         #[arg(long)]
         prefix: Option<String>,
+        /// Load every CPU but the motor's during the run (stress-ng if
+        /// installed, else a built-in burner); metrics.json names it.
+        #[arg(long)]
+        stress: bool,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
@@ -72,6 +76,10 @@ pub enum Command {
         /// latency: draw upm vs cyclictest distributions into this SVG.
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// latency: repeat the rounds under CPU load on the other CPUs
+        /// (stress-ng if installed, else a built-in burner).
+        #[arg(long)]
+        stress: bool,
     },
     /// Snapshot of a running core's telemetry.
     Status {
@@ -159,7 +167,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm-planner: stopped after {n} requests");
             Ok(())
         }
-        Command::Run { scenario, out, duration, seed, prefix, quiet } => {
+        Command::Run { scenario, out, duration, seed, prefix, quiet, stress } => {
             let path = crate::scenario::resolve(&scenario);
             let sc = crate::scenario::Scenario::load(&path)?;
             let seed = seed.unwrap_or(sc.seed);
@@ -177,6 +185,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 config: config.clone(),
                 planner: sc.planner.name.clone(),
                 scenario_file: Some(path.clone()),
+                stress,
             };
             let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             crate::status::remove_prefix_segment(&prefix);
@@ -185,13 +194,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
             Ok(())
         }
-        Command::Bench { what, json, quick, seconds, rounds, plot } => {
+        Command::Bench { what, json, quick, seconds, rounds, plot, stress } => {
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match what {
                 BenchTarget::Solver => (crate::bench_solver::run(quick)?, crate::bench_solver::to_text),
                 BenchTarget::Latency => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (
-                        crate::bench_latency::run_with_plot(s, rounds, plot.as_deref())?,
+                        crate::bench_latency::run_with_plot(s, rounds, plot.as_deref(), stress)?,
                         crate::bench_latency::to_text,
                     )
                 }

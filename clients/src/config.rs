@@ -452,6 +452,11 @@ impl Config {
         Ok((cam, tracker))
     }
 
+    /// The motor thread's CPU, if it is pinned (and the number is valid).
+    pub fn rt_motor_cpu(&self) -> Option<usize> {
+        cpu(self.rt.motor_cpu, "rt.motor_cpu").ok().flatten()
+    }
+
     pub fn histogram_dir(&self) -> Option<&Path> {
         (!self.telemetry.histogram_dir.is_empty()).then(|| Path::new(&self.telemetry.histogram_dir))
     }

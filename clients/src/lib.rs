@@ -9,6 +9,7 @@ pub mod closed_loop;
 pub mod config;
 pub mod core_process;
 pub mod core_watch;
+pub mod cpu_load;
 pub mod feeder;
 pub mod launcher;
 pub mod planner;

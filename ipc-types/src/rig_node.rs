@@ -36,6 +36,13 @@ impl fmt::Display for RigNodeError {
 
 impl core::error::Error for RigNodeError {}
 
+impl RigNodeError {
+    /// True when the operating system refused access.
+    pub fn is_permission(&self) -> bool {
+        *self == Self::Create(NodeCreationFailure::InsufficientPermissions)
+    }
+}
+
 /// Create a node on `prefix`, optionally named, then restrict the prefix's
 /// shared memory to its owner.
 pub fn rig_node(

@@ -32,6 +32,8 @@ pub struct RunPlan {
     pub planner: String,
     /// Passed to upm-planner as `--scenario`.
     pub scenario_file: Option<PathBuf>,
+    /// Load every CPU but the motor's while the loop runs (see `cpu_load`).
+    pub stress: bool,
 }
 
 /// What the run produced.
@@ -122,6 +124,12 @@ pub fn run_plan(
     }
     vision.start()?;
     planner.start()?;
+    let load = match plan.stress {
+        true => {
+            Some(crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(plan.config.rt_motor_cpu()))?)
+        }
+        false => None,
+    };
 
     // The launcher's own node handles Ctrl-C (SIGINT) and SIGTERM.
     let node = ipc_types::rig_node::rig_node(&prefix, None, SignalHandlingMode::HandleTerminationRequests)?;
@@ -157,6 +165,8 @@ pub fn run_plan(
         }
     }
     bar.finish_and_clear();
+    let stress = load.as_ref().map(|l| l.description().to_owned());
+    drop(load);
     let _ = recorder.poll();
     let pids = json!({ "core": core.pid(), "vision": vision.pid(), "planner": planner.pid() });
     let restarts = json!({ "vision": vision.restarts, "planner": planner.restarts });
@@ -169,6 +179,7 @@ pub fn run_plan(
         "seed": plan.seed,
         "sim_seconds": recorder.trails.duration(),
         "interrupted": interrupted,
+        "stress": stress,
         "core": {
             "cycles": t.cycle,
             "ticks": t.counters.ticks,

@@ -8,6 +8,7 @@
 
 use iceoryx2::prelude::*;
 use ipc_types::ports::{Sub, open_pub_sub};
+use ipc_types::rig_node::RigNodeError;
 use ipc_types::{ExplicitSchedule, ForceRequest, PartStates, service_names};
 
 use super::inbox::{Inbound, Inbox, InboxBuffers};
@@ -27,12 +28,12 @@ impl IpcInbox {
     /// Create the node and the three subscribers (start-up only).
     pub fn new(config: &Config) -> Result<Self, StartError> {
         let node = NodeBuilder::new()
-            .name(&NodeName::new("upm-core-solver").map_err(|_| StartError::Node)?)
+            .name(&NodeName::new("upm-core-solver").map_err(|_| StartError::Node(RigNodeError::InvalidName))?)
             .config(config)
             // The io thread's node handles SIGINT/SIGTERM.
             .signal_handling_mode(SignalHandlingMode::Disabled)
             .create::<ipc::Service>()
-            .map_err(|_| StartError::Node)?;
+            .map_err(|e| StartError::Node(RigNodeError::Create(e)))?;
         let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
             .map_err(|error| StartError::Service { service: service_names::PART_STATES, error })?
             .subscriber_builder()

@@ -123,8 +123,8 @@ fn claim_prefix(config: &Config) -> Result<(), StartError> {
         }
         CallbackProgression::Continue
     });
-    if listed.is_err() {
-        return Err(StartError::Node);
+    if let Err(e) = listed {
+        return Err(StartError::NodeList(e));
     }
     if alive { Err(StartError::AlreadyRunning) } else { Ok(()) }
 }
@@ -152,7 +152,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let config = config_with_prefix(&options.prefix).map_err(|_| StartError::Prefix)?;
     claim_prefix(&config)?;
     let node = rig_node(&options.prefix, Some(CORE_NODE_NAME), SignalHandlingMode::HandleTerminationRequests)
-        .map_err(|_| StartError::Node)?;
+        .map_err(StartError::Node)?;
     let schedule_pub = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)
         .map_err(|error| StartError::Service { service: service_names::SCHEDULE, error })?
         .publisher_builder()

@@ -51,7 +51,8 @@ pub fn make_current_thread_realtime(priority: u8, cpu: Option<usize>) -> ThreadP
     ThreadPlacement { fifo, pinned }
 }
 
-fn pin_current_thread(cpu: usize) -> bool {
+/// Pin the calling thread to `cpu`; false if the kernel refused.
+pub fn pin_current_thread(cpu: usize) -> bool {
     if cpu >= libc::CPU_SETSIZE as usize {
         return false;
     }

@@ -2,7 +2,9 @@
 
 use core::fmt;
 
+use iceoryx2::node::NodeListFailure;
 use ipc_types::ports::OpenServiceError;
+use ipc_types::rig_node::RigNodeError;
 
 use super::params::CoreParamsError;
 
@@ -11,7 +13,9 @@ pub enum StartError {
     Params(CoreParamsError),
     /// The service prefix is not a valid file name.
     Prefix,
-    Node,
+    Node(RigNodeError),
+    /// The prefix's node list could not be read (to find a running core).
+    NodeList(NodeListFailure),
     Service {
         service: &'static str,
         error: OpenServiceError,
@@ -35,7 +39,12 @@ impl fmt::Display for StartError {
         match self {
             Self::Params(e) => write!(f, "config: {e}"),
             Self::Prefix => f.write_str("service.prefix is not a valid file name"),
-            Self::Node => f.write_str("cannot create the iceoryx2 node"),
+            Self::Node(e) => write!(f, "{e}{}", permission_hint(e.is_permission())),
+            Self::NodeList(e) => write!(
+                f,
+                "reading the iceoryx2 node list: {e:?}{}",
+                permission_hint(*e == NodeListFailure::InsufficientPermissions)
+            ),
             Self::Service { service, error } => write!(f, "service {service}: {error}"),
             Self::Port { service } => write!(f, "cannot create a port on {service}"),
             Self::AlreadyRunning => f.write_str(
@@ -48,3 +57,13 @@ impl fmt::Display for StartError {
 }
 
 impl core::error::Error for StartError {}
+
+/// The usual cause: iceoryx2's directory belongs to another user (a core
+/// once run as root leaves /tmp/iceoryx2 root-owned).
+fn permission_hint(permission: bool) -> &'static str {
+    if permission {
+        " (does /tmp/iceoryx2 or a /dev/shm file of this prefix belong to another user? see docs/deploy.md)"
+    } else {
+        ""
+    }
+}
