@@ -1,6 +1,8 @@
 //! `upm bench ipc`: one-way PartStates latency from a vision publisher to
-//! the core's solver stage, against a raw iceoryx2 ping-pong of the same
-//! payload (round trip halved), in the same run.
+//! the core, against a raw iceoryx2 ping-pong of the same payload (round
+//! trip halved), in the same run: event-driven against event-driven, busy
+//! polling against busy polling. The solver thread's pick-up is reported
+//! separately.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -13,7 +15,7 @@ use iceoryx2::prelude::*;
 use ipc_types::ports::open_pub_sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{PartStates, monotonic_now_ns};
-use rt_core::runtime::{CoreParams, RunOptions, run_core};
+use rt_core::runtime::{CoreParams, ReceiverWake, RunOptions, run_core};
 use serde_json::{Value, json};
 
 use crate::bench_latency::{summary_ns as summary, summary_row};
@@ -22,11 +24,23 @@ fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
     Ok(rig_node(prefix, None, SignalHandlingMode::Disabled)?)
 }
 
-/// Raw iceoryx2: ping on one service, echo on another, busy polling both
-/// sides; one-way = round trip / 2.
-fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
+/// An event service of the raw reference (`upm/inbox`'s settings are the
+/// product's; these are the bench's own).
+fn raw_event(
+    n: &Node<ipc::Service>,
+    name: &str,
+) -> anyhow::Result<iceoryx2::service::port_factory::event::PortFactory<ipc::Service>> {
+    n.service_builder(&ServiceName::new(name)?).event().open_or_create().map_err(|e| anyhow::anyhow!("{e:?}"))
+}
+
+/// Raw iceoryx2: ping on one service, echo on another; one-way = round
+/// trip / 2. `events`: each side sleeps on an iceoryx2 listener and the
+/// sender notifies (the reference for `rt.receiver = "event"`); otherwise
+/// both sides busy-poll (the reference for `"spin"`).
+fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>> {
     let prefix = format!("upm_bench_raw_{}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
+    let wait = Duration::from_millis(10);
     let ponger = {
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || -> anyhow::Result<()> {
@@ -39,9 +53,23 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
                 .publisher_builder()
                 .create()
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            let woken = raw_event(&n, "bench/ping")?
+                .listener_builder()
+                .create()
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            let wake = raw_event(&n, "bench/pong")?
+                .notifier_builder()
+                .create()
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
             while !stop.load(Ordering::Relaxed) {
-                if let Some(s) = ping.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+                if events {
+                    woken.timed_wait(|_| {}, wait).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                }
+                while let Some(s) = ping.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
                     pong.send_copy(*s.payload()).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                    if events {
+                        wake.notify().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                    }
                 }
             }
             Ok(())
@@ -56,6 +84,10 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
         .subscriber_builder()
         .create()
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let wake =
+        raw_event(&n, "bench/ping")?.notifier_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let woken =
+        raw_event(&n, "bench/pong")?.listener_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
     std::thread::sleep(Duration::from_millis(100));
     let mut h = Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")?;
     let mut msg = PartStates::new();
@@ -63,8 +95,14 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
     while (h.len() as usize) < samples {
         msg.stamp_ns = monotonic_now_ns();
         ping.send_copy(msg).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        if events {
+            wake.notify().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        }
         let give_up = msg.stamp_ns + 1_000_000_000;
         loop {
+            if events {
+                woken.timed_wait(|_| {}, wait).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            }
             if let Some(s) = pong.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
                 let one_way = (monotonic_now_ns() - s.payload().stamp_ns) / 2;
                 warm += 1;
@@ -77,6 +115,10 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
                 break;
             }
         }
+        if events {
+            // Paced like a camera would be, not back to back.
+            std::thread::sleep(Duration::from_micros(200));
+        }
     }
     stop.store(true, Ordering::Relaxed);
     let _ = ponger.join();
@@ -84,9 +126,10 @@ fn raw_ping_pong(samples: usize) -> anyhow::Result<Histogram<u64>> {
     Ok(h)
 }
 
-/// The core's own measurement: PartStates stamp → validated on the solver
-/// thread, with a feeder publishing at 1 kHz.
-fn upm_one_way(seconds: f64, poll_ns: u64) -> anyhow::Result<Histogram<u64>> {
+/// The core's own measurement with a feeder publishing (and notifying) at
+/// 1 kHz: PartStates stamp → received by the core's receiver thread, and
+/// received → validated on the solver thread.
+fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogram<u64>, Histogram<u64>)> {
     let prefix = format!("upm_bench_ipc_{}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
@@ -99,47 +142,56 @@ fn upm_one_way(seconds: f64, poll_ns: u64) -> anyhow::Result<Histogram<u64>> {
         duration: Some(Duration::from_secs_f64(seconds)),
         ..RunOptions::default()
     };
-    let params = CoreParams { solver_poll_ns: poll_ns, ..CoreParams::default() };
+    let mut params = CoreParams::default();
+    params.rt.receiver = receiver;
     let report = run_core(&params, sim, &options).map_err(|e| anyhow::anyhow!("{e}"));
     stop.store(true, Ordering::Relaxed);
     let _ = feeder.join();
     crate::status::remove_prefix_segment(&prefix);
-    Ok(report?.histograms.ipc_vision_to_core)
+    let h = report?.histograms;
+    Ok((h.ipc_vision_to_core, h.ipc_to_solver))
 }
 
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
-    let raw = raw_ping_pong(10_000)?;
-    let default_poll = CoreParams::default().solver_poll_ns;
-    let upm = upm_one_way(seconds, default_poll)?;
-    let fast = upm_one_way(seconds, 50_000)?;
-    let (u, r, f) = (summary(&upm), summary(&raw), summary(&fast));
+    let raw_event = raw_ping_pong(5_000, true)?;
+    let raw_busy = raw_ping_pong(10_000, false)?;
+    let (event, event_pickup) = upm_one_way(seconds, ReceiverWake::Event)?;
+    let (spin, spin_pickup) = upm_one_way(seconds, ReceiverWake::Spin)?;
+    let (e, re, sp, rb) = (summary(&event), summary(&raw_event), summary(&spin), summary(&raw_busy));
     Ok(json!({
         "payload_bytes": size_of::<PartStates>(),
-        "upm": u,
-        "raw_iceoryx2": r,
-        "solver_poll_us": default_poll / 1000,
-        "upm_poll_50us": f,
-        "ratio_p99_poll_50us": f.p99 / r.p99,
-        "ratio_p50": u.p50 / r.p50,
-        "ratio_p99": u.p99 / r.p99,
-        "note": "upm: PartStates stamp → validated by the core's solver stage (publisher → iceoryx2 → receiver thread → ring → solver poll); raw: busy-polled ping-pong of the same payload, round trip / 2.",
+        "upm_event": e,
+        "raw_iceoryx2_event": re,
+        "ratio_p50_event": e.p50 / re.p50,
+        "ratio_p99_event": e.p99 / re.p99,
+        "upm_spin": sp,
+        "raw_iceoryx2_busy_poll": rb,
+        "ratio_p50_spin": sp.p50 / rb.p50,
+        "ratio_p99_spin": sp.p99 / rb.p99,
+        "solver_pickup_event": summary(&event_pickup),
+        "solver_pickup_spin": summary(&spin_pickup),
+        "solver_poll_us": CoreParams::default().solver_poll_ns / 1000,
+        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (its clock-driven poll, rt.solver_poll_us). raw: ping-pong of the same payload, round trip / 2, with listeners+notify (event) or busy polling.",
     }))
 }
 
 pub fn to_text(v: &Value) -> String {
     let row = summary_row;
     format!(
-        "one-way PartStates latency (µs), payload {} B\n{:<16} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.1}\n{}\nratio p99 (50 µs poll) {:.1}",
+        "one-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (poll {} µs):\n{}",
         v["payload_bytes"],
         "",
         "p50",
         "p99",
         "p99.9",
         "max",
-        row("upm", &v["upm"]),
-        row("raw iceoryx2", &v["raw_iceoryx2"]),
-        v["ratio_p99"].as_f64().unwrap_or(f64::NAN),
-        row("upm, 50 µs poll", &v["upm_poll_50us"]),
-        v["ratio_p99_poll_50us"].as_f64().unwrap_or(f64::NAN)
+        row("upm, event", &v["upm_event"]),
+        row("raw iceoryx2, event", &v["raw_iceoryx2_event"]),
+        v["ratio_p99_event"].as_f64().unwrap_or(f64::NAN),
+        row("upm, spin", &v["upm_spin"]),
+        row("raw iceoryx2, busy", &v["raw_iceoryx2_busy_poll"]),
+        v["ratio_p99_spin"].as_f64().unwrap_or(f64::NAN),
+        v["solver_poll_us"],
+        row("pickup (event run)", &v["solver_pickup_event"]),
     )
 }

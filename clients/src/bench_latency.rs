@@ -235,7 +235,7 @@ pub fn run_with_plot(
 /// One table row of a [`Summary`] in JSON form.
 pub fn summary_row(name: &str, s: &Value) -> String {
     format!(
-        "{name:<16} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
+        "{name:<22} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
         s["p50"].as_f64().unwrap_or(f64::NAN),
         s["p99"].as_f64().unwrap_or(f64::NAN),
         s["p999"].as_f64().unwrap_or(f64::NAN),
@@ -246,7 +246,7 @@ pub fn summary_row(name: &str, s: &Value) -> String {
 /// Human-readable table.
 pub fn to_text(v: &Value) -> String {
     let mut text = format!(
-        "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<16} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+        "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
         v["interval_us"],
         v["rounds"],
         "",

@@ -107,6 +107,17 @@ pub struct RtSection {
     pub solver_cpu: i64,
     pub lock_memory: bool,
     pub solver_poll_us: u64,
+    /// How the core's receiver thread waits for clients.
+    pub receiver: Receiver,
+}
+
+/// `rt.receiver`: sleep on the clients' wake-up event, or busy-poll.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Receiver {
+    #[default]
+    Event,
+    Spin,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -206,6 +217,7 @@ impl Default for RtSection {
             solver_cpu: cpu(r.solver_cpu),
             lock_memory: r.lock_memory,
             solver_poll_us: CoreParams::default().solver_poll_ns / 1000,
+            receiver: Receiver::Event,
         }
     }
 }
@@ -342,6 +354,10 @@ impl Config {
                 motor_cpu: cpu(self.rt.motor_cpu, "rt.motor_cpu")?,
                 solver_cpu: cpu(self.rt.solver_cpu, "rt.solver_cpu")?,
                 lock_memory: self.rt.lock_memory,
+                receiver: match self.rt.receiver {
+                    Receiver::Event => rt_core::runtime::ReceiverWake::Event,
+                    Receiver::Spin => rt_core::runtime::ReceiverWake::Spin,
+                },
             },
         };
         // Complete validation: the core would refuse an unplayable rig at start.

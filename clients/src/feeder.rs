@@ -2,6 +2,7 @@
 //! ForceRequests for the paper's §3.1 parts at a fixed period. Used by the
 //! benches and the multi-process tests to keep a core running.
 
+use ipc_types::inbox_event::InboxNotifier;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
@@ -46,6 +47,7 @@ pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result
         .publisher_builder()
         .create()
         .map_err(|e| anyhow::anyhow!("force_request publisher: {e:?}"))?;
+    let mut wake = InboxNotifier::new(&node)?;
     let mut seq = 0;
     while !stop.load(Ordering::Relaxed) {
         seq += 1;
@@ -54,6 +56,7 @@ pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result
         requests
             .send_copy(request(seq, now, &PAPER_PARTS, 1.0))
             .map_err(|e| anyhow::anyhow!("send: {e:?}"))?;
+        wake.notify();
         std::thread::sleep(period);
     }
     Ok(())

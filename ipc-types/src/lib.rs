@@ -24,6 +24,7 @@ mod clock;
 mod core_state;
 mod explicit_schedule;
 mod force_request;
+pub mod inbox_event;
 mod latency_percentiles;
 mod part_states;
 pub mod ports;

@@ -17,6 +17,9 @@ pub const SCHEDULE: &str = "upm/schedule";
 /// [`crate::Telemetry`], core → all.
 pub const TELEMETRY: &str = "upm/telemetry";
 
+/// Event: a client published to the core (see [`crate::inbox_event`]).
+pub const INBOX_EVENT: &str = "upm/inbox";
+
 /// Simulator ground truth ([`crate::PartStates`], world frame), core → the
 /// simulated camera. Only published when the driver is a simulator.
 pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";

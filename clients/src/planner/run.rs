@@ -2,6 +2,7 @@
 //! iceoryx2. Waits (never crashes) while no vision or core is up; exits
 //! cleanly on SIGINT/SIGTERM.
 
+use ipc_types::inbox_event::InboxNotifier;
 use std::time::Duration;
 
 use iceoryx2::node::NodeWaitFailure;
@@ -31,6 +32,7 @@ pub fn run_planner(
         .publisher_builder()
         .create()
         .map_err(|e| anyhow::anyhow!("force_request publisher: {e:?}"))?;
+    let mut wake = InboxNotifier::new(&node)?;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
     let mut first_frame: Option<u64> = None;
@@ -53,6 +55,7 @@ pub fn run_planner(
                 msg.stamp_ns = now;
                 msg.deadline_ns = now + REQUEST_LIFETIME_NS;
                 requests.send_copy(msg).map_err(|e| anyhow::anyhow!("publishing a request: {e:?}"))?;
+                wake.notify();
             }
         }
         if end.is_some_and(|e| monotonic_now_ns() >= e) {

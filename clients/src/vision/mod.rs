@@ -7,6 +7,7 @@ pub mod camera;
 pub mod process;
 pub mod tracker;
 
+use ipc_types::inbox_event::InboxNotifier;
 use std::time::Duration;
 
 use iceoryx2::node::NodeWaitFailure;
@@ -47,6 +48,7 @@ pub fn run(
         .publisher_builder()
         .create()
         .map_err(|e| anyhow::anyhow!("part_states publisher: {e:?}"))?;
+    let mut wake = InboxNotifier::new(&node)?;
     let period_ns = (1e9 / cam.params().frame_hz) as u64;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
@@ -80,6 +82,7 @@ pub fn run(
             tracker.update(&frame.detections, dt);
             part_states(tracker.tracks(), seq, frame.stamp_ns, &mut msg);
             publisher.send_copy(msg).map_err(|e| anyhow::anyhow!("publishing part states: {e:?}"))?;
+            wake.notify();
         }
         if end.is_some_and(|e| now >= e) {
             return Ok(seq);

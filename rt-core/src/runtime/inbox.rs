@@ -23,6 +23,9 @@ pub struct InboxBuffers {
     pub parts: Box<PartStates>,
     pub request: Box<ForceRequest>,
     pub explicit: Box<ExplicitSchedule>,
+    /// When the message reached the core (monotonic ns), if the inbox knows;
+    /// 0: it arrived just now.
+    pub received_ns: u64,
 }
 
 impl Default for InboxBuffers {
@@ -31,6 +34,7 @@ impl Default for InboxBuffers {
             parts: Box::new(PartStates::new()),
             request: Box::new(ForceRequest::new()),
             explicit: Box::new(ExplicitSchedule::new()),
+            received_ns: 0,
         }
     }
 }
@@ -52,9 +56,10 @@ pub fn drain<I: Inbox, C: Clock>(
     let mut handled = 0;
     while let Some(kind) = inbox.next(buf) {
         let now = clock.now_ns();
+        let received = if buf.received_ns == 0 { now } else { buf.received_ns.min(now) };
         // Rejections are counted inside the stage; the reason is not needed here.
         let _ = match kind {
-            Inbound::PartStates => stage.on_part_states(&buf.parts, now).map_err(|_| ()),
+            Inbound::PartStates => stage.on_part_states(&buf.parts, received, now).map_err(|_| ()),
             Inbound::Request => stage.on_request(&buf.request, now, &|| clock.now_ns()).map_err(|_| ()),
             Inbound::Explicit => stage.on_explicit(&buf.explicit, now).map_err(|_| ()),
         };
@@ -93,6 +98,7 @@ impl Inbox for QueueInbox {
     fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound> {
         // Dropping the popped Box frees; lock-step tests count allocations,
         // not frees.
+        buf.received_ns = 0;
         Some(match self.queue.pop_front()? {
             Message::Parts(m) => {
                 *buf.parts = *m;
@@ -110,7 +116,15 @@ impl Inbox for QueueInbox {
     }
 }
 
-/// One inbound message, moved through a ring by value.
+/// One inbound message and when the receiver got it, moved through a ring
+/// by value.
+#[derive(Debug, Clone, Copy)]
+pub struct Received {
+    pub msg: InboundMessage,
+    pub at_ns: u64,
+}
+
+/// One inbound message.
 #[derive(Debug, Clone, Copy)]
 #[allow(clippy::large_enum_variant)] // fixed-size by design: the ring is preallocated
 pub enum InboundMessage {
@@ -126,11 +140,13 @@ pub const INBOUND_RING: usize = 64;
 /// allocation. (iceoryx2 0.10 allocates inside `receive()` whenever a new
 /// publisher connects, so `receive()` runs on a non-RT receiver thread.)
 #[derive(Debug)]
-pub struct RingInbox(pub rtrb::Consumer<InboundMessage>);
+pub struct RingInbox(pub rtrb::Consumer<Received>);
 
 impl Inbox for RingInbox {
     fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound> {
-        Some(match self.0.pop().ok()? {
+        let Received { msg, at_ns } = self.0.pop().ok()?;
+        buf.received_ns = at_ns;
+        Some(match msg {
             InboundMessage::Parts(m) => {
                 *buf.parts = m;
                 Inbound::PartStates
@@ -149,11 +165,7 @@ impl Inbox for RingInbox {
 
 /// Move everything `source` has into `ring`; returns how many messages were
 /// dropped because the ring was full (the solver is a full ring behind).
-pub fn forward<I: Inbox>(
-    source: &mut I,
-    buf: &mut InboxBuffers,
-    ring: &mut rtrb::Producer<InboundMessage>,
-) -> u64 {
+pub fn forward<I: Inbox>(source: &mut I, buf: &mut InboxBuffers, ring: &mut rtrb::Producer<Received>) -> u64 {
     let mut dropped = 0;
     while let Some(kind) = source.next(buf) {
         let msg = match kind {
@@ -161,7 +173,7 @@ pub fn forward<I: Inbox>(
             Inbound::Request => InboundMessage::Request(*buf.request),
             Inbound::Explicit => InboundMessage::Explicit(*buf.explicit),
         };
-        if ring.push(msg).is_err() {
+        if ring.push(Received { msg, at_ns: buf.received_ns }).is_err() {
             dropped += 1;
         }
     }

@@ -6,10 +6,12 @@
 //! `ipc::Service` ports are not `Send`, so they are created on the thread
 //! that uses them.
 
+use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
+use ipc_types::inbox_event::inbox_listener;
 use ipc_types::ports::{Sub, open_pub_sub};
 use ipc_types::rig_node::RigNodeError;
-use ipc_types::{ExplicitSchedule, ForceRequest, PartStates, service_names};
+use ipc_types::{ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
 
 use super::inbox::{Inbound, Inbox, InboxBuffers};
 use super::start_error::StartError;
@@ -20,6 +22,8 @@ pub struct IpcInbox {
     parts: Sub<PartStates>,
     requests: Sub<ForceRequest>,
     explicit: Sub<ExplicitSchedule>,
+    /// Clients notify it after publishing (see `ipc_types::inbox_event`).
+    wake: Listener<ipc::Service>,
     /// Receive errors (counted, never fatal).
     pub receive_errors: u64,
 }
@@ -49,7 +53,17 @@ impl IpcInbox {
             .subscriber_builder()
             .create()
             .map_err(|_| StartError::Port { service: service_names::EXPLICIT_SCHEDULE })?;
-        Ok(Self { _node: node, parts, requests, explicit, receive_errors: 0 })
+        let wake = inbox_listener(&node).map_err(StartError::WakeEvent)?;
+        Ok(Self { _node: node, parts, requests, explicit, wake, receive_errors: 0 })
+    }
+
+    /// Block until a client announces a message or `timeout` passes (the
+    /// poll that catches clients that do not notify). Not for RT threads.
+    pub fn wait(&self, timeout: core::time::Duration) {
+        if self.wake.timed_wait(|_| {}, timeout).is_err() {
+            // A failing listener must not turn into a busy loop.
+            std::thread::sleep(core::time::Duration::from_micros(100));
+        }
     }
 }
 
@@ -59,6 +73,7 @@ impl Inbox for IpcInbox {
         // validation must see one consistent copy.
         match self.parts.receive() {
             Ok(Some(s)) => {
+                buf.received_ns = monotonic_now_ns();
                 *buf.parts = *s.payload();
                 return Some(Inbound::PartStates);
             }
@@ -67,6 +82,7 @@ impl Inbox for IpcInbox {
         }
         match self.requests.receive() {
             Ok(Some(s)) => {
+                buf.received_ns = monotonic_now_ns();
                 *buf.request = *s.payload();
                 return Some(Inbound::Request);
             }
@@ -75,6 +91,7 @@ impl Inbox for IpcInbox {
         }
         match self.explicit.receive() {
             Ok(Some(s)) => {
+                buf.received_ns = monotonic_now_ns();
                 *buf.explicit = *s.payload();
                 Some(Inbound::Explicit)
             }

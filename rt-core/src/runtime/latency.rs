@@ -24,6 +24,8 @@ pub struct LatencyHistograms {
     pub motor_tick: Histogram<u64>,
     pub solver: Histogram<u64>,
     pub ipc_vision_to_core: Histogram<u64>,
+    /// Received by the core → validated on the solver thread.
+    pub ipc_to_solver: Histogram<u64>,
     pub frame_to_schedule: Histogram<u64>,
 }
 
@@ -34,6 +36,7 @@ impl Default for LatencyHistograms {
             motor_tick: histogram(),
             solver: histogram(),
             ipc_vision_to_core: histogram(),
+            ipc_to_solver: histogram(),
             frame_to_schedule: histogram(),
         }
     }
@@ -70,6 +73,9 @@ impl LatencyHistograms {
         if s.ipc_ns > 0 {
             self.ipc_vision_to_core.saturating_record(s.ipc_ns);
         }
+        if s.pickup_ns > 0 {
+            self.ipc_to_solver.saturating_record(s.pickup_ns);
+        }
     }
 
     pub fn core_latencies(&self) -> CoreLatencies {
@@ -89,6 +95,7 @@ impl LatencyHistograms {
             ("motor_tick", &self.motor_tick),
             ("solver", &self.solver),
             ("ipc_vision_to_core", &self.ipc_vision_to_core),
+            ("ipc_to_solver", &self.ipc_to_solver),
             ("frame_to_schedule", &self.frame_to_schedule),
         ] {
             let mut f = std::io::BufWriter::new(std::fs::File::create(dir.join(format!("{name}.hgrm")))?);

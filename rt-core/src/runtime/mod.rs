@@ -27,12 +27,13 @@ pub use alloc_count::RtAllocCounter;
 pub use clock::{Clock, ManualClock, MonotonicClock};
 pub use handoff::{MotionReader, MotionWriter, StagedMotion, motion_handoff};
 pub use inbox::{
-    INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, RingInbox, drain, forward,
+    INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, Received, RingInbox, drain,
+    forward,
 };
 pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};
 pub use motor::{MotorLoop, TickOutcome, TruthFill, TruthTap};
-pub use params::{CoreParams, CoreParamsError, RtParams};
+pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, core_running, fill_telemetry, run_core,
     run_core_with_truth,

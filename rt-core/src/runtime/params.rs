@@ -18,6 +18,19 @@ pub struct RtParams {
     pub solver_cpu: Option<usize>,
     /// `mlockall` and prefault at start-up.
     pub lock_memory: bool,
+    /// How the (non-RT) receiver thread waits for client messages.
+    pub receiver: ReceiverWake,
+}
+
+/// How the receiver thread learns of a client message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ReceiverWake {
+    /// Sleep on the clients' wake-up event (a few µs of wake-up, no CPU
+    /// burnt); clients that do not notify are seen at the next poll.
+    #[default]
+    Event,
+    /// Busy-poll the subscribers: the lowest latency, one CPU kept busy.
+    Spin,
 }
 
 impl Default for RtParams {
@@ -28,6 +41,7 @@ impl Default for RtParams {
             motor_cpu: Some(1),
             solver_cpu: Some(0),
             lock_memory: true,
+            receiver: ReceiverWake::Event,
         }
     }
 }

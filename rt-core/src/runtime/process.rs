@@ -18,13 +18,14 @@ use ipc_types::{CoreState, PartStates, Schedule, Telemetry, monotonic_now_ns, se
 use super::alloc_count;
 use super::clock::{Clock, MonotonicClock};
 use super::handoff::{StagedMotion, motion_handoff};
-use super::inbox::{INBOUND_RING, InboundMessage, InboxBuffers, RingInbox, drain, forward};
+use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, drain, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, TruthFill, TruthTap};
-use super::params::CoreParams;
+use super::params::{CoreParams, ReceiverWake};
 use super::rt_setup::{
-    RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime, prefault_stack,
+    RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime, pin_current_thread,
+    prefault_stack,
 };
 use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
 use super::shared::CoreShared;
@@ -197,13 +198,21 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
 
     // Receiver thread (normal priority): iceoryx2 `receive()` allocates when
     // a publisher connects, so it runs here and feeds the solver a ring.
-    let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<InboundMessage>::new(INBOUND_RING);
+    let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<Received>::new(INBOUND_RING);
     let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<(), StartError>>();
     let receiver_thread = {
-        let (shared, config, poll_ns) = (shared.clone(), config.clone(), params.solver_poll_ns);
+        let (shared, config, poll_ns, wake, motor_cpu) =
+            (shared.clone(), config.clone(), params.solver_poll_ns, params.rt.receiver, params.rt.motor_cpu);
         std::thread::Builder::new()
             .name("upm-ipc-rx".into())
             .spawn(move || {
+                // Spinning shares the motor's CPU: the motor (SCHED_FIFO) preempts
+                // it at once, while on the solver's CPU a solve would stall it.
+                if wake == ReceiverWake::Spin
+                    && let Some(cpu) = motor_cpu
+                {
+                    pin_current_thread(cpu);
+                }
                 let mut inbox = match IpcInbox::new(&config) {
                     Ok(i) => i,
                     Err(e) => {
@@ -214,13 +223,15 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                 let _ = rx_ready_tx.send(Ok(()));
                 let mut ring = inbound_tx;
                 let mut buf = InboxBuffers::default();
-                let clock = MonotonicClock;
-                // Polls twice per solver period so the hop adds little latency.
-                let period = (poll_ns / 2).max(50_000);
+                // Without a wake-up, look twice per solver period.
+                let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
                 while !shared.stop.load(Relaxed) {
                     let dropped = forward(&mut inbox, &mut buf, &mut ring);
                     shared.rejected_requests.fetch_add(dropped, Relaxed);
-                    clock.sleep_until(clock.now_ns() + period);
+                    match wake {
+                        ReceiverWake::Event => inbox.wait(poll),
+                        ReceiverWake::Spin => core::hint::spin_loop(),
+                    }
                 }
             })
             .map_err(|_| StartError::Thread { thread: "ipc receiver" })?

@@ -18,8 +18,12 @@ pub struct MotorSample {
 pub struct SolverSample {
     /// Solve + motion build + limit check (ns); 0 for part states.
     pub solve_ns: u64,
-    /// PartStates stamp → validated by the core (ns); 0 for requests.
+    /// PartStates stamp → received by the core's receiver thread (ns); 0
+    /// for requests.
     pub ipc_ns: u64,
+    /// Received → validated on the solver thread (the solver's poll), ns;
+    /// 0 for requests.
+    pub pickup_ns: u64,
 }
 
 /// Ring capacity (samples) between a motor thread and the io thread: one

@@ -131,9 +131,14 @@ impl SolveStage {
         self.k_max
     }
 
-    /// Validate and keep the newest part states. `now_ns` is the core's
-    /// clock at reception.
-    pub fn on_part_states(&mut self, msg: &PartStates, now_ns: u64) -> Result<(), PartStatesError> {
+    /// Validate and keep the newest part states. `received_ns` is when the
+    /// core received them, `now_ns` the core's clock now.
+    pub fn on_part_states(
+        &mut self,
+        msg: &PartStates,
+        received_ns: u64,
+        now_ns: u64,
+    ) -> Result<(), PartStatesError> {
         self.limits.now_ns = now_ns;
         if let Err(e) = msg.validate(&self.limits) {
             self.shared.rejected_parts.fetch_add(1, Relaxed);
@@ -142,9 +147,11 @@ impl SolveStage {
         *self.parts = *msg;
         self.have_parts = true;
         self.shared.parts_stamp_ns.store(msg.stamp_ns.max(1), Relaxed);
-        let _ = self
-            .samples
-            .push(SolverSample { solve_ns: 0, ipc_ns: now_ns.saturating_sub(msg.stamp_ns).max(1) });
+        let _ = self.samples.push(SolverSample {
+            solve_ns: 0,
+            ipc_ns: received_ns.saturating_sub(msg.stamp_ns).max(1),
+            pickup_ns: now_ns.saturating_sub(received_ns).max(1),
+        });
         Ok(())
     }
 
@@ -244,7 +251,7 @@ impl SolveStage {
             // Capacity equals MAX_SLOTS and n ≤ centers ≤ MAX_SLOTS.
             let _ = m.push(ScheduleSlot::new(j as u32, self.centers[j], s.k()[j]));
         }
-        let _ = self.samples.push(SolverSample { solve_ns, ipc_ns: 0 });
+        let _ = self.samples.push(SolverSample { solve_ns, ipc_ns: 0, pickup_ns: 0 });
         Ok(())
     }
 

@@ -14,6 +14,8 @@ pub enum StartError {
     /// The service prefix is not a valid file name.
     Prefix,
     Node(RigNodeError),
+    /// The clients' wake-up event could not be opened.
+    WakeEvent(ipc_types::inbox_event::InboxEventError),
     /// The prefix's node list could not be read (to find a running core).
     NodeList(NodeListFailure),
     Service {
@@ -40,6 +42,7 @@ impl fmt::Display for StartError {
             Self::Params(e) => write!(f, "config: {e}"),
             Self::Prefix => f.write_str("service.prefix is not a valid file name"),
             Self::Node(e) => write!(f, "{e}{}", permission_hint(e.is_permission())),
+            Self::WakeEvent(e) => write!(f, "{e}"),
             Self::NodeList(e) => write!(
                 f,
                 "reading the iceoryx2 node list: {e:?}{}",
