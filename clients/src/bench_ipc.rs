@@ -126,6 +126,9 @@ fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>>
     Ok(h)
 }
 
+/// Time the core gets to start and warm up before the feeder begins.
+const WARM_UP: Duration = Duration::from_millis(500);
+
 /// The core's own measurement with a feeder publishing (and notifying) at
 /// 1 kHz: PartStates stamp → received by the core's receiver thread, and
 /// received → validated on the solver thread.
@@ -134,12 +137,20 @@ fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogra
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
         let (p, s) = (prefix.clone(), stop.clone());
-        std::thread::spawn(move || crate::feeder::feed(&p, Duration::from_millis(1), &s))
+        std::thread::spawn(move || {
+            // Steady state only: messages queued while the core starts (its
+            // solver warms up for milliseconds) are not transport latency.
+            while !s.load(Ordering::Relaxed) && !rt_core::runtime::core_running(&p).unwrap_or(false) {
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            std::thread::sleep(WARM_UP);
+            crate::feeder::feed(&p, Duration::from_millis(1), &s)
+        })
     };
     let sim = Simulator::new(SimConfig::default(), &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
     let options = RunOptions {
         prefix: prefix.clone(),
-        duration: Some(Duration::from_secs_f64(seconds)),
+        duration: Some(Duration::from_secs_f64(seconds) + WARM_UP),
         ..RunOptions::default()
     };
     let mut params = CoreParams::default();
@@ -152,9 +163,34 @@ fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogra
     Ok((h.ipc_vision_to_core, h.ipc_to_solver))
 }
 
+/// The raw event ping-pong while a core (fed at 1 kHz) runs on its own
+/// prefix: the same CPUs shared with the motor and solver threads as the
+/// upm path has, to tell that sharing apart from UPM's own overhead.
+fn raw_event_beside_core() -> anyhow::Result<Histogram<u64>> {
+    let done = Arc::new(AtomicBool::new(false));
+    // 5000 pings paced at 200 µs take ~1.2 s: the core outlives them.
+    let core = {
+        let done = done.clone();
+        std::thread::spawn(move || {
+            let r = upm_one_way(4.0, ReceiverWake::Event);
+            done.store(true, Ordering::Relaxed);
+            r
+        })
+    };
+    let prefix = format!("upm_bench_ipc_{}_", std::process::id());
+    while !done.load(Ordering::Relaxed) && !rt_core::runtime::core_running(&prefix).unwrap_or(false) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::thread::sleep(WARM_UP);
+    let raw = raw_ping_pong(5_000, true);
+    let _ = core.join();
+    raw
+}
+
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
     let raw_event = raw_ping_pong(5_000, true)?;
     let raw_busy = raw_ping_pong(10_000, false)?;
+    let beside = raw_event_beside_core()?;
     let (event, event_pickup) = upm_one_way(seconds, ReceiverWake::Event)?;
     let (spin, spin_pickup) = upm_one_way(seconds, ReceiverWake::Spin)?;
     let (e, re, sp, rb) = (summary(&event), summary(&raw_event), summary(&spin), summary(&raw_busy));
@@ -164,6 +200,7 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
         "raw_iceoryx2_event": re,
         "ratio_p50_event": e.p50 / re.p50,
         "ratio_p99_event": e.p99 / re.p99,
+        "raw_iceoryx2_event_beside_core": summary(&beside),
         "upm_spin": sp,
         "raw_iceoryx2_busy_poll": rb,
         "ratio_p50_spin": sp.p50 / rb.p50,

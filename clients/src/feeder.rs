@@ -53,6 +53,8 @@ pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result
         seq += 1;
         let now = monotonic_now_ns();
         parts.send_copy(part_states(seq, now, &PAPER_PARTS)).map_err(|e| anyhow::anyhow!("send: {e:?}"))?;
+        // Each message announced at once, as the vision and planner do.
+        wake.notify();
         requests
             .send_copy(request(seq, now, &PAPER_PARTS, 1.0))
             .map_err(|e| anyhow::anyhow!("send: {e:?}"))?;
