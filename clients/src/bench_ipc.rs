@@ -93,6 +93,9 @@ fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>>
     let mut msg = PartStates::new();
     let mut warm = 0;
     while (h.len() as usize) < samples {
+        if ponger.is_finished() {
+            break; // its error is returned below
+        }
         msg.stamp_ns = monotonic_now_ns();
         ping.send_copy(msg).map_err(|e| anyhow::anyhow!("{e:?}"))?;
         if events {
@@ -121,8 +124,12 @@ fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>>
         }
     }
     stop.store(true, Ordering::Relaxed);
-    let _ = ponger.join();
+    let echoed = ponger.join().map_err(|_| anyhow::anyhow!("the ping-pong echo thread panicked"))?;
     crate::status::remove_prefix_segment(&prefix);
+    echoed?;
+    if (h.len() as usize) < samples {
+        anyhow::bail!("raw ping-pong: the echo thread stopped after {} samples", h.len());
+    }
     Ok(h)
 }
 
@@ -181,9 +188,15 @@ fn raw_event_beside_core() -> anyhow::Result<Histogram<u64>> {
     while !done.load(Ordering::Relaxed) && !rt_core::runtime::core_running(&prefix).unwrap_or(false) {
         std::thread::sleep(Duration::from_millis(10));
     }
+    let up = !done.load(Ordering::Relaxed);
     std::thread::sleep(WARM_UP);
-    let raw = raw_ping_pong(5_000, true);
-    let _ = core.join();
+    let raw = if up { raw_ping_pong(5_000, true) } else { Err(anyhow::anyhow!("the core never came up")) };
+    // Only a control if the core ran beside the pings to the end.
+    let beside = !done.load(Ordering::Relaxed);
+    core.join().map_err(|_| anyhow::anyhow!("the core thread panicked"))??;
+    if !beside {
+        anyhow::bail!("the core ended before the control ping-pong did");
+    }
     raw
 }
 

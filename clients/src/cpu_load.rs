@@ -18,9 +18,24 @@ pub struct CpuLoad {
     threads: Vec<JoinHandle<()>>,
 }
 
-/// The CPUs to load: all but `motor_cpu` (all of them on a one-CPU machine).
+/// CPU ids this process may run on (its affinity mask; a cpuset need not
+/// start at 0 or be contiguous).
+fn allowed_cpus() -> Vec<usize> {
+    // SAFETY: a zeroed cpu_set_t is valid; sched_getaffinity fills it for
+    // this process; CPU_ISSET reads within CPU_SETSIZE.
+    unsafe {
+        let mut set: libc::cpu_set_t = core::mem::zeroed();
+        if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
+            return (0..rt_core::runtime::rt_setup::online_cpus()).collect();
+        }
+        (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect()
+    }
+}
+
+/// The CPUs to load: all allowed ones but `motor_cpu` (all of them on a
+/// one-CPU machine).
 pub fn other_cpus(motor_cpu: Option<usize>) -> Vec<usize> {
-    let all: Vec<usize> = (0..rt_core::runtime::rt_setup::online_cpus()).collect();
+    let all = allowed_cpus();
     let others: Vec<usize> = all.iter().copied().filter(|&c| Some(c) != motor_cpu).collect();
     if others.is_empty() { all } else { others }
 }
@@ -41,9 +56,11 @@ impl CpuLoad {
             "--quiet".to_owned(),
         ];
         let stop = Arc::new(AtomicBool::new(false));
-        if let Ok(mut child) =
-            Command::new("stress-ng").args(&args).stdout(Stdio::null()).stderr(Stdio::null()).spawn()
-        {
+        let mut cmd = Command::new("stress-ng");
+        cmd.args(&args).stdout(Stdio::null()).stderr(Stdio::null());
+        // Never left burning CPUs if upm dies without running Drop.
+        crate::die_with_parent::die_with_parent(&mut cmd, libc::SIGTERM);
+        if let Ok(mut child) = cmd.spawn() {
             // A stress-ng that refuses its options exits at once: then burn ourselves.
             std::thread::sleep(std::time::Duration::from_millis(300));
             if matches!(child.try_wait(), Ok(None)) {
@@ -52,16 +69,27 @@ impl CpuLoad {
             }
         }
         let mut threads = Vec::new();
+        let unpinned = Arc::new(AtomicBool::new(false));
         for &cpu in cpus {
-            let stop = stop.clone();
+            let (stop, unpinned) = (stop.clone(), unpinned.clone());
             let t = std::thread::Builder::new().name(format!("upm-load-{cpu}")).spawn(move || {
-                rt_core::runtime::rt_setup::pin_current_thread(cpu);
-                burn(&stop);
+                // Unpinned, the load could land on the motor's CPU: then none.
+                if rt_core::runtime::rt_setup::pin_current_thread(cpu) {
+                    burn(&stop);
+                } else {
+                    unpinned.store(true, Ordering::Relaxed);
+                }
             })?;
             threads.push(t);
         }
         let description = format!("built-in burner on CPUs {list} (stress-ng not installed)");
-        Ok(Self { description, child: None, stop, threads })
+        let load = Self { description, child: None, stop, threads };
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        if unpinned.load(Ordering::Relaxed) {
+            // Dropping `load` stops the threads that did start.
+            anyhow::bail!("cannot pin the CPU load to CPUs {list}; refusing to load the motor's CPU");
+        }
+        Ok(load)
     }
 
     /// What is running, for reports.

@@ -10,6 +10,7 @@ pub mod config;
 pub mod core_process;
 pub mod core_watch;
 pub mod cpu_load;
+pub mod die_with_parent;
 pub mod feeder;
 pub mod launcher;
 pub mod planner;

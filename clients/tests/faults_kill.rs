@@ -30,13 +30,19 @@ struct Proc(Child);
 
 impl Drop for Proc {
     fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
+        // SIGINT first: `upm run` then stops its rig; SIGKILL if it hangs.
+        if self.interrupt_and_wait(Duration::from_secs(10)).is_none() {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
     }
 }
 
 impl Proc {
     fn interrupt_and_wait(&mut self, within: Duration) -> Option<std::process::ExitStatus> {
+        if let Ok(Some(s)) = self.0.try_wait() {
+            return Some(s);
+        }
         // SAFETY: kill(2) on our own child.
         unsafe { libc::kill(self.0.id() as libc::pid_t, libc::SIGINT) };
         let start = Instant::now();
@@ -49,7 +55,13 @@ impl Proc {
         None
     }
 
+    /// Everything it wrote to stderr; kills it first if it still runs (the
+    /// read only ends at EOF).
     fn stderr(&mut self) -> String {
+        if !matches!(self.0.try_wait(), Ok(Some(_))) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
         let mut s = String::new();
         if let Some(mut e) = self.0.stderr.take() {
             use std::io::Read;
@@ -76,18 +88,21 @@ impl TelemetryWatch {
         Self { sub, _node: node }
     }
 
-    /// The first sample (and when it arrived) for which `want` holds.
+    /// The first sample (and when it arrived) for which `want` holds. Looks
+    /// at least once, so `within = 0` drains what is buffered.
     fn until(&self, within: Duration, want: impl Fn(&Telemetry) -> bool) -> Option<(Telemetry, Instant)> {
         let start = Instant::now();
-        while start.elapsed() < within {
+        loop {
             while let Some(s) = self.sub.receive().expect("receive") {
                 if want(s.payload()) {
                     return Some((*s.payload(), Instant::now()));
                 }
             }
+            if start.elapsed() >= within {
+                return None;
+            }
             std::thread::sleep(Duration::from_millis(1));
         }
-        None
     }
 
     fn state(&self, want: CoreState, within: Duration) -> Option<(Telemetry, Instant)> {
@@ -316,6 +331,22 @@ fn hand_started_clients_wait_for_a_new_core_and_serve_it() {
 
 #[test]
 fn the_prefix_shared_memory_is_owner_only() {
+    // Control: a plain iceoryx2 node leaves a file others can open, so the
+    // check below can fail (iceoryx2 0.10 creates global_mgmt as 0666).
+    let plain = common::unique_prefix("permctl");
+    let config = ipc_types::ports::config_with_prefix(&plain).expect("prefix");
+    let node = NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .expect("node");
+    let control = files_open_to_others(&plain);
+    drop(node);
+    common::remove_prefix(&plain);
+    assert!(!control.is_empty(), "the control found nothing open: the check would pass vacuously");
+
+    // The core's files, observed without opening a node of our own (which
+    // would tighten them itself).
     let prefix = common::unique_prefix("perm");
     let mut core = Proc(
         Command::new(env!("CARGO_BIN_EXE_upm-core"))
@@ -324,14 +355,15 @@ fn the_prefix_shared_memory_is_owner_only() {
             .spawn()
             .expect("core"),
     );
-    let watch = TelemetryWatch::new(&prefix);
-    assert!(watch.state(CoreState::Idle, Duration::from_secs(30)).is_some(), "core came up");
-    let mut shm = 0;
-    if let Ok(d) = std::fs::read_dir(ipc_types::rig_node::SHM_DIR) {
-        shm = d.flatten().filter(|e| e.file_name().to_string_lossy().starts_with(&prefix)).count();
+    let start = Instant::now();
+    while !rt_core::runtime::core_running(&prefix).unwrap_or(false) {
+        assert!(start.elapsed() < Duration::from_secs(30), "core never came up");
+        std::thread::sleep(Duration::from_millis(20));
     }
+    let shm = std::fs::read_dir(ipc_types::rig_node::SHM_DIR)
+        .map(|d| d.flatten().filter(|e| e.file_name().to_string_lossy().starts_with(&prefix)).count())
+        .unwrap_or(0);
     let open = files_open_to_others(&prefix);
-    drop(watch);
     let _ = core.interrupt_and_wait(Duration::from_secs(20));
     common::remove_prefix(&prefix);
     assert!(shm > 0, "found none of the prefix's shared memory");

@@ -52,10 +52,13 @@ fn the_closed_loop_runs_under_cpu_stress_without_holds_or_allocations() {
     assert_eq!(core["rt_thread_allocations"], 0, "{m}");
     assert!(m["sim_seconds"].as_f64() >= Some(4.5), "{m}");
 
-    // Telemetry's histogram saw every tick; its percentiles are ordered.
+    // Telemetry's histogram saw (almost) every tick: the last telemetry is a
+    // mid-run sample, so a few ticks may be counted before their latency
+    // sample reaches the io thread. Its percentiles are ordered.
     let ticks = core["ticks"].as_u64().expect("ticks");
     let w = &m["latency_us"]["motor_wakeup"];
-    assert_eq!(w["samples"].as_u64(), Some(ticks), "{m}");
+    let samples = w["samples"].as_u64().expect("samples");
+    assert!(samples <= ticks && ticks - samples <= ticks / 100, "{samples} samples of {ticks} ticks: {m}");
     let p: Vec<f64> = ["p50", "p99", "p999", "max"].iter().map(|k| w[k].as_f64().expect("number")).collect();
     assert!(p.windows(2).all(|x| x[0] <= x[1]) && p[0] > 0.0, "{p:?}");
 

@@ -133,7 +133,9 @@ fn run(cap: SolverCapacity, ci_cases: u32, weight: u32, strategy: impl Strategy<
     assert!(solver.warm_up(), "warm-up solve failed");
     let out = std::cell::RefCell::new(solver.new_solution());
     let solver = std::cell::RefCell::new(solver);
-    let config = upm_tests::fuzz_config(ci_cases, weight);
+    let mut config = upm_tests::fuzz_config(ci_cases, weight);
+    // proptest! sets this; a hand-made runner must, or failures are not saved.
+    config.source_file = Some(file!());
     let cases = config.cases;
     let mut runner = TestRunner::new(config);
     let solved = std::cell::Cell::new(0u32);

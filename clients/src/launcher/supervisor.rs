@@ -29,6 +29,8 @@ impl Supervised {
     pub fn start(&mut self) -> anyhow::Result<()> {
         let mut cmd = Command::new(&self.program);
         cmd.args(&self.args).stdin(Stdio::null());
+        // Never orphaned: a launcher killed with SIGKILL still stops its rig.
+        crate::die_with_parent::die_with_parent(&mut cmd, libc::SIGTERM);
         if let Some(log) = &self.log {
             let f = std::fs::OpenOptions::new().create(true).append(true).open(log)?;
             cmd.stdout(f.try_clone()?).stderr(f);

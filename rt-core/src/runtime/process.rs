@@ -199,20 +199,20 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     // Receiver thread (normal priority): iceoryx2 `receive()` allocates when
     // a publisher connects, so it runs here and feeds the solver a ring.
     let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<Received>::new(INBOUND_RING);
+    let motor_fifo = Arc::new(core::sync::atomic::AtomicBool::new(false));
     let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<(), StartError>>();
     let receiver_thread = {
-        let (shared, config, poll_ns, wake, motor_cpu) =
-            (shared.clone(), config.clone(), params.solver_poll_ns, params.rt.receiver, params.rt.motor_cpu);
+        let (shared, config, poll_ns, wake, motor_cpu, motor_fifo) = (
+            shared.clone(),
+            config.clone(),
+            params.solver_poll_ns,
+            params.rt.receiver,
+            params.rt.motor_cpu,
+            motor_fifo.clone(),
+        );
         std::thread::Builder::new()
             .name("upm-ipc-rx".into())
             .spawn(move || {
-                // Spinning shares the motor's CPU: the motor (SCHED_FIFO) preempts
-                // it at once, while on the solver's CPU a solve would stall it.
-                if wake == ReceiverWake::Spin
-                    && let Some(cpu) = motor_cpu
-                {
-                    pin_current_thread(cpu);
-                }
                 let mut inbox = match IpcInbox::new(&config) {
                     Ok(i) => i,
                     Err(e) => {
@@ -225,7 +225,18 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                 let mut buf = InboxBuffers::default();
                 // Without a wake-up, look twice per solver period.
                 let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
+                let mut placed = false;
                 while !shared.stop.load(Relaxed) {
+                    // Spinning shares the motor's CPU, once the motor is known to
+                    // be SCHED_FIFO (it then preempts the spin at once; on the
+                    // solver's CPU a solve would stall it). A motor without
+                    // real-time rights keeps its CPU to itself.
+                    if wake == ReceiverWake::Spin && !placed && motor_fifo.load(Relaxed) {
+                        if let Some(cpu) = motor_cpu {
+                            pin_current_thread(cpu);
+                        }
+                        placed = true;
+                    }
                     let dropped = forward(&mut inbox, &mut buf, &mut ring);
                     shared.rejected_requests.fetch_add(dropped, Relaxed);
                     match wake {
@@ -290,15 +301,19 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             let _ = receiver_thread.join();
             return Err(e);
         }
-        Err(_) => return Err(StartError::ThreadStartup { thread: "solver" }),
+        Err(_) => {
+            shared.stop.store(true, Relaxed);
+            let _ = receiver_thread.join();
+            return Err(StartError::ThreadStartup { thread: "solver" });
+        }
     };
 
     // Motor thread.
     let (ready_tx, ready_rx) = mpsc::channel::<ThreadPlacement>();
     let motor_thread = {
-        let (p, shared) = (params.clone(), shared.clone());
+        let (p, motor_shared) = (params.clone(), shared.clone());
         let period = params.tick_ns();
-        std::thread::Builder::new()
+        let thread = std::thread::Builder::new()
             .name("upm-motor".into())
             .stack_size(RT_STACK_BYTES)
             .spawn(move || {
@@ -308,7 +323,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                     driver,
                     rig,
                     reader,
-                    shared,
+                    motor_shared,
                     motor_tx,
                     p.parts_max_age_ns,
                     p.request_max_age_ns,
@@ -322,9 +337,25 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                 alloc_count::mark_rt_thread(false);
                 motor.dropped_samples()
             })
-            .map_err(|_| StartError::Thread { thread: "motor" })?
+            .map_err(|_| StartError::Thread { thread: "motor" });
+        match thread {
+            Ok(t) => t,
+            Err(e) => {
+                shared.stop.store(true, Relaxed);
+                let _ = (solver_thread.join(), receiver_thread.join());
+                return Err(e);
+            }
+        }
     };
-    realtime.motor = ready_rx.recv().map_err(|_| StartError::ThreadStartup { thread: "motor" })?;
+    realtime.motor = match ready_rx.recv() {
+        Ok(p) => p,
+        Err(_) => {
+            shared.stop.store(true, Relaxed);
+            let _ = (motor_thread.join(), solver_thread.join(), receiver_thread.join());
+            return Err(StartError::ThreadStartup { thread: "motor" });
+        }
+    };
+    motor_fifo.store(realtime.motor.fifo, Relaxed);
 
     // io loop on this thread.
     let start_ns = monotonic_now_ns();
