@@ -360,10 +360,32 @@ fn the_prefix_shared_memory_is_owner_only() {
         assert!(start.elapsed() < Duration::from_secs(30), "core never came up");
         std::thread::sleep(Duration::from_millis(20));
     }
+    // Wait for its telemetry (all its services exist) through a plain node:
+    // it joins the core's existing segments and tightens nothing.
+    let config = ipc_types::ports::config_with_prefix(&prefix).expect("prefix");
+    let node = NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .expect("node");
+    let telemetry = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)
+        .expect("service")
+        .subscriber_builder()
+        .create()
+        .expect("subscriber");
+    let mut up = false;
+    while !up && start.elapsed() < Duration::from_secs(30) {
+        while let Some(t) = telemetry.receive().expect("receive") {
+            up |= t.payload().core_state() == Some(CoreState::Idle);
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(up, "core never published Idle telemetry");
     let shm = std::fs::read_dir(ipc_types::rig_node::SHM_DIR)
         .map(|d| d.flatten().filter(|e| e.file_name().to_string_lossy().starts_with(&prefix)).count())
         .unwrap_or(0);
     let open = files_open_to_others(&prefix);
+    drop((telemetry, node));
     let _ = core.interrupt_and_wait(Duration::from_secs(20));
     common::remove_prefix(&prefix);
     assert!(shm > 0, "found none of the prefix's shared memory");
