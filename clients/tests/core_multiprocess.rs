@@ -10,8 +10,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
 use ipc_types::{CoreState, Schedule, service_names};
 use upm_clients::status::read_telemetry;
 
@@ -58,12 +57,7 @@ fn core_process_round_trip_hold_single_instance_and_clean_stop() {
         assert!(wait_state(&prefix, CoreState::Idle, Duration::from_secs(20)), "core came up idle");
 
         // Subscribe to schedules, then feed.
-        let config = config_with_prefix(&prefix).expect("prefix");
-        let node = NodeBuilder::new()
-            .config(&config)
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<ipc::Service>()
-            .expect("node");
+        let node = common::plain_node(&prefix);
         let schedules = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)
             .expect("service")
             .subscriber_builder()

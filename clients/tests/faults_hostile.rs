@@ -7,8 +7,7 @@ mod common;
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
-use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
 use ipc_types::{
     ForceEntry, ForceRequest, PROTOCOL_VERSION, PartState, PartStates, monotonic_now_ns, service_names,
 };
@@ -36,12 +35,7 @@ fn hostile_messages_are_rejected_counted_and_the_core_survives() {
     while read_telemetry(&prefix, Duration::from_millis(500)).is_err() {
         assert!(start.elapsed() < Duration::from_secs(20), "core did not come up");
     }
-    let config = config_with_prefix(&prefix).expect("prefix");
-    let node = NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .expect("node");
+    let node = common::plain_node(&prefix);
     let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
         .expect("service")
         .publisher_builder()

@@ -334,12 +334,7 @@ fn the_prefix_shared_memory_is_owner_only() {
     // Control: a plain iceoryx2 node leaves a file others can open, so the
     // check below can fail (iceoryx2 0.10 creates global_mgmt as 0666).
     let plain = common::unique_prefix("permctl");
-    let config = ipc_types::ports::config_with_prefix(&plain).expect("prefix");
-    let node = NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .expect("node");
+    let node = common::plain_node(&plain);
     let control = files_open_to_others(&plain);
     drop(node);
     common::remove_prefix(&plain);
@@ -362,12 +357,7 @@ fn the_prefix_shared_memory_is_owner_only() {
     }
     // Wait for its telemetry (all its services exist) through a plain node:
     // it joins the core's existing segments and tightens nothing.
-    let config = ipc_types::ports::config_with_prefix(&prefix).expect("prefix");
-    let node = NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .expect("node");
+    let node = common::plain_node(&prefix);
     let telemetry = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)
         .expect("service")
         .subscriber_builder()

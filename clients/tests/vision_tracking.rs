@@ -6,8 +6,7 @@ mod common;
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
-use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::open_pub_sub;
 use ipc_types::{PartStates, service_names};
 use upm_clients::vision::{Detection, Tracker, TrackerParams};
 
@@ -87,12 +86,7 @@ fn vision_process_publishes_tracked_part_states_from_the_simulator() {
             .spawn()
             .expect("vision"),
     );
-    let config = config_with_prefix(&prefix).expect("prefix");
-    let node = NodeBuilder::new()
-        .config(&config)
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .expect("node");
+    let node = common::plain_node(&prefix);
     let sub = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
         .expect("service")
         .subscriber_builder()

@@ -10,6 +10,18 @@ pub fn unique_prefix(tag: &str) -> String {
     format!("upmt_{tag}_{}_{nanos}_", std::process::id())
 }
 
+/// A plain iceoryx2 node on `prefix`: no signal handling, and unlike
+/// `rig_node` it leaves the prefix's file permissions as they are.
+pub fn plain_node(prefix: &str) -> iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service> {
+    use iceoryx2::prelude::*;
+    let config = ipc_types::ports::config_with_prefix(prefix).expect("prefix");
+    NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .expect("node")
+}
+
 /// Remove the per-prefix segment iceoryx2 leaves in /dev/shm.
 pub fn remove_prefix(prefix: &str) {
     if let Ok(config) = ipc_types::ports::config_with_prefix(prefix) {
