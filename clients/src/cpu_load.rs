@@ -82,7 +82,7 @@ impl CpuLoad {
             })?;
             threads.push(t);
         }
-        let description = format!("built-in burner on CPUs {list} (stress-ng not installed)");
+        let description = format!("built-in burner on CPUs {list} (stress-ng not installed or refused)");
         let load = Self { description, child: None, stop, threads };
         std::thread::sleep(std::time::Duration::from_millis(50));
         if unpinned.load(Ordering::Relaxed) {

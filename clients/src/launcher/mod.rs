@@ -124,11 +124,10 @@ pub fn run_plan(
     }
     vision.start()?;
     planner.start()?;
-    let load = match plan.stress {
-        true => {
-            Some(crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(plan.config.rt_motor_cpu()))?)
-        }
-        false => None,
+    let load = if plan.stress {
+        Some(crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(plan.config.rt_motor_cpu()))?)
+    } else {
+        None
     };
 
     // The launcher's own node handles Ctrl-C (SIGINT) and SIGTERM.

@@ -10,7 +10,7 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use ipc_types::inbox_event::inbox_listener;
 use ipc_types::ports::{Sub, open_pub_sub};
-use ipc_types::rig_node::RigNodeError;
+use ipc_types::rig_node::rig_node;
 use ipc_types::{ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
 
 use super::inbox::{Inbound, Inbox, InboxBuffers};
@@ -30,14 +30,10 @@ pub struct IpcInbox {
 
 impl IpcInbox {
     /// Create the node and the three subscribers (start-up only).
-    pub fn new(config: &Config) -> Result<Self, StartError> {
-        let node = NodeBuilder::new()
-            .name(&NodeName::new("upm-core-solver").map_err(|_| StartError::Node(RigNodeError::InvalidName))?)
-            .config(config)
-            // The io thread's node handles SIGINT/SIGTERM.
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<ipc::Service>()
-            .map_err(|e| StartError::Node(RigNodeError::Create(e)))?;
+    pub fn new(prefix: &str) -> Result<Self, StartError> {
+        // The io thread's node handles SIGINT/SIGTERM.
+        let node = rig_node(prefix, Some("upm-core-solver"), SignalHandlingMode::Disabled)
+            .map_err(StartError::Node)?;
         let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
             .map_err(|error| StartError::Service { service: service_names::PART_STATES, error })?
             .subscriber_builder()

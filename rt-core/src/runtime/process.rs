@@ -202,9 +202,9 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let motor_fifo = Arc::new(core::sync::atomic::AtomicBool::new(false));
     let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<(), StartError>>();
     let receiver_thread = {
-        let (shared, config, poll_ns, wake, motor_cpu, motor_fifo) = (
+        let (shared, prefix, poll_ns, wake, motor_cpu, motor_fifo) = (
             shared.clone(),
-            config.clone(),
+            options.prefix.clone(),
             params.solver_poll_ns,
             params.rt.receiver,
             params.rt.motor_cpu,
@@ -213,7 +213,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         std::thread::Builder::new()
             .name("upm-ipc-rx".into())
             .spawn(move || {
-                let mut inbox = match IpcInbox::new(&config) {
+                let mut inbox = match IpcInbox::new(&prefix) {
                     Ok(i) => i,
                     Err(e) => {
                         let _ = rx_ready_tx.send(Err(e));
