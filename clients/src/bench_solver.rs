@@ -113,32 +113,54 @@ fn bench_size(rows: usize, n: usize, bounded: bool, budget_s: f64) -> anyhow::Re
             max_rel = max_rel.max(diff / k_ref.amax().max(1e-300));
         }
     }
-    // A B A B batches until the budget is spent.
+    // A B A B batches until the budget is spent: each case is solved
+    // `REPEATS` times by UPM, then `REPEATS` times by nalgebra, every call
+    // timed on its own. Within a batch both run with warm caches; alternating
+    // single calls instead would time each one right after the other's
+    // eviction of caches and branch history (see `interleaved_p50_us`).
+    const REPEATS: usize = 8;
     let (mut upm, mut nal) = (Vec::new(), Vec::new());
+    let (mut upm_cold, mut nal_cold) = (Vec::new(), Vec::new());
     let counted = alloc_count::counter_installed();
     let mut allocations = 0u64;
+    let mut time_upm = |p: &Problem<'_>, out: &mut Vec<f64>| -> anyhow::Result<()> {
+        alloc_count::mark_rt_thread(true);
+        let before = alloc_count::rt_allocations();
+        let t = Instant::now();
+        let r = solver.solve(p, &mut sol);
+        let dt = t.elapsed().as_secs_f64();
+        allocations += alloc_count::rt_allocations() - before;
+        alloc_count::mark_rt_thread(false);
+        r.map_err(|e| anyhow::anyhow!("solve: {e}"))?;
+        out.push(dt * 1e6);
+        std::hint::black_box(sol.k());
+        Ok(())
+    };
+    let time_nalgebra = |a: &DMatrix<f64>, b: &DVector<f64>, out: &mut Vec<f64>| -> anyhow::Result<()> {
+        let t = Instant::now();
+        let k = a.clone().pseudo_inverse(1e-12).map_err(|e| anyhow::anyhow!("{e}"))? * b;
+        out.push(t.elapsed().as_secs_f64() * 1e6);
+        std::hint::black_box(k);
+        Ok(())
+    };
     let started = Instant::now();
     let mut round = 0usize;
     while started.elapsed().as_secs_f64() < budget_s || round < 2 {
         for (c, (a, b)) in cases.iter().zip(&systems) {
             let p = problem(c);
-            alloc_count::mark_rt_thread(true);
-            let before = alloc_count::rt_allocations();
-            let t = Instant::now();
-            let r = solver.solve(&p, &mut sol);
-            let dt = t.elapsed().as_secs_f64();
-            allocations += alloc_count::rt_allocations() - before;
-            alloc_count::mark_rt_thread(false);
-            r.map_err(|e| anyhow::anyhow!("solve: {e}"))?;
-            upm.push(dt * 1e6);
-            std::hint::black_box(sol.k());
-            let t = Instant::now();
-            let k = a.clone().pseudo_inverse(1e-12).map_err(|e| anyhow::anyhow!("{e}"))? * b;
-            nal.push(t.elapsed().as_secs_f64() * 1e6);
-            std::hint::black_box(k);
+            for _ in 0..REPEATS {
+                time_upm(&p, &mut upm)?;
+            }
+            for _ in 0..REPEATS {
+                time_nalgebra(a, b, &mut nal)?;
+            }
+            time_upm(&p, &mut upm_cold)?;
+            time_nalgebra(a, b, &mut nal_cold)?;
         }
         round += 1;
     }
+    upm_cold.sort_by(f64::total_cmp);
+    nal_cold.sort_by(f64::total_cmp);
     upm.sort_by(f64::total_cmp);
     nal.sort_by(f64::total_cmp);
     let (u50, n50) = (percentile(&upm, 0.5), percentile(&nal, 0.5));
@@ -153,6 +175,8 @@ fn bench_size(rows: usize, n: usize, bounded: bool, budget_s: f64) -> anyhow::Re
         "nalgebra_p50_us": n50,
         "nalgebra_p99_us": percentile(&nal, 0.99),
         "speedup_p50": n50 / u50,
+        "interleaved_p50_us": { "upm": percentile(&upm_cold, 0.5), "nalgebra": percentile(&nal_cold, 0.5) },
+        "interleaved_speedup_p50": percentile(&nal_cold, 0.5) / percentile(&upm_cold, 0.5),
         "allocations": if counted { json!(allocations) } else { Value::Null },
         "samples": upm.len(),
         "max_condition": max_condition,
@@ -180,7 +204,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
 
 pub fn to_text(v: &Value) -> String {
     let mut s = format!(
-        "{:>4} {:>4} {:>8} {:>10} {:>10} {:>12} {:>12} {:>8} {:>6} {:>10} {:>9}\n",
+        "{:>4} {:>4} {:>8} {:>10} {:>10} {:>12} {:>12} {:>8} {:>12} {:>6} {:>10} {:>9}\n",
         "m",
         "n",
         "path",
@@ -189,6 +213,7 @@ pub fn to_text(v: &Value) -> String {
         "nalg p50",
         "nalg p99",
         "speedup",
+        "interleaved",
         "alloc",
         "max rel",
         "max κ"
@@ -197,7 +222,7 @@ pub fn to_text(v: &Value) -> String {
         v["cases"].as_array().into_iter().flatten().chain(v["bounded_cases"].as_array().into_iter().flatten())
     {
         s += &format!(
-            "{:>4} {:>4} {:>8} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>6} {:>10.1e} {:>9.1e}\n",
+            "{:>4} {:>4} {:>8} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>12.1} {:>6} {:>10.1e} {:>9.1e}\n",
             c["m"],
             c["n"],
             c["path"].as_str().unwrap_or(""),
@@ -206,10 +231,12 @@ pub fn to_text(v: &Value) -> String {
             c["nalgebra_p50_us"].as_f64().unwrap_or(f64::NAN),
             c["nalgebra_p99_us"].as_f64().unwrap_or(f64::NAN),
             c["speedup_p50"].as_f64().unwrap_or(f64::NAN),
+            c["interleaved_speedup_p50"].as_f64().unwrap_or(f64::NAN),
             c["allocations"],
             c["max_rel_diff"].as_f64().unwrap_or(f64::NAN),
             c["max_condition"].as_f64().unwrap_or(f64::NAN),
         );
     }
-    s + "times in µs"
+    s + "times in µs; speedup = nalgebra p50 / UPM p50 in warm A B A B batches; \
+         interleaved = the same ratio with single calls alternating (both cold)"
 }

@@ -16,11 +16,19 @@
 //! the smallest K among equally good ones.
 
 use faer::dyn_stack::{MemStack, StackReq};
+
+use super::dense::{axpy, dot};
 use faer::linalg::qr::no_pivoting::{factor as qr, solve as qr_solve};
 use faer::reborrow::*;
 use faer::{MatMut, Par};
 
-use super::min_norm::block_size;
+use faer::linalg::qr::no_pivoting::factor::recommended_block_size;
+
+/// Householder block size for a `rows × cols` QR: unblocked below 64
+/// columns, where blocking only adds set-up.
+fn block_size(rows: usize, cols: usize) -> usize {
+    if cols <= 64 { 1 } else { recommended_block_size::<f64>(rows, cols) }
+}
 
 pub(crate) fn bounded_scratch(max_m: usize, max_n: usize) -> StackReq {
     let rows = max_m + max_n;
@@ -245,7 +253,7 @@ impl System<'_> {
 /// out = A v (A row-major m × n).
 pub(crate) fn mat_vec(rows: &[f64], m: usize, n: usize, v: &[f64], out: &mut [f64]) {
     for i in 0..m {
-        out[i] = rows[i * n..(i + 1) * n].iter().zip(v).map(|(a, x)| a * x).sum();
+        out[i] = dot(&rows[i * n..(i + 1) * n], &v[..n]);
     }
 }
 
@@ -253,9 +261,6 @@ pub(crate) fn mat_vec(rows: &[f64], m: usize, n: usize, v: &[f64], out: &mut [f6
 pub(crate) fn mat_t_vec(rows: &[f64], m: usize, n: usize, w: &[f64], out: &mut [f64]) {
     out[..n].fill(0.0);
     for i in 0..m {
-        let wi = w[i];
-        for (o, a) in out[..n].iter_mut().zip(&rows[i * n..(i + 1) * n]) {
-            *o += a * wi;
-        }
+        axpy(w[i], &rows[i * n..(i + 1) * n], &mut out[..n]);
     }
 }

@@ -3,22 +3,15 @@
 //! A rotation about `c` with intensity `k` (k > 0 = CCW) drags a sliding part
 //! at `p` with φ(p) = k·μmg·R90(p − c)/|p − c|, R90(x, y) = (−y, x).
 
-/// |p − c| as √(dx² + dy²): libm's `hypot` was a fifth of a small solve,
-/// and validation already rejects distances whose squares overflow.
-#[inline]
-pub fn distance(p: [f64; 2], c: [f64; 2]) -> f64 {
-    let dx = p[0] - c[0];
-    let dy = p[1] - c[1];
-    (dx * dx + dy * dy).sqrt()
-}
-
 /// Unit tangential direction R90(p − c)/|p − c| and the distance |p − c|.
 #[inline]
 pub fn unit_tangent(p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
     let dx = p[0] - c[0];
     let dy = p[1] - c[1];
     let r = (dx * dx + dy * dy).sqrt();
-    ([-dy / r, dx / r], r)
+    // One division, not two: assembly calls this m·n times per solve.
+    let inv = 1.0 / r;
+    ([-dy * inv, dx * inv], r)
 }
 
 /// Average force at `p` of a rotation about `c` with intensity `k` (Eq. 8).

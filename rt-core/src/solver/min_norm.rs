@@ -1,45 +1,22 @@
-//! Exact minimum-norm K from a column-pivoted Householder QR (faer).
+//! Exact minimum-norm K from a Householder QR, column-pivoted on request.
 //!
 //! m ≤ n: Aᵀ P = Q R, so Pᵀ A = Rᵀ Qᵀ and the minimum-norm solution of
 //! A k = b is k = Q [R⁻ᵀ Pᵀ b; 0]. m > n: A P = Q R and the least-squares
 //! solution is k = P R⁻¹ (Qᵀ b)[..n]. Cost ≈ 2·m²·n flops, no iteration.
+//! Needs no `MemStack`: every buffer lives in [`QrBuffers`].
 
-use faer::dyn_stack::{MemStack, StackReq};
-use faer::linalg::householder;
-use faer::linalg::qr::col_pivoting::factor as colpiv;
-use faer::linalg::qr::no_pivoting::factor::recommended_block_size;
-use faer::linalg::triangular_solve;
-use faer::reborrow::*;
-use faer::{Conj, MatMut, Par};
-
-/// Block size used for the Householder factor of a `rows × cols` QR.
-pub(crate) fn block_size(rows: usize, cols: usize) -> usize {
-    if cols <= 64 { 1 } else { recommended_block_size::<f64>(rows, cols) }
-}
-
-/// Scratch for any QR solve up to `max_m × max_n`.
-pub(crate) fn min_norm_scratch(max_m: usize, max_n: usize) -> StackReq {
-    let big = max_m.max(max_n);
-    let small = max_m.min(max_n).max(1);
-    let bs = block_size(big, small);
-    StackReq::any_of(&[
-        colpiv::qr_in_place_scratch::<usize, f64>(big, small, bs, Par::Seq, Default::default()),
-        householder::apply_block_householder_sequence_on_the_left_in_place_scratch::<f64>(big, bs, 1),
-        householder::apply_block_householder_sequence_transpose_on_the_left_in_place_scratch::<f64>(
-            big, bs, 1,
-        ),
-    ])
-}
+use super::pivoted_qr::PivotedQr;
 
 /// Buffers of the QR path, sized once for the largest problem.
 #[derive(Debug)]
 pub(crate) struct QrBuffers {
     /// The factored matrix (Householder vectors below, R on top).
     pub factor: Vec<f64>,
-    pub householder: Vec<f64>,
-    pub perm: Vec<usize>,
-    pub perm_inv: Vec<usize>,
-    pub rhs: Vec<f64>,
+    tau: Vec<f64>,
+    perm: Vec<usize>,
+    norms: Vec<f64>,
+    norms_ref: Vec<f64>,
+    rhs: Vec<f64>,
 }
 
 impl QrBuffers {
@@ -48,9 +25,10 @@ impl QrBuffers {
         let small = max_m.min(max_n).max(1);
         Self {
             factor: vec![0.0; big * small],
-            householder: vec![0.0; block_size(big, small) * small],
+            tau: vec![0.0; small],
             perm: vec![0; small],
-            perm_inv: vec![0; small],
+            norms: vec![0.0; small],
+            norms_ref: vec![0.0; small],
             rhs: vec![0.0; big],
         }
     }
@@ -79,12 +57,11 @@ pub(crate) fn min_norm_solve(
     m: usize,
     n: usize,
     rank_tolerance: f64,
+    pivot: bool,
     buf: &mut QrBuffers,
     k: &mut [f64],
-    stack: &mut MemStack,
 ) -> QrSummary {
     let (lead, dim) = if m <= n { (n, m) } else { (m, n) };
-    let bs = block_size(lead, dim);
     let factor = &mut buf.factor[..lead * dim];
     if m <= n {
         // Row-major A is already Aᵀ column-major.
@@ -96,65 +73,32 @@ pub(crate) fn min_norm_solve(
             }
         }
     }
-    let mut fac = MatMut::from_column_major_slice_mut(factor, lead, dim);
-    let mut h = MatMut::from_column_major_slice_mut(&mut buf.householder[..bs * dim], bs, dim);
-    let (_, perm) = colpiv::qr_in_place(
-        fac.rb_mut(),
-        h.rb_mut(),
-        &mut buf.perm[..dim],
-        &mut buf.perm_inv[..dim],
-        Par::Seq,
-        stack,
-        Default::default(),
-    );
-    let (fwd, _) = perm.arrays();
-    let r00 = fac[(0, 0)].abs();
-    let rank = (0..dim).filter(|&i| fac[(i, i)].abs() > rank_tolerance * r00 && r00 > 0.0).count();
+    let mut qr =
+        PivotedQr { a: factor, rows: lead, cols: dim, tau: &mut buf.tau[..dim], perm: &mut buf.perm[..dim] };
+    qr.factor(&mut buf.norms, &mut buf.norms_ref, pivot);
+    // With pivoting |r₀₀| is the largest pivot; without, take the largest.
+    let r_max = (0..dim).map(|i| qr.r_diag(i).abs()).fold(0.0, f64::max);
+    let rank = (0..dim).filter(|&i| qr.r_diag(i).abs() > rank_tolerance * r_max && r_max > 0.0).count();
     let summary = QrSummary { dim, lead, rank };
     if rank < dim {
         return summary;
     }
-    let fac = fac.rb();
     if m <= n {
         let y = &mut buf.rhs[..n];
         for i in 0..m {
-            y[i] = b[fwd[i]];
+            y[i] = b[qr.perm[i]];
         }
         y[m..].fill(0.0);
-        let r = fac.submatrix(0, 0, m, m);
-        triangular_solve::solve_lower_triangular_in_place(
-            r.transpose(),
-            MatMut::from_column_major_slice_mut(&mut y[..m], m, 1),
-            Par::Seq,
-        );
-        householder::apply_block_householder_sequence_on_the_left_in_place_with_conj(
-            fac,
-            h.rb(),
-            Conj::No,
-            MatMut::from_column_major_slice_mut(y, n, 1),
-            Par::Seq,
-            stack,
-        );
+        qr.solve_rt(y);
+        qr.apply_q(y);
         k[..n].copy_from_slice(y);
     } else {
         let t = &mut buf.rhs[..m];
         t.copy_from_slice(&b[..m]);
-        householder::apply_block_householder_sequence_transpose_on_the_left_in_place_with_conj(
-            fac,
-            h.rb(),
-            Conj::No,
-            MatMut::from_column_major_slice_mut(t, m, 1),
-            Par::Seq,
-            stack,
-        );
-        let r = fac.submatrix(0, 0, n, n);
-        triangular_solve::solve_upper_triangular_in_place(
-            r,
-            MatMut::from_column_major_slice_mut(&mut t[..n], n, 1),
-            Par::Seq,
-        );
+        qr.apply_qt(t);
+        qr.solve_r(t);
         for i in 0..n {
-            k[fwd[i]] = t[i];
+            k[qr.perm[i]] = t[i];
         }
     }
     summary

@@ -6,7 +6,9 @@
 //! (`Par::Seq`, bit-identical for the same input) and does bounded work:
 //!
 //! 1. validate and assemble A (m × n) and b;
-//! 2. column-pivoted QR → rank, κ₂ estimate, exact minimum-norm K;
+//! 2. Householder QR → rank, κ₂ estimate, exact minimum-norm K; the QR is
+//!    redone with column pivoting (rank-revealing) only when the rank looks
+//!    short or κ₂ exceeds `max_condition`;
 //! 3. if K is inside |k_j| ≤ k_max, full rank and κ₂ ≤ `max_condition`:
 //!    done (exact path);
 //! 4. otherwise bounded least squares by a feasible active-set method,
@@ -20,10 +22,12 @@
 mod assemble;
 mod bounded;
 mod condition;
+mod dense;
 mod error;
 pub mod field;
 mod min_norm;
 mod order;
+mod pivoted_qr;
 mod params;
 mod problem;
 mod solution;
@@ -51,6 +55,7 @@ pub struct Solver {
     exact_k: Vec<f64>,
     cond_v: Vec<f64>,
     cond_w: Vec<f64>,
+    cond_u: Vec<f64>,
     min_dist: Vec<f64>,
     cond_diag: Vec<f64>,
     mem: MemBuffer,
@@ -66,7 +71,7 @@ impl Solver {
     /// faer-style scratch requirement of one solve at this capacity.
     pub fn scratch(cap: SolverCapacity) -> StackReq {
         let (m, n) = (cap.max_rows(), cap.centers);
-        StackReq::any_of(&[min_norm::min_norm_scratch(m, n), bounded::bounded_scratch(m, n)])
+        bounded::bounded_scratch(m, n)
     }
 
     /// Allocates everything a solve of up to `cap` will need.
@@ -83,6 +88,7 @@ impl Solver {
             exact_k: vec![0.0; n],
             cond_v: vec![0.0; m.min(n)],
             cond_w: vec![0.0; m.min(n)],
+            cond_u: vec![0.0; m.min(n)],
             min_dist: vec![0.0; n],
             cond_diag: vec![0.0; m.min(n)],
             mem: MemBuffer::new(Self::scratch(cap)),
@@ -134,13 +140,43 @@ impl Solver {
         Solution::with_capacity(self.cap)
     }
 
+    /// QR of the assembled A (pivoted or not), its exact minimum-norm K in
+    /// `exact_k`, and the κ₂ estimate (∞ when the rank is short).
+    fn factor_and_estimate(&mut self, m: usize, n: usize, pivot: bool) -> (min_norm::QrSummary, f64) {
+        let summary = min_norm::min_norm_solve(
+            &self.rows,
+            &self.b,
+            m,
+            n,
+            self.params.rank_tolerance,
+            pivot,
+            &mut self.qr,
+            &mut self.exact_k,
+        );
+        let condition = if summary.rank < summary.dim {
+            f64::INFINITY
+        } else {
+            condition::condition_estimate(
+                min_norm::r_factor(&self.qr, summary),
+                self.params.condition_iterations,
+                self.params.condition_tolerance,
+                condition::ConditionScratch {
+                    v: &mut self.cond_v,
+                    w: &mut self.cond_w,
+                    u: &mut self.cond_u,
+                    inv_diag: &mut self.cond_diag,
+                },
+            )
+        };
+        (summary, condition)
+    }
+
     /// Solve one problem into `out` (which must come from
     /// [`Solver::new_solution`] or have at least the same capacity).
     pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
         validate::validate_problem(problem, &self.cap, &self.params)?;
         let n = problem.centers.len();
         let m = assemble::assemble(problem, &mut self.rows, &mut self.b, &mut self.min_dist)?;
-        let stack = MemStack::new(&mut self.mem);
 
         out.k.clear();
         out.k.resize(n, 0.0);
@@ -151,28 +187,15 @@ impl Solver {
             out.rank = 0;
             out.condition = 1.0;
         } else {
-            let summary = min_norm::min_norm_solve(
-                &self.rows,
-                &self.b,
-                m,
-                n,
-                self.params.rank_tolerance,
-                &mut self.qr,
-                &mut self.exact_k,
-                stack,
-            );
+            // QR without pivoting first: it is cheaper and exact whenever A is
+            // well conditioned. Only a short rank or a κ over the gate pays
+            // for the rank-revealing, pivoted factorisation.
+            let (mut summary, mut condition) = self.factor_and_estimate(m, n, false);
+            if summary.rank < summary.dim || condition > self.params.max_condition {
+                (summary, condition) = self.factor_and_estimate(m, n, true);
+            }
             out.rank = summary.rank;
-            out.condition = if summary.rank < summary.dim {
-                f64::INFINITY
-            } else {
-                condition::condition_estimate(
-                    min_norm::r_factor(&self.qr, summary),
-                    self.params.condition_iterations,
-                    &mut self.cond_v,
-                    &mut self.cond_w,
-                    &mut self.cond_diag,
-                )
-            };
+            out.condition = condition;
             let exact_ok = summary.rank == summary.dim
                 && out.condition <= self.params.max_condition
                 && self.exact_k[..n].iter().all(|k| k.abs() <= problem.k_max);
@@ -189,6 +212,7 @@ impl Solver {
                     tikhonov: self.params.tikhonov,
                     max_iterations: self.params.bounded_max_iterations,
                 };
+                let stack = MemStack::new(&mut self.mem);
                 let report = bounded::bounded_solve(&input, &mut self.bounded, &mut out.k, stack);
                 out.iterations = report.iterations;
                 out.converged = report.converged;

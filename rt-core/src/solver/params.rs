@@ -34,6 +34,9 @@ pub struct SolverParams {
     pub min_center_distance: f64,
     /// Power/inverse iterations for the κ₂ estimate (fixed: bounded work).
     pub condition_iterations: usize,
+    /// The κ₂ estimate stops once a step changes it by less than this
+    /// (relative).
+    pub condition_tolerance: f64,
     /// Cap on least-squares solves in the bounded fallback.
     pub bounded_max_iterations: usize,
     /// Tikhonov weight (relative to ‖A‖²_F / N) that picks the smallest K
@@ -48,6 +51,7 @@ impl Default for SolverParams {
             max_condition: 1e10,
             min_center_distance: 1e-6,
             condition_iterations: 12,
+            condition_tolerance: 1e-2,
             bounded_max_iterations: 400,
             tikhonov: 1e-9,
         }

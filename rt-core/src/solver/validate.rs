@@ -81,18 +81,21 @@ pub(crate) fn validate_problem(
 }
 
 /// First center within `min_center_distance` of `p`; overflow if the
-/// distance itself is not representable.
+/// distance itself is not representable. Compares squares: no square root
+/// per pair.
 fn nearest_too_close(
     p: [f64; 2],
     centers: &[[f64; 2]],
     params: &SolverParams,
 ) -> Result<Option<usize>, SolveError> {
+    let min_sq = params.min_center_distance * params.min_center_distance;
     for (j, &c) in centers.iter().enumerate() {
-        let r = super::field::distance(p, c);
-        if !r.is_finite() {
+        let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+        let r_sq = dx * dx + dy * dy;
+        if !r_sq.is_finite() {
             return Err(SolveError::Overflow);
         }
-        if r < params.min_center_distance {
+        if r_sq < min_sq {
             return Ok(Some(j));
         }
     }
