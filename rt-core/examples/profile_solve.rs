@@ -32,7 +32,8 @@ fn main() {
     let mut sol = s.new_solution();
     let p = Problem { mu_m_g: 0.1, k_max: 0.95, centers: &centers, parts: &parts, curls: &[] };
     // Median of 41 batches: this VM's noise swamps a single long timing.
-    let n_batches: usize = std::env::var("UPM_PROFILE_BATCHES").ok().and_then(|s| s.parse().ok()).unwrap_or(41);
+    let n_batches: usize =
+        std::env::var("UPM_PROFILE_BATCHES").ok().and_then(|s| s.parse().ok()).unwrap_or(41);
     let mut batches: Vec<f64> = (0..n_batches)
         .map(|_| {
             let t = std::time::Instant::now();
@@ -43,5 +44,11 @@ fn main() {
         })
         .collect();
     batches.sort_by(f64::total_cmp);
-    println!("{:?} cond {:.1e} {:.2} us/solve (median of {} batches)", sol.method, sol.condition, batches[n_batches / 2], n_batches);
+    println!(
+        "{:?} cond {:.1e} {:.2} us/solve (median of {} batches)",
+        sol.method,
+        sol.condition,
+        batches[n_batches / 2],
+        n_batches
+    );
 }

@@ -97,3 +97,24 @@ fn bounded_answer_is_as_good_as_a_converged_projected_gradient() {
     }
     assert!(checked >= 3, "too few cases where bounded LS beats clipping: {checked}");
 }
+
+/// Two parts on the same spot with different requests: A has two equal rows
+/// pairs, so its rank is short. The unpivoted QR cannot be trusted to show
+/// that; the solver must fall back to the pivoted one and report it.
+#[test]
+fn coincident_parts_report_a_short_rank() {
+    let (centers, _) = two_close_parts();
+    let parts = [
+        ForceConstraint { position: [0.2, 0.1], force: Some([0.02, 0.0]) },
+        ForceConstraint { position: [0.2, 0.1], force: Some([0.01, 0.005]) },
+        ForceConstraint { position: [-0.3, 0.2], force: Some([0.0, 0.01]) },
+    ];
+    let problem = Problem { mu_m_g: 0.1, k_max: 0.9, centers: &centers, parts: &parts, curls: &[] };
+    let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
+    let mut out = solver.new_solution();
+    solver.solve(&problem, &mut out).expect("solve");
+    assert_eq!(out.rank, 4, "6 rows, 2 of them repeated");
+    assert!(out.condition.is_infinite(), "κ = {}", out.condition);
+    assert_eq!(out.method, SolveMethod::BoundedLeastSquares);
+    assert!(out.k().iter().all(|k| k.abs() <= 0.9));
+}

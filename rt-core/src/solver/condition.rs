@@ -45,19 +45,24 @@ pub(crate) fn condition_estimate<'r, 's>(
     if d == 0 {
         return 1.0;
     }
-    let (v, w, u, inv_diag) = (&mut scratch.v[..d], &mut scratch.w[..d], &mut scratch.u[..d], &mut scratch.inv_diag[..d]);
+    let (v, w, u, inv_diag) =
+        (&mut scratch.v[..d], &mut scratch.w[..d], &mut scratch.u[..d], &mut scratch.inv_diag[..d]);
     // Multiplying by reciprocals keeps divisions off the solves' critical path.
     for (j, x) in inv_diag.iter_mut().enumerate() {
         *x = 1.0 / r.col(j)[j];
     }
-    // σ_max starts from R's first row (Rᵀe₀). σ_min's first forward solve
-    // Rᵀz = e picks each eⱼ = ±1 against the running sum, as LINPACK's
-    // xTRCO does, so z grows along R's weakest direction from step one.
+    // σ_max starts from a fixed vector unlikely to be orthogonal to the top
+    // singular vector (R's first row was worse once R is unpivoted). σ_min's
+    // first forward solve Rᵀz = e picks each eⱼ = ±1 against the running
+    // sum, as LINPACK's xTRCO does, so z grows along R's weakest direction
+    // from step one.
     for (j, x) in v.iter_mut().enumerate() {
-        *x = r.col(j)[0];
+        *x = 1.0 + 0.1 * (j as f64 * 0.618_033_988_75).fract();
     }
     normalize(v);
     let mut first_inverse_step = true;
+    // ‖e‖ = √d: the first inverse step's growth is measured against it.
+    let mut start_norm = (d as f64).sqrt();
 
     // The power step (v, on σ_max) and the inverse step (u, on σ_min) are
     // independent chains; one loop lets the CPU overlap their latencies.
@@ -93,7 +98,8 @@ pub(crate) fn condition_estimate<'r, 's>(
                 axpy(-uj, &c[..j], &mut u[..j]);
             }
             let prev = inv_sigma_min_sq;
-            inv_sigma_min_sq = normalize(u);
+            inv_sigma_min_sq = normalize(u) / start_norm;
+            start_norm = 1.0;
             min_done = converged(prev, inv_sigma_min_sq, tolerance);
         }
         if max_done && min_done {

@@ -108,7 +108,8 @@ mod tests {
     #[test]
     fn dot4_matches_four_dots() {
         let v: Vec<f64> = (0..11).map(|i| 0.5 + i as f64).collect();
-        let cols: Vec<Vec<f64>> = (0..4).map(|c| (0..13).map(|i| (c * 7 + i) as f64 - 3.0).collect()).collect();
+        let cols: Vec<Vec<f64>> =
+            (0..4).map(|c| (0..13).map(|i| (c * 7 + i) as f64 - 3.0).collect()).collect();
         let four = dot4(&v, [&cols[0], &cols[1], &cols[2], &cols[3]]);
         for c in 0..4 {
             assert_eq!(four[c], dot(&v, &cols[c]));

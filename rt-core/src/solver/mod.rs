@@ -27,8 +27,8 @@ mod error;
 pub mod field;
 mod min_norm;
 mod order;
-mod pivoted_qr;
 mod params;
+mod pivoted_qr;
 mod problem;
 mod solution;
 mod validate;
@@ -57,6 +57,8 @@ pub struct Solver {
     cond_w: Vec<f64>,
     cond_u: Vec<f64>,
     min_dist: Vec<f64>,
+    center_x: Vec<f64>,
+    center_y: Vec<f64>,
     cond_diag: Vec<f64>,
     mem: MemBuffer,
 }
@@ -90,6 +92,8 @@ impl Solver {
             cond_w: vec![0.0; m.min(n)],
             cond_u: vec![0.0; m.min(n)],
             min_dist: vec![0.0; n],
+            center_x: vec![0.0; n],
+            center_y: vec![0.0; n],
             cond_diag: vec![0.0; m.min(n)],
             mem: MemBuffer::new(Self::scratch(cap)),
         }
@@ -176,7 +180,14 @@ impl Solver {
     pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
         validate::validate_problem(problem, &self.cap, &self.params)?;
         let n = problem.centers.len();
-        let m = assemble::assemble(problem, &mut self.rows, &mut self.b, &mut self.min_dist)?;
+        let m = assemble::assemble(
+            problem,
+            &mut self.rows,
+            &mut self.b,
+            &mut self.min_dist,
+            &mut self.center_x,
+            &mut self.center_y,
+        )?;
 
         out.k.clear();
         out.k.resize(n, 0.0);
