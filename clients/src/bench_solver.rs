@@ -223,8 +223,8 @@ pub fn to_text(v: &Value) -> String {
     {
         s += &format!(
             "{:>4} {:>4} {:>8} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>12.1} {:>6} {:>10.1e} {:>9.1e}\n",
-            c["m"],
-            c["n"],
+            c["m"].as_u64().unwrap_or(0),
+            c["n"].as_u64().unwrap_or(0),
             c["path"].as_str().unwrap_or(""),
             c["upm_p50_us"].as_f64().unwrap_or(f64::NAN),
             c["upm_p99_us"].as_f64().unwrap_or(f64::NAN),
