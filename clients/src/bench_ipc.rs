@@ -33,17 +33,30 @@ fn raw_event(
     n.service_builder(&ServiceName::new(name)?).event().open_or_create().map_err(|e| anyhow::anyhow!("{e:?}"))
 }
 
-/// Raw iceoryx2: ping on one service, echo on another; one-way = round
-/// trip / 2. `events`: each side sleeps on an iceoryx2 listener and the
+/// Raw iceoryx2 ping-pong of the same payload, in two views: the ping leg
+/// alone (stamp → echo thread's receive, one way, like the UPM figure) and
+/// the round trip / 2. The halved round trip averages a cold wake-up (the
+/// echo thread slept a whole pacing period) with a hot one (the pinger went
+/// to sleep microseconds before the pong), so it understates a one-way
+/// wake-up. `events`: each side sleeps on an iceoryx2 listener and the
 /// sender notifies (the reference for `rt.receiver = "event"`); otherwise
 /// both sides busy-poll (the reference for `"spin"`).
-fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>> {
+struct RawPingPong {
+    one_way: Histogram<u64>,
+    half_round_trip: Histogram<u64>,
+}
+
+/// Pings before recording starts (connection set-up, caches).
+const RAW_WARM_UP: u64 = 100;
+
+fn raw_ping_pong(samples: usize, events: bool, pace: Duration) -> anyhow::Result<RawPingPong> {
     let prefix = format!("upm_bench_raw_{}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let wait = Duration::from_millis(10);
     let ponger = {
         let (prefix, stop) = (prefix.clone(), stop.clone());
-        std::thread::spawn(move || -> anyhow::Result<()> {
+        std::thread::spawn(move || -> anyhow::Result<Histogram<u64>> {
+            let mut one_way = Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")?;
             let n = node(&prefix)?;
             let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?
                 .subscriber_builder()
@@ -61,18 +74,24 @@ fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>>
                 .notifier_builder()
                 .create()
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            let mut seen = 0u64;
             while !stop.load(Ordering::Relaxed) {
                 if events {
                     woken.timed_wait(|_| {}, wait).map_err(|e| anyhow::anyhow!("{e:?}"))?;
                 }
                 while let Some(s) = ping.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+                    let at = monotonic_now_ns();
+                    seen += 1;
+                    if seen > RAW_WARM_UP {
+                        one_way.saturating_record(at.saturating_sub(s.payload().stamp_ns).max(1));
+                    }
                     pong.send_copy(*s.payload()).map_err(|e| anyhow::anyhow!("{e:?}"))?;
                     if events {
                         wake.notify().map_err(|e| anyhow::anyhow!("{e:?}"))?;
                     }
                 }
             }
-            Ok(())
+            Ok(one_way)
         })
     };
     let n = node(&prefix)?;
@@ -107,10 +126,10 @@ fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>>
                 woken.timed_wait(|_| {}, wait).map_err(|e| anyhow::anyhow!("{e:?}"))?;
             }
             if let Some(s) = pong.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
-                let one_way = (monotonic_now_ns() - s.payload().stamp_ns) / 2;
+                let half = (monotonic_now_ns() - s.payload().stamp_ns) / 2;
                 warm += 1;
-                if warm > 100 {
-                    h.saturating_record(one_way.max(1));
+                if warm > RAW_WARM_UP {
+                    h.saturating_record(half.max(1));
                 }
                 break;
             }
@@ -119,19 +138,24 @@ fn raw_ping_pong(samples: usize, events: bool) -> anyhow::Result<Histogram<u64>>
             }
         }
         if events {
-            // Paced like a camera would be, not back to back.
-            std::thread::sleep(Duration::from_micros(200));
+            // Paced like the feeder, not back to back: how long the
+            // receiving CPU has been idle changes what its wake-up costs.
+            std::thread::sleep(pace);
         }
     }
     stop.store(true, Ordering::Relaxed);
     let echoed = ponger.join().map_err(|_| anyhow::anyhow!("the ping-pong echo thread panicked"))?;
     crate::status::remove_prefix_segment(&prefix);
-    echoed?;
+    let one_way = echoed?;
     if (h.len() as usize) < samples {
         anyhow::bail!("raw ping-pong: the echo thread stopped after {} samples", h.len());
     }
-    Ok(h)
+    Ok(RawPingPong { one_way, half_round_trip: h })
 }
+
+/// The feeder's period (1 kHz, a fast camera); the event references are
+/// paced the same.
+const FEED_PERIOD: Duration = Duration::from_millis(1);
 
 /// Time the core gets to start and warm up before the feeder begins.
 const WARM_UP: Duration = Duration::from_millis(500);
@@ -151,7 +175,7 @@ fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogra
                 std::thread::sleep(Duration::from_millis(10));
             }
             std::thread::sleep(WARM_UP);
-            crate::feeder::feed(&p, Duration::from_millis(1), &s)
+            crate::feeder::feed(&p, FEED_PERIOD, &s)
         })
     };
     let sim = Simulator::new(SimConfig::default(), &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -173,9 +197,9 @@ fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogra
 /// The raw event ping-pong while a core (fed at 1 kHz) runs on its own
 /// prefix: the same CPUs shared with the motor and solver threads as the
 /// upm path has, to tell that sharing apart from UPM's own overhead.
-fn raw_event_beside_core() -> anyhow::Result<Histogram<u64>> {
+fn raw_event_beside_core() -> anyhow::Result<RawPingPong> {
     let done = Arc::new(AtomicBool::new(false));
-    // 5000 pings paced at 200 µs take ~1.2 s: the core outlives them.
+    // 2000 pings paced like the feeder take ~2.2 s: the core outlives them.
     let core = {
         let done = done.clone();
         std::thread::spawn(move || {
@@ -190,7 +214,7 @@ fn raw_event_beside_core() -> anyhow::Result<Histogram<u64>> {
     }
     let up = !done.load(Ordering::Relaxed);
     std::thread::sleep(WARM_UP);
-    let raw = if up { raw_ping_pong(5_000, true) } else { Err(anyhow::anyhow!("the core never came up")) };
+    let raw = if up { raw_ping_pong(2_000, true, FEED_PERIOD) } else { Err(anyhow::anyhow!("the core never came up")) };
     // Only a control if the core ran beside the pings to the end.
     let beside = !done.load(Ordering::Relaxed);
     core.join().map_err(|_| anyhow::anyhow!("the core thread panicked"))??;
@@ -201,34 +225,44 @@ fn raw_event_beside_core() -> anyhow::Result<Histogram<u64>> {
 }
 
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
-    let raw_event = raw_ping_pong(5_000, true)?;
-    let raw_busy = raw_ping_pong(10_000, false)?;
+    let raw_event = raw_ping_pong(3_000, true, FEED_PERIOD)?;
+    // Paced 5× faster: shown to tell the idle-CPU wake-up cost apart.
+    let raw_event_fast = raw_ping_pong(5_000, true, FEED_PERIOD / 5)?;
+    let raw_busy = raw_ping_pong(10_000, false, Duration::ZERO)?;
     let beside = raw_event_beside_core()?;
     let (event, event_pickup) = upm_one_way(seconds, ReceiverWake::Event)?;
     let (spin, spin_pickup) = upm_one_way(seconds, ReceiverWake::Spin)?;
-    let (e, re, sp, rb) = (summary(&event), summary(&raw_event), summary(&spin), summary(&raw_busy));
+    let (e, re, sp, rb) =
+        (summary(&event), summary(&raw_event.one_way), summary(&spin), summary(&raw_busy.one_way));
+    let (re_half, rb_half) = (summary(&raw_event.half_round_trip), summary(&raw_busy.half_round_trip));
     Ok(json!({
         "payload_bytes": size_of::<PartStates>(),
         "upm_event": e,
         "raw_iceoryx2_event": re,
         "ratio_p50_event": e.p50 / re.p50,
         "ratio_p99_event": e.p99 / re.p99,
-        "raw_iceoryx2_event_beside_core": summary(&beside),
+        "raw_iceoryx2_event_half_round_trip": re_half,
+        "ratio_p99_event_vs_half_round_trip": e.p99 / re_half.p99,
+        "raw_iceoryx2_event_beside_core": summary(&beside.one_way),
+        "raw_iceoryx2_event_beside_core_half_round_trip": summary(&beside.half_round_trip),
+        "raw_iceoryx2_event_paced_200us": summary(&raw_event_fast.one_way),
+        "raw_iceoryx2_event_paced_200us_half_round_trip": summary(&raw_event_fast.half_round_trip),
         "upm_spin": sp,
         "raw_iceoryx2_busy_poll": rb,
+        "raw_iceoryx2_busy_poll_half_round_trip": rb_half,
         "ratio_p50_spin": sp.p50 / rb.p50,
         "ratio_p99_spin": sp.p99 / rb.p99,
         "solver_pickup_event": summary(&event_pickup),
         "solver_pickup_spin": summary(&spin_pickup),
         "solver_poll_us": CoreParams::default().solver_poll_ns / 1000,
-        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (its clock-driven poll, rt.solver_poll_us). raw: ping-pong of the same payload, round trip / 2, with listeners+notify (event) or busy polling.",
+        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (its clock-driven poll, rt.solver_poll_us). raw: ping-pong of the same payload with listeners+notify (event, paced at the feeder's 1 ms; also at 200 µs) or busy polling; the reference is the ping leg alone (stamp → echo thread's receive), *_half_round_trip the round trip / 2.",
     }))
 }
 
 pub fn to_text(v: &Value) -> String {
     let row = summary_row;
     format!(
-        "one-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (poll {} µs):\n{}",
+        "one-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (poll {} µs):\n{}",
         v["payload_bytes"],
         "",
         "p50",
@@ -237,9 +271,13 @@ pub fn to_text(v: &Value) -> String {
         "max",
         row("upm, event", &v["upm_event"]),
         row("raw iceoryx2, event", &v["raw_iceoryx2_event"]),
+        row("  round trip / 2", &v["raw_iceoryx2_event_half_round_trip"]),
+        row("raw, beside a core", &v["raw_iceoryx2_event_beside_core"]),
+        row("raw, paced 200 µs", &v["raw_iceoryx2_event_paced_200us"]),
         v["ratio_p99_event"].as_f64().unwrap_or(f64::NAN),
         row("upm, spin", &v["upm_spin"]),
         row("raw iceoryx2, busy", &v["raw_iceoryx2_busy_poll"]),
+        row("  round trip / 2", &v["raw_iceoryx2_busy_poll_half_round_trip"]),
         v["ratio_p99_spin"].as_f64().unwrap_or(f64::NAN),
         v["solver_poll_us"],
         row("pickup (event run)", &v["solver_pickup_event"]),

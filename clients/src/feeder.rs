@@ -51,8 +51,12 @@ pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result
     let mut seq = 0;
     while !stop.load(Ordering::Relaxed) {
         seq += 1;
+        let mut states = part_states(seq, 0, &PAPER_PARTS);
+        // Stamped right before the send, as the raw reference is: building
+        // the 4 KB message is not transport latency.
         let now = monotonic_now_ns();
-        parts.send_copy(part_states(seq, now, &PAPER_PARTS)).map_err(|e| anyhow::anyhow!("send: {e:?}"))?;
+        states.stamp_ns = now;
+        parts.send_copy(states).map_err(|e| anyhow::anyhow!("send: {e:?}"))?;
         // Each message announced at once, as the vision and planner do.
         wake.notify();
         requests
