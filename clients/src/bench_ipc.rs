@@ -49,13 +49,25 @@ struct RawPingPong {
 /// Pings before recording starts (connection set-up, caches).
 const RAW_WARM_UP: u64 = 100;
 
-fn raw_ping_pong(samples: usize, events: bool, pace: Duration) -> anyhow::Result<RawPingPong> {
+/// How the echo (receiving) thread of the raw reference is scheduled.
+#[derive(Clone, Copy)]
+enum EchoScheduling {
+    Normal,
+    /// As the core's event-mode receiver: this SCHED_FIFO priority, pinned.
+    LikeReceiver { priority: u8, cpu: Option<usize> },
+}
+
+fn raw_ping_pong(samples: usize, events: bool, pace: Duration, echo: EchoScheduling) -> anyhow::Result<RawPingPong> {
     let prefix = format!("upm_bench_raw_{}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let wait = Duration::from_millis(10);
     let ponger = {
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || -> anyhow::Result<Histogram<u64>> {
+            if let EchoScheduling::LikeReceiver { priority, cpu } = echo {
+                let placed = rt_core::runtime::rt_setup::make_current_thread_realtime(priority, cpu);
+                anyhow::ensure!(placed.fifo, "the echo thread could not get SCHED_FIFO {priority}");
+            }
             let mut one_way = Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")?;
             let n = node(&prefix)?;
             let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?
@@ -214,7 +226,7 @@ fn raw_event_beside_core() -> anyhow::Result<RawPingPong> {
     }
     let up = !done.load(Ordering::Relaxed);
     std::thread::sleep(WARM_UP);
-    let raw = if up { raw_ping_pong(2_000, true, FEED_PERIOD) } else { Err(anyhow::anyhow!("the core never came up")) };
+    let raw = if up { raw_ping_pong(2_000, true, FEED_PERIOD, EchoScheduling::Normal) } else { Err(anyhow::anyhow!("the core never came up")) };
     // Only a control if the core ran beside the pings to the end.
     let beside = !done.load(Ordering::Relaxed);
     core.join().map_err(|_| anyhow::anyhow!("the core thread panicked"))??;
@@ -225,10 +237,21 @@ fn raw_event_beside_core() -> anyhow::Result<RawPingPong> {
 }
 
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
-    let raw_event = raw_ping_pong(3_000, true, FEED_PERIOD)?;
+    let rt = CoreParams::default().rt;
+    let raw_event = raw_ping_pong(3_000, true, FEED_PERIOD, EchoScheduling::Normal)?;
+    // The echo thread scheduled as the core's receiver is (if this process
+    // may use SCHED_FIFO): what iceoryx2 gives that thread by itself.
+    let like_receiver = EchoScheduling::LikeReceiver { priority: rt.receiver_priority, cpu: rt.motor_cpu };
+    let raw_event_rt = match raw_ping_pong(3_000, true, FEED_PERIOD, like_receiver) {
+        Ok(r) => Some(r),
+        Err(e) => {
+            eprintln!("bench ipc: no SCHED_FIFO reference: {e}");
+            None
+        }
+    };
     // Paced 5× faster: shown to tell the idle-CPU wake-up cost apart.
-    let raw_event_fast = raw_ping_pong(5_000, true, FEED_PERIOD / 5)?;
-    let raw_busy = raw_ping_pong(10_000, false, Duration::ZERO)?;
+    let raw_event_fast = raw_ping_pong(5_000, true, FEED_PERIOD / 5, EchoScheduling::Normal)?;
+    let raw_busy = raw_ping_pong(10_000, false, Duration::ZERO, EchoScheduling::Normal)?;
     let beside = raw_event_beside_core()?;
     let (event, event_pickup) = upm_one_way(seconds, ReceiverWake::Event)?;
     let (spin, spin_pickup) = upm_one_way(seconds, ReceiverWake::Spin)?;
@@ -242,6 +265,9 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
         "ratio_p50_event": e.p50 / re.p50,
         "ratio_p99_event": e.p99 / re.p99,
         "raw_iceoryx2_event_half_round_trip": re_half,
+        "raw_iceoryx2_event_echo_like_receiver": raw_event_rt.as_ref().map(|r| json!(summary(&r.one_way))),
+        "ratio_p99_event_vs_echo_like_receiver": raw_event_rt.as_ref().map(|r| e.p99 / summary(&r.one_way).p99),
+        "receiver_priority": rt.receiver_priority,
         "ratio_p99_event_vs_half_round_trip": e.p99 / re_half.p99,
         "raw_iceoryx2_event_beside_core": summary(&beside.one_way),
         "raw_iceoryx2_event_beside_core_half_round_trip": summary(&beside.half_round_trip),
@@ -262,7 +288,7 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
 pub fn to_text(v: &Value) -> String {
     let row = summary_row;
     format!(
-        "one-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (poll {} µs):\n{}",
+        "one-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (poll {} µs):\n{}",
         v["payload_bytes"],
         "",
         "p50",
@@ -272,6 +298,7 @@ pub fn to_text(v: &Value) -> String {
         row("upm, event", &v["upm_event"]),
         row("raw iceoryx2, event", &v["raw_iceoryx2_event"]),
         row("  round trip / 2", &v["raw_iceoryx2_event_half_round_trip"]),
+        row("raw, echo FIFO+pinned", &v["raw_iceoryx2_event_echo_like_receiver"]),
         row("raw, beside a core", &v["raw_iceoryx2_event_beside_core"]),
         row("raw, paced 200 µs", &v["raw_iceoryx2_event_paced_200us"]),
         v["ratio_p99_event"].as_f64().unwrap_or(f64::NAN),

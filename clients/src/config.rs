@@ -109,6 +109,8 @@ pub struct RtSection {
     pub solver_poll_us: u64,
     /// How the core's receiver thread waits for clients.
     pub receiver: Receiver,
+    /// SCHED_FIFO priority of the receiver in event mode; 0 = normal.
+    pub receiver_priority: u8,
 }
 
 /// `rt.receiver`: sleep on the clients' wake-up event, or busy-poll.
@@ -218,6 +220,7 @@ impl Default for RtSection {
             lock_memory: r.lock_memory,
             solver_poll_us: CoreParams::default().solver_poll_ns / 1000,
             receiver: Receiver::Event,
+            receiver_priority: r.receiver_priority,
         }
     }
 }
@@ -358,6 +361,7 @@ impl Config {
                     Receiver::Event => rt_core::runtime::ReceiverWake::Event,
                     Receiver::Spin => rt_core::runtime::ReceiverWake::Spin,
                 },
+                receiver_priority: self.rt.receiver_priority,
             },
         };
         // Complete validation: the core would refuse an unplayable rig at start.

@@ -18,8 +18,14 @@ pub struct RtParams {
     pub solver_cpu: Option<usize>,
     /// `mlockall` and prefault at start-up.
     pub lock_memory: bool,
-    /// How the (non-RT) receiver thread waits for client messages.
+    /// How the receiver thread waits for client messages.
     pub receiver: ReceiverWake,
+    /// SCHED_FIFO priority of the receiver thread in `Event` mode (0 = normal
+    /// scheduling; else 1–99, below the motor's). It then runs pinned to the
+    /// motor's CPU: the motor preempts it, and it preempts neither the motor
+    /// nor, on the other CPU, the solver. Not applied in `Spin` mode, where a
+    /// real-time busy loop would starve its CPU.
+    pub receiver_priority: u8,
 }
 
 /// How the receiver thread learns of a client message.
@@ -42,6 +48,7 @@ impl Default for RtParams {
             solver_cpu: Some(0),
             lock_memory: true,
             receiver: ReceiverWake::Event,
+            receiver_priority: 75,
         }
     }
 }
@@ -104,6 +111,7 @@ pub enum CoreParamsError {
     SolverPoll,
     TelemetryPeriod,
     Priority,
+    ReceiverPriority,
     /// No center can play any k within the motion and actuator limits.
     Unplayable,
 }
@@ -128,6 +136,9 @@ impl fmt::Display for CoreParamsError {
             ),
             Self::Priority => {
                 f.write_str("rt: priorities must be in 1..=99 and the motor's above the solver's")
+            }
+            Self::ReceiverPriority => {
+                f.write_str("rt.receiver_priority must be 0 (normal scheduling) or in 1..=99 below the motor's")
             }
         }
     }
@@ -166,6 +177,9 @@ impl CoreParams {
         if !(ok(rt.motor_priority) && ok(rt.solver_priority) && rt.motor_priority > rt.solver_priority) {
             return Err(CoreParamsError::Priority);
         }
+        if rt.receiver_priority != 0 && !(ok(rt.receiver_priority) && rt.receiver_priority < rt.motor_priority) {
+            return Err(CoreParamsError::ReceiverPriority);
+        }
         Ok(())
     }
 
@@ -181,5 +195,25 @@ impl CoreParams {
     /// Motor tick period (ns).
     pub fn tick_ns(&self) -> u64 {
         (1e9 / self.motion.tick_hz).round() as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with_receiver_priority(p: u8) -> Result<(), CoreParamsError> {
+        let mut params = CoreParams::default();
+        params.rt.receiver_priority = p;
+        params.validate()
+    }
+
+    #[test]
+    fn receiver_priority_is_zero_or_below_the_motor() {
+        assert_eq!(with_receiver_priority(0), Ok(()));
+        assert_eq!(with_receiver_priority(75), Ok(()));
+        assert_eq!(with_receiver_priority(79), Ok(()));
+        assert_eq!(with_receiver_priority(80), Err(CoreParamsError::ReceiverPriority));
+        assert_eq!(with_receiver_priority(100), Err(CoreParamsError::ReceiverPriority));
     }
 }

@@ -210,9 +210,16 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             params.rt.motor_cpu,
             motor_fifo.clone(),
         );
+        let rx_priority = params.rt.receiver_priority;
         std::thread::Builder::new()
             .name("upm-ipc-rx".into())
             .spawn(move || {
+                // Woken at real-time priority it is not queued behind a
+                // solve; on the motor's CPU it never delays the solver, and the
+                // motor preempts it. Without rights it stays a normal thread.
+                if wake == ReceiverWake::Event && rx_priority > 0 {
+                    let _ = make_current_thread_realtime(rx_priority, motor_cpu);
+                }
                 let mut inbox = match IpcInbox::new(&prefix) {
                     Ok(i) => i,
                     Err(e) => {
