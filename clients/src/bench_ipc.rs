@@ -54,10 +54,18 @@ const RAW_WARM_UP: u64 = 100;
 enum EchoScheduling {
     Normal,
     /// As the core's event-mode receiver: this SCHED_FIFO priority, pinned.
-    LikeReceiver { priority: u8, cpu: Option<usize> },
+    LikeReceiver {
+        priority: u8,
+        cpu: Option<usize>,
+    },
 }
 
-fn raw_ping_pong(samples: usize, events: bool, pace: Duration, echo: EchoScheduling) -> anyhow::Result<RawPingPong> {
+fn raw_ping_pong(
+    samples: usize,
+    events: bool,
+    pace: Duration,
+    echo: EchoScheduling,
+) -> anyhow::Result<RawPingPong> {
     let prefix = format!("upm_bench_raw_{}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let wait = Duration::from_millis(10);
@@ -209,7 +217,7 @@ fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogra
 /// The raw event ping-pong while a core (fed at 1 kHz) runs on its own
 /// prefix: the same CPUs shared with the motor and solver threads as the
 /// upm path has, to tell that sharing apart from UPM's own overhead.
-fn raw_event_beside_core() -> anyhow::Result<RawPingPong> {
+fn raw_event_beside_core(echo: EchoScheduling) -> anyhow::Result<RawPingPong> {
     let done = Arc::new(AtomicBool::new(false));
     // 2000 pings paced like the feeder take ~2.2 s: the core outlives them.
     let core = {
@@ -226,7 +234,11 @@ fn raw_event_beside_core() -> anyhow::Result<RawPingPong> {
     }
     let up = !done.load(Ordering::Relaxed);
     std::thread::sleep(WARM_UP);
-    let raw = if up { raw_ping_pong(2_000, true, FEED_PERIOD, EchoScheduling::Normal) } else { Err(anyhow::anyhow!("the core never came up")) };
+    let raw = if up {
+        raw_ping_pong(2_000, true, FEED_PERIOD, echo)
+    } else {
+        Err(anyhow::anyhow!("the core never came up"))
+    };
     // Only a control if the core ran beside the pings to the end.
     let beside = !done.load(Ordering::Relaxed);
     core.join().map_err(|_| anyhow::anyhow!("the core thread panicked"))??;
@@ -252,7 +264,10 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
     // Paced 5× faster: shown to tell the idle-CPU wake-up cost apart.
     let raw_event_fast = raw_ping_pong(5_000, true, FEED_PERIOD / 5, EchoScheduling::Normal)?;
     let raw_busy = raw_ping_pong(10_000, false, Duration::ZERO, EchoScheduling::Normal)?;
-    let beside = raw_event_beside_core()?;
+    // The control runs its echo thread where and how the receiver runs, if
+    // this process may use SCHED_FIFO.
+    let beside =
+        raw_event_beside_core(if raw_event_rt.is_some() { like_receiver } else { EchoScheduling::Normal })?;
     let (event, event_pickup) = upm_one_way(seconds, ReceiverWake::Event)?;
     let (spin, spin_pickup) = upm_one_way(seconds, ReceiverWake::Spin)?;
     let (e, re, sp, rb) =

@@ -137,9 +137,9 @@ impl fmt::Display for CoreParamsError {
             Self::Priority => {
                 f.write_str("rt: priorities must be in 1..=99 and the motor's above the solver's")
             }
-            Self::ReceiverPriority => {
-                f.write_str("rt.receiver_priority must be 0 (normal scheduling) or in 1..=99 below the motor's")
-            }
+            Self::ReceiverPriority => f.write_str(
+                "rt.receiver_priority must be 0 (normal scheduling) or in 1..=99 below the motor's",
+            ),
         }
     }
 }
@@ -177,7 +177,9 @@ impl CoreParams {
         if !(ok(rt.motor_priority) && ok(rt.solver_priority) && rt.motor_priority > rt.solver_priority) {
             return Err(CoreParamsError::Priority);
         }
-        if rt.receiver_priority != 0 && !(ok(rt.receiver_priority) && rt.receiver_priority < rt.motor_priority) {
+        if rt.receiver_priority != 0
+            && !(ok(rt.receiver_priority) && rt.receiver_priority < rt.motor_priority)
+        {
             return Err(CoreParamsError::ReceiverPriority);
         }
         Ok(())
