@@ -193,6 +193,19 @@ impl Scenario {
                     v["spin_angle_error_deg"] = json!((t[3] - p.spin_angle).to_degrees());
                 }
             }
+            "local" => {
+                // How far the parts asked to stay still ever got from their start.
+                let drift = trails
+                    .parts
+                    .iter()
+                    .filter(|(id, _)| **id != p.local_id)
+                    .filter_map(|(_, t)| {
+                        let first = t.points.first()?;
+                        t.points.iter().map(|q| (q[1] - first[1]).hypot(q[2] - first[2])).reduce(f64::max)
+                    })
+                    .fold(0.0, f64::max);
+                v["others_max_drift_m"] = json!(drift);
+            }
             _ => {}
         }
         v

@@ -59,12 +59,12 @@ fn spin_turns_in_place_to_within_five_degrees() {
 fn local_moves_one_part_to_its_goal() {
     let (m, r) = lockstep("local", 1, 45.0);
     assert_eq!(m["parts"][0]["goal_met"], true, "{m}");
-    // The others are asked to stay: report how far they were dragged.
-    for p in m["parts"].as_array().expect("parts").iter().skip(1) {
-        let d = (p["final"][0].as_f64().unwrap_or(0.0) - p["start"][0].as_f64().unwrap_or(0.0))
-            .hypot(p["final"][1].as_f64().unwrap_or(0.0) - p["start"][1].as_f64().unwrap_or(0.0));
-        eprintln!("local: part {} drifted {d:.3} m", p["id"]);
-    }
+    // The others are asked to stay, and do: at most 1 cm from their start
+    // at any time (measured ≈ 2 mm; they drifted 6–13 cm while their
+    // constraint was a bare zero force, which damps nothing).
+    let drift = m["others_max_drift_m"].as_f64().expect("others_max_drift_m");
+    eprintln!("local: the others drifted at most {drift:.4} m");
+    assert!(drift <= 0.01, "the parts asked to stay moved {drift:.3} m");
     assert_eq!(r.hold_events, 0);
 }
 

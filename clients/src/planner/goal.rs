@@ -87,6 +87,14 @@ impl GoalPlanner {
                 return true;
             }
         }
+        if self.p.sort_keep {
+            for part in parts.parts().iter().filter(|p| side(p) * p.x >= x_goal) {
+                let goal = [side(part) * (x_goal + 0.15), part.y];
+                if out.push(ForceEntry::force(part.id, self.force_to(part, goal, [0.0; 2]))).is_err() {
+                    return true;
+                }
+            }
+        }
         // Hold still the parts nearest to the driven ones.
         let dist =
             |p: &PartState| active.iter().map(|a| (a.x - p.x).hypot(a.y - p.y)).fold(f64::INFINITY, f64::min);
@@ -175,8 +183,11 @@ impl Planner for GoalPlanner {
                     if part.id == self.p.local_id {
                         ForceEntry::force(part.id, self.force_to(part, self.p.local_goal, [0.0; 2]))
                     } else {
-                        // Everyone else holds still: a zero-force constraint.
-                        ForceEntry::force(part.id, [0.0; 2])
+                        // Everyone else holds its start. Not a bare zero-force
+                        // constraint: with zero average force a part keeps
+                        // whatever velocity it has (nothing damps it), so it
+                        // gets the same PD as a driven part.
+                        ForceEntry::force(part.id, self.force_to(part, start, [0.0; 2]))
                     }
                 }
             };
