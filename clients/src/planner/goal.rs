@@ -23,6 +23,8 @@ pub struct GoalPlanner {
     p: PlannerParams,
     /// Start position per part id, for goals relative to the start.
     starts: Vec<(u32, [f64; 2])>,
+    /// sort: where each held part is held.
+    anchors: Vec<(u32, [f64; 2])>,
 }
 
 impl GoalPlanner {
@@ -38,7 +40,24 @@ impl GoalPlanner {
         if mode == Mode::Track && (p.track_rects.is_empty() || !pos(p.track_speed)) {
             anyhow::bail!("planner: track needs track_rects and a positive track_speed");
         }
-        Ok(Self { mode, p, starts: Vec::new() })
+        Ok(Self { mode, p, starts: Vec::new(), anchors: Vec::new() })
+    }
+
+    /// Where a held part is held: set while it is driven, else where it was
+    /// first seen.
+    fn anchor_of(&mut self, part: &PartState) -> [f64; 2] {
+        if let Some((_, a)) = self.anchors.iter().find(|(id, _)| *id == part.id) {
+            return *a;
+        }
+        self.anchors.push((part.id, [part.x, part.y]));
+        [part.x, part.y]
+    }
+
+    fn set_anchor(&mut self, id: u32, at: [f64; 2]) {
+        match self.anchors.iter_mut().find(|(i, _)| *i == id) {
+            Some((_, a)) => *a = at,
+            None => self.anchors.push((id, at)),
+        }
     }
 
     fn start_of(&mut self, part: &PartState) -> [f64; 2] {
@@ -87,22 +106,20 @@ impl GoalPlanner {
                 return true;
             }
         }
-        if self.p.sort_keep {
-            for part in parts.parts().iter().filter(|p| side(p) * p.x >= x_goal) {
-                let goal = [side(part) * (x_goal + 0.15), part.y];
-                if out.push(ForceEntry::force(part.id, self.force_to(part, goal, [0.0; 2]))).is_err() {
-                    return true;
-                }
-            }
+        // Hold still the parts nearest to the driven ones, where they were
+        // last driven (or first seen): a PD, since a bare zero force damps
+        // nothing.
+        for part in &active {
+            self.set_anchor(part.id, [part.x, part.y]);
         }
-        // Hold still the parts nearest to the driven ones.
         let dist =
             |p: &PartState| active.iter().map(|a| (a.x - p.x).hypot(a.y - p.y)).fold(f64::INFINITY, f64::min);
         let mut others: Vec<&PartState> =
             parts.parts().iter().filter(|p| active.iter().all(|a| a.id != p.id)).collect();
         others.sort_by(|a, b| dist(a).total_cmp(&dist(b)).then(a.id.cmp(&b.id)));
         for part in others.into_iter().take(self.p.sort_hold) {
-            if out.push(ForceEntry::force(part.id, [0.0; 2])).is_err() {
+            let anchor = self.anchor_of(part);
+            if out.push(ForceEntry::force(part.id, self.force_to(part, anchor, [0.0; 2]))).is_err() {
                 break;
             }
         }

@@ -45,12 +45,10 @@ pub struct PlannerParams {
     /// rest are left unconstrained. Asking all ten at once for opposite
     /// forces between neighbours is beyond what |k| ≤ k_max can give.
     pub sort_batch: usize,
-    /// sort: that many other parts nearest to the driven ones get a
-    /// zero-force constraint, so the field does not drag them along.
+    /// sort: that many other parts nearest to the driven ones are held where
+    /// they were last driven (a PD, like the driven parts), so the field
+    /// does not drag them along.
     pub sort_hold: usize,
-    /// sort: parts already on their side keep being pushed outwards, so the
-    /// field driving the others does not drag them back.
-    pub sort_keep: bool,
     /// track: rectangles (centre x, centre y, width, height) per part id 1, 2.
     pub track_rects: Vec<[f64; 4]>,
     /// track: speed along the path (m/s).
@@ -79,7 +77,6 @@ impl Default for PlannerParams {
             sort_x: 0.6,
             sort_batch: 2,
             sort_hold: 3,
-            sort_keep: false,
             track_rects: vec![[-0.45, 0.0, 0.4, 0.3], [0.45, 0.0, 0.4, 0.3]],
             track_speed: 0.02,
             spin_id: 1,
