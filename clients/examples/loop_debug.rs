@@ -25,9 +25,14 @@ fn main() -> anyhow::Result<()> {
     for p in m["parts"].as_array().into_iter().flatten() {
         println!("{} {} {:?} -> {:?} {}", p["id"], p["class"], p["start"], p["final"], p["goal_met"]);
     }
-    for k in
-        ["sorted_fraction", "tracking_rms_m", "path_length_m", "spin_angle_error_deg", "others_max_drift_m"]
-    {
+    for k in [
+        "sorted_fraction",
+        "tracking_rms_m",
+        "path_length_m",
+        "spin_angle_error_deg",
+        "others_max_drift_m",
+        "collisions",
+    ] {
         if !m[k].is_null() {
             println!("{k} {}", m[k]);
         }

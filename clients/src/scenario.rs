@@ -177,8 +177,7 @@ impl Scenario {
             }));
         }
         let n = parts.len().max(1);
-        let mut v =
-            json!({ "parts": parts, "collisions": Value::Null, "centers": config.plate.centers.len() });
+        let mut v = json!({ "parts": parts, "collisions": contacts_in_trails(config, trails), "centers": config.plate.centers.len() });
         match p.name.as_str() {
             "sort" => v["sorted_fraction"] = json!(sorted as f64 / n as f64),
             "track" => {
@@ -209,5 +208,77 @@ impl Scenario {
             _ => {}
         }
         v
+    }
+}
+
+/// Bounding radius of a configured part (m): what the simulator's part–part
+/// contact uses.
+fn bounding_radius(part: &SimPartSection) -> f64 {
+    match part.shape.as_str() {
+        "square" => part.size * core::f64::consts::FRAC_1_SQRT_2,
+        _ => part.size,
+    }
+}
+
+/// How close (m) beyond touching a pair must come in the trails to count:
+/// the trails are sampled (30 Hz in lock-step), so a brief contact is seen
+/// as a near miss at the samples around it.
+const CONTACT_SLACK: f64 = 0.002;
+
+/// Part–part collisions seen in the trails: each time a pair comes within
+/// `CONTACT_SLACK` of touching after being apart, counted once per approach.
+pub fn contacts_in_trails(config: &Config, trails: &Trails) -> u64 {
+    let radius = |id: u32| config.sim.parts.iter().find(|p| p.id == id).map(bounding_radius);
+    let parts: Vec<(f64, &Vec<[f64; 4]>)> =
+        trails.parts.iter().filter_map(|(id, t)| Some((radius(*id)?, &t.points))).collect();
+    let mut contacts = 0;
+    for (i, (ra, a)) in parts.iter().enumerate() {
+        for (rb, b) in &parts[i + 1..] {
+            let reach = ra + rb + CONTACT_SLACK;
+            let mut touching = false;
+            // Both trails get a point per sample, so indices line up in time.
+            for (p, q) in a.iter().zip(b.iter()) {
+                let close = (p[1] - q[1]).hypot(p[2] - q[2]) <= reach;
+                contacts += u64::from(close && !touching);
+                touching = close;
+            }
+        }
+    }
+    contacts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::launcher::PartTrail;
+
+    fn disc(id: u32, size: f64) -> SimPartSection {
+        SimPartSection {
+            id,
+            class: 0,
+            shape: "disc".into(),
+            size,
+            mass: 0.04,
+            position: [0.0; 2],
+            angle: 0.0,
+        }
+    }
+
+    #[test]
+    fn each_approach_to_touching_counts_once() {
+        let mut config = Config::default();
+        config.sim.parts = vec![disc(1, 0.015), disc(2, 0.015), disc(3, 0.015)];
+        // Part 2 gaps from part 1 (mm): apart, touching twice in a row, apart,
+        // touching again. Part 3 stays far away.
+        let gaps_mm = [50.0, 10.0, 1.0, 0.0, 20.0, 1.5, 40.0];
+        let mut trails = Trails::default();
+        let trail = |xs: Vec<f64>| PartTrail {
+            class: 0,
+            points: xs.iter().enumerate().map(|(i, &x)| [i as f64, x, 0.0, 0.0]).collect(),
+        };
+        trails.parts.insert(1, trail(vec![0.0; gaps_mm.len()]));
+        trails.parts.insert(2, trail(gaps_mm.iter().map(|g| 0.03 + g * 1e-3).collect()));
+        trails.parts.insert(3, trail(vec![0.5; gaps_mm.len()]));
+        assert_eq!(contacts_in_trails(&config, &trails), 2);
     }
 }
