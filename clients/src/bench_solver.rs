@@ -196,7 +196,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
         bounded.push(bench_size(m, n, true, budget)?);
     }
     Ok(json!({
-        "timed": "UPM: Solver::solve (assembly, column-pivoted QR, condition estimate, ordering, achieved forces). nalgebra: DMatrix::pseudo_inverse(1e-12) (SVD) times b, plus one matrix clone.",
+        "timed": "UPM: Solver::solve (validation, assembly, Householder QR (pivoted only when needed), condition estimate, ordering, achieved forces). nalgebra: DMatrix::pseudo_inverse(1e-12) (SVD) times b, plus one matrix clone.",
         "cases": cases,
         "bounded_cases": bounded,
     }))

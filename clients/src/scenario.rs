@@ -236,11 +236,21 @@ pub fn contacts_in_trails(config: &Config, trails: &Trails) -> u64 {
         for (rb, b) in &parts[i + 1..] {
             let reach = ra + rb + CONTACT_SLACK;
             let mut touching = false;
-            // Both trails get a point per sample, so indices line up in time.
-            for (p, q) in a.iter().zip(b.iter()) {
-                let close = (p[1] - q[1]).hypot(p[2] - q[2]) <= reach;
-                contacts += u64::from(close && !touching);
-                touching = close;
+            // Walk both trails in time; only samples taken at the same
+            // instant are compared (a part missing from a frame skips it).
+            let (mut i, mut j) = (0, 0);
+            while let (Some(p), Some(q)) = (a.get(i), b.get(j)) {
+                if p[0] < q[0] {
+                    i += 1;
+                } else if q[0] < p[0] {
+                    j += 1;
+                } else {
+                    let close = (p[1] - q[1]).hypot(p[2] - q[2]) <= reach;
+                    contacts += u64::from(close && !touching);
+                    touching = close;
+                    i += 1;
+                    j += 1;
+                }
             }
         }
     }

@@ -60,7 +60,7 @@ fn local_moves_one_part_to_its_goal() {
     let (m, r) = lockstep("local", 1, 45.0);
     assert_eq!(m["parts"][0]["goal_met"], true, "{m}");
     // The others are asked to stay, and do: at most 1 cm from their start
-    // at any time (measured ≈ 2 mm; they drifted 6–13 cm while their
+    // at any time (measured ≈ 6 mm; they drifted 6–13 cm while their
     // constraint was a bare zero force, which damps nothing).
     let drift = m["others_max_drift_m"].as_f64().expect("others_max_drift_m");
     eprintln!("local: the others drifted at most {drift:.4} m");

@@ -33,7 +33,7 @@ fn main() {
     let p = Problem { mu_m_g: 0.1, k_max: 0.95, centers: &centers, parts: &parts, curls: &[] };
     // Median of 41 batches: this VM's noise swamps a single long timing.
     let n_batches: usize =
-        std::env::var("UPM_PROFILE_BATCHES").ok().and_then(|s| s.parse().ok()).unwrap_or(41);
+        std::env::var("UPM_PROFILE_BATCHES").ok().and_then(|s| s.parse().ok()).unwrap_or(41).max(1);
     let mut batches: Vec<f64> = (0..n_batches)
         .map(|_| {
             let t = std::time::Instant::now();

@@ -117,11 +117,17 @@ impl GoalPlanner {
         let mut others: Vec<&PartState> =
             parts.parts().iter().filter(|p| active.iter().all(|a| a.id != p.id)).collect();
         others.sort_by(|a, b| dist(a).total_cmp(&dist(b)).then(a.id.cmp(&b.id)));
-        for part in others.into_iter().take(self.p.sort_hold) {
+        let held = self.p.sort_hold.min(others.len());
+        for part in &others[..held] {
             let anchor = self.anchor_of(part);
             if out.push(ForceEntry::force(part.id, self.force_to(part, anchor, [0.0; 2]))).is_err() {
                 break;
             }
+        }
+        // A free part is held, when its turn comes, where it then is, not
+        // where an earlier hold left it.
+        for part in &others[held..] {
+            self.set_anchor(part.id, [part.x, part.y]);
         }
         !out.is_empty()
     }

@@ -22,6 +22,7 @@ mod samples;
 mod shared;
 mod solve_stage;
 mod start_error;
+mod wake_budget;
 
 pub use alloc_count::RtAllocCounter;
 pub use clock::{Clock, ManualClock, MonotonicClock};

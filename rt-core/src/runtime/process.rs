@@ -1,7 +1,9 @@
 //! The real-time core process (DESIGN.md §3): a motor thread (SCHED_FIFO,
-//! highest), a solver thread (SCHED_FIFO, below it) and the io thread (the
-//! caller's, normal priority) that publishes Schedule and Telemetry and
-//! handles SIGINT/SIGTERM through iceoryx2's node.
+//! highest), a solver thread (SCHED_FIFO, below it), the iceoryx2 receiver
+//! thread (SCHED_FIFO between them on the motor's CPU in event mode, else
+//! normal priority) and the io thread (the caller's, normal priority) that
+//! publishes Schedule and Telemetry and handles SIGINT/SIGTERM through
+//! iceoryx2's node.
 
 use core::sync::atomic::Ordering::Relaxed;
 use core::time::Duration;
@@ -24,13 +26,14 @@ use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, TruthFill, TruthTap};
 use super::params::{CoreParams, ReceiverWake};
 use super::rt_setup::{
-    RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime, pin_current_thread,
-    prefault_stack,
+    RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime,
+    make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
 use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
 use super::shared::CoreShared;
 use super::solve_stage::SolveStage;
 use super::start_error::StartError;
+use super::wake_budget::WakeBudget;
 use crate::driver::PlateDriver;
 use crate::motion::{PlateMotion, Rig};
 
@@ -196,18 +199,19 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         _ => (None, None, None),
     };
 
-    // Receiver thread (normal priority): iceoryx2 `receive()` allocates when
-    // a publisher connects, so it runs here and feeds the solver a ring.
+    // Receiver thread (not an RT hot path): iceoryx2 `receive()` allocates
+    // when a publisher connects, so it runs here and feeds the solver a ring.
     let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<Received>::new(INBOUND_RING);
     let motor_fifo = Arc::new(core::sync::atomic::AtomicBool::new(false));
     let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<(), StartError>>();
     let receiver_thread = {
-        let (shared, prefix, poll_ns, wake, motor_cpu, motor_fifo) = (
+        let (shared, prefix, poll_ns, wake, motor_cpu, solver_cpu, motor_fifo) = (
             shared.clone(),
             options.prefix.clone(),
             params.solver_poll_ns,
             params.rt.receiver,
             params.rt.motor_cpu,
+            params.rt.solver_cpu,
             motor_fifo.clone(),
         );
         let rx_priority = params.rt.receiver_priority;
@@ -216,9 +220,14 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             .spawn(move || {
                 // Woken at real-time priority it is not queued behind a
                 // solve; on the motor's CPU it never delays the solver, and the
-                // motor preempts it. Without rights it stays a normal thread.
-                if wake == ReceiverWake::Event && rx_priority > 0 {
-                    let _ = make_current_thread_realtime(rx_priority, motor_cpu);
+                // motor preempts it. Only there: if the motor is unpinned or
+                // shares the solver's CPU, or the pin or SCHED_FIFO is refused,
+                // it stays a normal thread.
+                if let (ReceiverWake::Event, Some(cpu)) = (wake, motor_cpu)
+                    && rx_priority > 0
+                    && solver_cpu != Some(cpu)
+                {
+                    let _ = make_current_thread_realtime_on(rx_priority, cpu);
                 }
                 let mut inbox = match IpcInbox::new(&prefix) {
                     Ok(i) => i,
@@ -233,6 +242,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                 // Without a wake-up, look twice per solver period.
                 let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
                 let mut placed = false;
+                let mut wakes = WakeBudget::new();
                 while !shared.stop.load(Relaxed) {
                     // Spinning shares the motor's CPU, once the motor is known to
                     // be SCHED_FIFO (it then preempts the spin at once; on the
@@ -247,7 +257,10 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                     let dropped = forward(&mut inbox, &mut buf, &mut ring);
                     shared.rejected_requests.fetch_add(dropped, Relaxed);
                     match wake {
-                        ReceiverWake::Event => inbox.wait(poll),
+                        ReceiverWake::Event => {
+                            wakes.pace();
+                            inbox.wait(poll);
+                        }
                         ReceiverWake::Spin => core::hint::spin_loop(),
                     }
                 }

@@ -51,6 +51,27 @@ pub fn make_current_thread_realtime(priority: u8, cpu: Option<usize>) -> ThreadP
     ThreadPlacement { fifo, pinned }
 }
 
+/// SCHED_FIFO at `priority` only together with the pin to `cpu`: if either
+/// is refused the thread keeps its normal policy and its original CPU set
+/// (a real-time thread off its CPU, or a normal one squeezed onto it, would
+/// each compete where it should not).
+pub fn make_current_thread_realtime_on(priority: u8, cpu: usize) -> ThreadPlacement {
+    // SAFETY: a zeroed cpu_set_t is valid; pid 0 is the calling thread and
+    // the size is the set's own.
+    let mut original: libc::cpu_set_t = unsafe { core::mem::zeroed() };
+    let saved = unsafe { libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut original) == 0 };
+    if !saved || !pin_current_thread(cpu) {
+        return ThreadPlacement { fifo: false, pinned: false };
+    }
+    let placed = make_current_thread_realtime(priority, None);
+    if !placed.fifo {
+        // SAFETY: restores the set read above for the calling thread.
+        unsafe { libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &original) };
+        return ThreadPlacement { fifo: false, pinned: false };
+    }
+    ThreadPlacement { fifo: true, pinned: true }
+}
+
 /// Pin the calling thread to `cpu`; false if the kernel refused.
 pub fn pin_current_thread(cpu: usize) -> bool {
     if cpu >= libc::CPU_SETSIZE as usize {

@@ -45,6 +45,10 @@ pub(crate) fn condition_estimate<'r, 's>(
     if d == 0 {
         return 1.0;
     }
+    // At least one step each way (0 iterations would report κ = 0 and pass
+    // every gate); a tolerance ≥ 1 would stop after the first step.
+    let iters = iters.max(1);
+    let tolerance = tolerance.clamp(0.0, 0.5);
     let (v, w, u, inv_diag) =
         (&mut scratch.v[..d], &mut scratch.w[..d], &mut scratch.u[..d], &mut scratch.inv_diag[..d]);
     // Multiplying by reciprocals keeps divisions off the solves' critical path.

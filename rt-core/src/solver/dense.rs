@@ -105,6 +105,27 @@ mod tests {
         }
     }
 
+    /// With values whose sums round, only the documented order gives these
+    /// bits: four lanes, (l0 + l2) + (l1 + l3), then the tail.
+    #[test]
+    fn dot_sums_in_the_documented_order() {
+        for len in [4usize, 7, 9, 13] {
+            let a: Vec<f64> = (0..len).map(|i| 0.1 * (i as f64 + 1.0)).collect();
+            let b: Vec<f64> = (0..len).map(|i| 1.0 / (i as f64 + 3.0)).collect();
+            let body = len - len % 4;
+            let mut lanes = [0.0f64; 4];
+            for i in 0..body {
+                lanes[i % 4] += a[i] * b[i];
+            }
+            let mut tail = 0.0;
+            for i in body..len {
+                tail += a[i] * b[i];
+            }
+            let expected = ((lanes[0] + lanes[2]) + (lanes[1] + lanes[3])) + tail;
+            assert_eq!(dot(&a, &b).to_bits(), expected.to_bits(), "len {len}");
+        }
+    }
+
     #[test]
     fn dot4_matches_four_dots() {
         let v: Vec<f64> = (0..11).map(|i| 0.5 + i as f64).collect();

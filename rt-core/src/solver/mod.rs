@@ -200,10 +200,15 @@ impl Solver {
         } else {
             // QR without pivoting first: it is cheaper and exact whenever A is
             // well conditioned. Only a short rank or a κ over the gate pays
-            // for the rank-revealing, pivoted factorisation.
+            // for the rank-revealing, pivoted factorisation, which then
+            // reports the rank. Both κ estimates are lower bounds on the same
+            // κ₂ (and a tiny unpivoted |r_ii| bounds σ_min too), so the larger
+            // one stands: the redo can never reopen the exact path.
             let (mut summary, mut condition) = self.factor_and_estimate(m, n, false);
             if summary.rank < summary.dim || condition > self.params.max_condition {
+                let first = condition;
                 (summary, condition) = self.factor_and_estimate(m, n, true);
+                condition = condition.max(first);
             }
             out.rank = summary.rank;
             out.condition = condition;

@@ -16,8 +16,9 @@ use multiversion::multiversion;
 
 use super::dense::{axpy, dot, dot4, sum_sq};
 
-/// AVX2 clone where the CPU has it: twice the vector width. The kernels
-/// never fuse a multiply-add, so both clones give bit-identical results.
+/// AVX2 clone where the CPU has it (LLVM may merge `wide`'s SSE2 halves into
+/// AVX ops there; measured a few percent). The kernels never fuse a
+/// multiply-add, so both clones give bit-identical results.
 #[multiversion(targets("x86_64+avx2"))]
 fn factor_dispatch<'a>(qr: &mut PivotedQr<'a>, norms: &mut [f64], norms_ref: &mut [f64], pivot: bool) {
     qr.factor_body(norms, norms_ref, pivot);

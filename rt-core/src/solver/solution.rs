@@ -25,7 +25,7 @@ pub struct Solution {
     pub(crate) achieved_curls: Vec<f64>,
     /// ‖A·K − b‖ scaled back to force units (μmg/N).
     pub residual: f64,
-    /// Numerical rank of A (column-pivoted QR).
+    /// Numerical rank of A (from the column-pivoted QR whenever it is short).
     pub rank: usize,
     /// Estimated 2-norm condition number of A (∞ when rank-deficient).
     pub condition: f64,
