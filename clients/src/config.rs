@@ -274,12 +274,13 @@ fn ms_to_ns(ms: f64, field: &str) -> Result<u64, String> {
     }
 }
 
+/// A CPU to pin to: one this process may run on (its affinity mask), or -1.
 fn cpu(c: i64, field: &str) -> Result<Option<usize>, String> {
-    let online = rt_core::runtime::rt_setup::online_cpus();
+    let allowed = rt_core::runtime::rt_setup::allowed_cpus();
     match c {
         -1 => Ok(None),
-        c if c >= 0 && (c as usize) < online => Ok(Some(c as usize)),
-        c => Err(format!("{field} = {c}: this machine has CPUs 0..{} (or -1 for no pinning)", online - 1)),
+        c if c >= 0 && allowed.contains(&(c as usize)) => Ok(Some(c as usize)),
+        c => Err(format!("{field} = {c}: this process may run on CPUs {allowed:?} (or -1 for no pinning)")),
     }
 }
 

@@ -18,24 +18,10 @@ pub struct CpuLoad {
     threads: Vec<JoinHandle<()>>,
 }
 
-/// CPU ids this process may run on (its affinity mask; a cpuset need not
-/// start at 0 or be contiguous).
-fn allowed_cpus() -> Vec<usize> {
-    // SAFETY: a zeroed cpu_set_t is valid; sched_getaffinity fills it for
-    // this process; CPU_ISSET reads within CPU_SETSIZE.
-    unsafe {
-        let mut set: libc::cpu_set_t = core::mem::zeroed();
-        if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
-            return (0..rt_core::runtime::rt_setup::online_cpus()).collect();
-        }
-        (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect()
-    }
-}
-
 /// The CPUs to load: all allowed ones but `motor_cpu` (all of them on a
 /// one-CPU machine).
 pub fn other_cpus(motor_cpu: Option<usize>) -> Vec<usize> {
-    let all = allowed_cpus();
+    let all = rt_core::runtime::rt_setup::allowed_cpus();
     let others: Vec<usize> = all.iter().copied().filter(|&c| Some(c) != motor_cpu).collect();
     if others.is_empty() { all } else { others }
 }

@@ -86,6 +86,20 @@ pub fn pin_current_thread(cpu: usize) -> bool {
     }
 }
 
+/// CPU ids this process may run on (its affinity mask; a cpuset need not
+/// start at 0 or be contiguous). Start-up only: it allocates.
+pub fn allowed_cpus() -> Vec<usize> {
+    // SAFETY: a zeroed cpu_set_t is valid; sched_getaffinity fills it for
+    // this process; CPU_ISSET reads within CPU_SETSIZE.
+    unsafe {
+        let mut set: libc::cpu_set_t = core::mem::zeroed();
+        if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
+            return (0..online_cpus()).collect();
+        }
+        (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect()
+    }
+}
+
 /// Number of CPUs this process may run on.
 pub fn online_cpus() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
