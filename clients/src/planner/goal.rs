@@ -46,11 +46,7 @@ impl GoalPlanner {
     /// Where a held part is held: set while it is driven, else where it was
     /// first seen.
     fn anchor_of(&mut self, part: &PartState) -> [f64; 2] {
-        if let Some((_, a)) = self.anchors.iter().find(|(id, _)| *id == part.id) {
-            return *a;
-        }
-        self.anchors.push((part.id, [part.x, part.y]));
-        [part.x, part.y]
+        remembered(&mut self.anchors, part)
     }
 
     fn set_anchor(&mut self, id: u32, at: [f64; 2]) {
@@ -61,11 +57,7 @@ impl GoalPlanner {
     }
 
     fn start_of(&mut self, part: &PartState) -> [f64; 2] {
-        if let Some((_, s)) = self.starts.iter().find(|(id, _)| *id == part.id) {
-            return *s;
-        }
-        self.starts.push((part.id, [part.x, part.y]));
-        [part.x, part.y]
+        remembered(&mut self.starts, part)
     }
 
     /// Force that drives `part` to `goal` (with feed-forward velocity `vff`).
@@ -131,6 +123,15 @@ impl GoalPlanner {
         }
         !out.is_empty()
     }
+}
+
+/// The point remembered for `part`, or its current position, remembered now.
+fn remembered(points: &mut Vec<(u32, [f64; 2])>, part: &PartState) -> [f64; 2] {
+    if let Some((_, p)) = points.iter().find(|(id, _)| *id == part.id) {
+        return *p;
+    }
+    points.push((part.id, [part.x, part.y]));
+    [part.x, part.y]
 }
 
 /// Point at arc length `s` along the rectangle (cx, cy, w, h), counter-

@@ -24,6 +24,14 @@ fn factor_dispatch<'a>(qr: &mut PivotedQr<'a>, norms: &mut [f64], norms_ref: &mu
     qr.factor_body(norms, norms_ref, pivot);
 }
 
+/// Apply H = I − τ v vᵀ (v₀ = 1 at row k, the rest `v` below it) to `x`.
+#[inline(always)]
+fn reflect_one(tau: f64, k: usize, v: &[f64], x: &mut [f64]) {
+    let w = tau * (x[k] + dot(v, &x[k + 1..]));
+    x[k] -= w;
+    axpy(-w, v, &mut x[k + 1..]);
+}
+
 /// Apply H = I − τ v vᵀ (v₀ = 1 at row k) to four columns at once: one pass
 /// over v feeds four sums, where one column at a time would be a short dot
 /// product dominated by its reduction and tail.
@@ -96,9 +104,7 @@ impl PivotedQr<'_> {
                     reflect_four(tau, k, v, [c0, c1, c2, c3]);
                 }
                 for col in groups.into_remainder().chunks_exact_mut(rows) {
-                    let w = tau * (col[k] + dot(v, &col[k + 1..]));
-                    col[k] -= w;
-                    axpy(-w, v, &mut col[k + 1..]);
+                    reflect_one(tau, k, v, col);
                 }
             }
             if pivot {
@@ -198,13 +204,9 @@ impl PivotedQr<'_> {
 
     fn apply_reflector(&self, k: usize, x: &mut [f64]) {
         let tau = self.tau[k];
-        if tau == 0.0 {
-            return;
+        if tau != 0.0 {
+            reflect_one(tau, k, &self.col(k)[k + 1..], &mut x[..self.rows]);
         }
-        let v = &self.col(k)[k + 1..];
-        let w = tau * (x[k] + dot(v, &x[k + 1..self.rows]));
-        x[k] -= w;
-        axpy(-w, v, &mut x[k + 1..self.rows]);
     }
 
     /// x ← R⁻¹ x on the leading `cols` entries (back substitution).
