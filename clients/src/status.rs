@@ -66,6 +66,7 @@ pub fn to_json(t: &Telemetry) -> Value {
             "motor_fifo": flag(Telemetry::RT_MOTOR_FIFO),
             "solver_fifo": flag(Telemetry::RT_SOLVER_FIFO),
             "motor_pinned": flag(Telemetry::RT_MOTOR_PINNED),
+            "receiver_fifo": flag(Telemetry::RT_RECEIVER_FIFO),
             "allocations_counted": flag(Telemetry::RT_ALLOCATIONS_COUNTED),
         },
     })

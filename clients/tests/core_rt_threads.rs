@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use ipc_types::Telemetry;
 use rt_core::runtime::{CoreParams, RtAllocCounter, RunOptions, alloc_count, run_core_with_truth};
 
 #[global_allocator]
@@ -82,6 +83,12 @@ fn rt_threads_make_no_allocations_over_a_thousand_cycles() {
         report.realtime
     );
     assert!(report.realtime.allocations_counted, "the counting allocator is installed");
+    // The defaults pin motor and solver apart, so the receiver gets SCHED_FIFO
+    // on the motor's CPU exactly when the motor got both (same rights).
+    let r = report.realtime;
+    assert_eq!(r.receiver.fifo, r.motor.fifo && r.motor.pinned, "{r:?}");
+    assert_eq!(r.receiver.fifo, r.receiver.pinned, "FIFO only together with the pin: {r:?}");
+    assert_eq!(t.realtime_flags & Telemetry::RT_RECEIVER_FIFO != 0, r.receiver.fifo);
     assert!(t.cycle >= 1000, "only {} cycles ran", t.cycle);
     assert!(t.counters.schedule_swaps >= 10, "schedules were swapped in");
     assert_eq!(t.counters.rt_thread_allocations, 0, "heap allocations on the motor/solver threads");

@@ -144,6 +144,8 @@ impl Telemetry {
     pub const RT_ALLOCATIONS_COUNTED: u32 = 8;
     /// The motor thread is pinned to its CPU.
     pub const RT_MOTOR_PINNED: u32 = 16;
+    /// The iceoryx2 receiver thread runs SCHED_FIFO on the motor's CPU.
+    pub const RT_RECEIVER_FIFO: u32 = 32;
 
     /// Current protocol version, state idle, everything else 0.
     pub const fn new() -> Self {

@@ -71,6 +71,9 @@ pub struct RealtimeStatus {
     pub memory_locked: bool,
     pub motor: ThreadPlacement,
     pub solver: ThreadPlacement,
+    /// The iceoryx2 receiver thread (SCHED_FIFO only in event mode, and only
+    /// pinned to the motor's CPU).
+    pub receiver: ThreadPlacement,
     pub allocations_counted: bool,
 }
 
@@ -91,6 +94,9 @@ impl RealtimeStatus {
         }
         if self.motor.pinned {
             f |= Telemetry::RT_MOTOR_PINNED;
+        }
+        if self.receiver.fifo {
+            f |= Telemetry::RT_RECEIVER_FIFO;
         }
         f
     }
@@ -203,7 +209,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     // when a publisher connects, so it runs here and feeds the solver a ring.
     let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<Received>::new(INBOUND_RING);
     let motor_fifo = Arc::new(core::sync::atomic::AtomicBool::new(false));
-    let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<(), StartError>>();
+    let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
     let receiver_thread = {
         let (shared, prefix, poll_ns, wake, motor_cpu, solver_cpu, motor_fifo) = (
             shared.clone(),
@@ -223,11 +229,12 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                 // motor preempts it. Only there: if the motor is unpinned or
                 // shares the solver's CPU, or the pin or SCHED_FIFO is refused,
                 // it stays a normal thread.
+                let mut placement = ThreadPlacement::default();
                 if let (ReceiverWake::Event, Some(cpu)) = (wake, motor_cpu)
                     && rx_priority > 0
                     && solver_cpu != Some(cpu)
                 {
-                    let _ = make_current_thread_realtime_on(rx_priority, cpu);
+                    placement = make_current_thread_realtime_on(rx_priority, cpu);
                 }
                 let mut inbox = match IpcInbox::new(&prefix) {
                     Ok(i) => i,
@@ -236,7 +243,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                         return;
                     }
                 };
-                let _ = rx_ready_tx.send(Ok(()));
+                let _ = rx_ready_tx.send(Ok(placement));
                 let mut ring = inbound_tx;
                 let mut buf = InboxBuffers::default();
                 // Without a wake-up, look twice per solver period.
@@ -268,7 +275,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             .map_err(|_| StartError::Thread { thread: "ipc receiver" })?
     };
     match rx_ready_rx.recv() {
-        Ok(Ok(())) => {}
+        Ok(Ok(placement)) => realtime.receiver = placement,
         Ok(Err(e)) => {
             let _ = receiver_thread.join();
             return Err(e);
