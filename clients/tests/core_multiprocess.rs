@@ -10,7 +10,6 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use ipc_types::ports::open_pub_sub;
 use ipc_types::{CoreState, Schedule, service_names};
 use upm_clients::status::read_telemetry;
 
@@ -58,11 +57,7 @@ fn core_process_round_trip_hold_single_instance_and_clean_stop() {
 
         // Subscribe to schedules, then feed.
         let node = common::plain_node(&prefix);
-        let schedules = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)
-            .expect("service")
-            .subscriber_builder()
-            .create()
-            .expect("subscriber");
+        let schedules = common::subscriber::<Schedule>(&node, service_names::SCHEDULE);
         let (stop, feeder) = start_feeder(&prefix);
         let start = Instant::now();
         let mut got = None;

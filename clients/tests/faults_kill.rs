@@ -19,7 +19,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::{Sub, open_pub_sub};
+use ipc_types::ports::Sub;
 use ipc_types::rig_node::{files_open_to_others, rig_node};
 use ipc_types::{CoreState, Telemetry, service_names};
 
@@ -80,11 +80,7 @@ struct TelemetryWatch {
 impl TelemetryWatch {
     fn new(prefix: &str) -> Self {
         let node = rig_node(prefix, None, SignalHandlingMode::Disabled).expect("node");
-        let sub = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)
-            .expect("service")
-            .subscriber_builder()
-            .create()
-            .expect("subscriber");
+        let sub = common::subscriber::<Telemetry>(&node, service_names::TELEMETRY);
         Self { sub, _node: node }
     }
 
@@ -358,11 +354,7 @@ fn the_prefix_shared_memory_is_owner_only() {
     // Wait for its telemetry (all its services exist) through a plain node:
     // it joins the core's existing segments and tightens nothing.
     let node = common::plain_node(&prefix);
-    let telemetry = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)
-        .expect("service")
-        .subscriber_builder()
-        .create()
-        .expect("subscriber");
+    let telemetry = common::subscriber::<Telemetry>(&node, service_names::TELEMETRY);
     let mut up = false;
     while !up && start.elapsed() < Duration::from_secs(30) {
         while let Some(t) = telemetry.receive().expect("receive") {

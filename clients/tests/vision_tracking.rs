@@ -6,7 +6,6 @@ mod common;
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
-use ipc_types::ports::open_pub_sub;
 use ipc_types::{PartStates, service_names};
 use upm_clients::vision::{Detection, Tracker, TrackerParams};
 
@@ -87,11 +86,7 @@ fn vision_process_publishes_tracked_part_states_from_the_simulator() {
             .expect("vision"),
     );
     let node = common::plain_node(&prefix);
-    let sub = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
-        .expect("service")
-        .subscriber_builder()
-        .create()
-        .expect("subscriber");
+    let sub = common::subscriber::<PartStates>(&node, service_names::PART_STATES);
     let start = Instant::now();
     let mut frames = Vec::new();
     while frames.len() < 20 && start.elapsed() < Duration::from_secs(30) {
