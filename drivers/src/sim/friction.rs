@@ -157,3 +157,97 @@ pub(crate) fn step(
     }
     disp
 }
+
+/// `advance` for a point part (no rotation).
+#[inline(always)]
+fn advance_point(v: &mut [f64; 2], disp: &mut [f64; 2], g: [f64; 2], s: f64) {
+    for i in 0..2 {
+        disp[i] += v[i] * s + 0.5 * g[i] * s * s;
+        v[i] += g[i] * s;
+    }
+}
+
+/// [`step`] for a point part, the common case made cheap: one branch while
+/// stuck, two square roots while sliding, and no division in the event test.
+/// Same model and event logic; the rest tolerances use (|a| + μ_k g)² ≤
+/// 2(|a|² + (μ_k g)²) to avoid a square root.
+#[inline]
+pub(crate) fn step_point(
+    mut xi: [f64; 2],
+    v: &mut [f64; 2],
+    a: [f64; 2],
+    h: f64,
+    mu: Coulomb,
+    stuck: &mut bool,
+) -> [f64; 2] {
+    let ck = mu.kinetic;
+    let aa = a[0] * a[0] + a[1] * a[1];
+    let sticks = aa <= mu.stat * mu.stat;
+    let mut disp = [0.0; 2];
+    if *stuck {
+        if sticks {
+            advance_point(v, &mut disp, a, h);
+            return disp;
+        }
+        *stuck = false;
+        xi = [0.0; 2];
+    }
+    let scale2 = 2.0 * (aa + ck * ck) * h * h;
+    let (tol2, snap2) = (1e-18 * scale2, 1e-12 * scale2);
+    let dot = |x: [f64; 2], y: [f64; 2]| x[0] * y[0] + x[1] * y[1];
+    let mut rem = h;
+    for piece in 0..MAX_PIECES {
+        let n2 = dot(xi, xi);
+        let at_rest = n2 <= tol2;
+        if at_rest {
+            v[0] += xi[0];
+            v[1] += xi[1];
+            xi = [0.0; 2];
+            if sticks {
+                *stuck = true;
+                advance_point(v, &mut disp, a, rem);
+                return disp;
+            }
+        }
+        // Leaving rest, friction opposes a (|a| > μ_s g > 0 here).
+        let (dir, d2) = if at_rest { (a, aa) } else { (xi, n2) };
+        let k = ck / d2.sqrt();
+        let g = [k * dir[0], k * dir[1]];
+        let bv = [a[0] - g[0], a[1] - g[1]];
+        let bb = dot(bv, bv);
+        // s* = −ξ·b / b·b, compared without dividing (b·b > 0).
+        let num = -dot(xi, bv);
+        if piece + 1 < MAX_PIECES && bb > 0.0 && num > 1e-3 * h * bb && num < rem * bb {
+            let s_star = num / bb;
+            advance_point(v, &mut disp, g, s_star);
+            xi = [xi[0] + bv[0] * s_star, xi[1] + bv[1] * s_star];
+            rem -= s_star;
+            if dot(xi, xi) <= snap2 {
+                v[0] += xi[0];
+                v[1] += xi[1];
+                xi = [0.0; 2];
+            }
+            continue;
+        }
+        let xm = [xi[0] + 0.5 * bv[0] * rem, xi[1] + 0.5 * bv[1] * rem];
+        let m2 = dot(xm, xm);
+        let g2 = if m2 > tol2 {
+            let k = ck / m2.sqrt();
+            [k * xm[0], k * xm[1]]
+        } else {
+            g
+        };
+        advance_point(v, &mut disp, g2, rem);
+        return disp;
+    }
+    // Out of pieces (MAX_PIECES − 1 events in one step): plain Euler.
+    let g = if dot(xi, xi) > tol2 {
+        let k = ck / dot(xi, xi).sqrt();
+        [k * xi[0], k * xi[1]]
+    } else {
+        let k = ck / aa.sqrt();
+        [k * a[0], k * a[1]]
+    };
+    advance_point(v, &mut disp, g, rem);
+    disp
+}

@@ -11,6 +11,7 @@ mod contact;
 mod friction;
 mod part;
 mod plate;
+mod point_lanes;
 
 use core::fmt;
 
@@ -26,6 +27,7 @@ use contact::Broadphase;
 use friction::Coulomb;
 use part::Body;
 use plate::{Plate, Target};
+use point_lanes::PlateNow;
 
 use crate::rng::SplitMix64;
 
@@ -79,6 +81,9 @@ pub struct Simulator {
     holding: bool,
     bodies: Vec<Body>,
     parts: Vec<PartState>,
+    /// Indices of point parts (stepped four at a time) and of the others.
+    points: Vec<usize>,
+    extended: Vec<usize>,
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
@@ -99,7 +104,11 @@ impl Simulator {
             states.push(PartState { position: spec.position, angle: spec.angle, ..PartState::default() });
         }
         let limits = ActuatorLimits::from_rig(&rig);
+        let (extended, points): (Vec<usize>, Vec<usize>) =
+            (0..bodies.len()).partition(|&i| bodies[i].extended);
         Ok(Self {
+            points,
+            extended,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
             h: 1.0 / cfg.tick_hz,
             plate: Plate::default(),
@@ -189,7 +198,10 @@ impl Simulator {
                 &mut self.rng,
             );
             let (pose, vel, acc) = (self.plate.pose, self.plate.vel, self.plate.acc);
-            for (body, p) in self.bodies.iter().zip(self.parts.iter_mut()) {
+            let now = PlateNow { x: pose.x, y: pose.y, vel, acc };
+            point_lanes::step_points(&now, &mut self.parts, &self.points, s, self.mu);
+            for &i in &self.extended {
+                let (body, p) = (&self.bodies[i], &mut self.parts[i]);
                 let vpl = vel.at(&pose, p.position);
                 // d/dt of the plate velocity seen along the part's path.
                 let (rx, ry) = (p.position[0] - pose.x, p.position[1] - pose.y);
@@ -197,14 +209,10 @@ impl Simulator {
                 let a = [
                     acc.x - acc.theta * ry - vel.theta * uy,
                     acc.y + acc.theta * rx + vel.theta * ux,
-                    if body.extended { acc.theta } else { 0.0 },
+                    acc.theta,
                 ];
-                let wp = if body.extended { p.angular_velocity } else { 0.0 };
-                let xi = [
-                    vpl[0] - p.velocity[0],
-                    vpl[1] - p.velocity[1],
-                    if body.extended { vel.theta - wp } else { 0.0 },
-                ];
+                let wp = p.angular_velocity;
+                let xi = [vpl[0] - p.velocity[0], vpl[1] - p.velocity[1], vel.theta - wp];
                 let mut vp = [p.velocity[0], p.velocity[1], wp];
                 let d = friction::step(body, p.angle, xi, &mut vp, a, s, self.mu, &mut p.stuck);
                 p.position[0] += d[0];
@@ -216,11 +224,10 @@ impl Simulator {
             self.plate.integrate(s);
         }
         // The reference has reached this tick's setpoint.
-        self.target.prev_pose = self.target.pose;
-        self.target.prev_vel = self.target.vel;
+        self.target.advance();
         if let ActuatorModel::Ideal = self.cfg.actuator {
             // Land exactly on the command (keeps closed motions exactly closed).
-            self.plate.pose = self.target.pose;
+            self.plate.set_pose(self.target.pose);
             self.plate.vel = self.target.vel;
         }
         if self.cfg.collisions && self.parts.len() > 1 {
@@ -232,7 +239,7 @@ impl Simulator {
             );
         }
         if self.cfg.fence {
-            let sc = self.plate.pose.theta.sin_cos();
+            let sc = self.plate.sc;
             for (body, p) in self.bodies.iter().zip(self.parts.iter_mut()) {
                 let hit = contact::fence(
                     body,
@@ -264,7 +271,7 @@ impl PlateDriver for Simulator {
         state.time = self.time();
         state.pose = self.plate.pose;
         state.velocity = self.plate.vel;
-        self.rig.actuator_positions(&self.plate.pose, &mut state.actuator_position);
+        self.rig.actuator_positions_sc(&self.plate.pose, self.plate.sc, &mut state.actuator_position);
         state.actuator_force = self.plate.force;
         state.clamped = self.counters.clamped;
         state.rejected = self.counters.rejected;
@@ -276,7 +283,7 @@ impl PlateDriver for Simulator {
         match apply_limits(&self.limits, command, &mut self.command) {
             Ok(clamped) => {
                 self.counters.clamped += clamped as u64;
-                self.target = Target::from_command(&self.rig, &self.command, &self.target);
+                self.target = Target::from_command(self.cfg.actuator, &self.rig, &self.command, &self.target);
                 self.holding = false;
                 Ok(())
             }
@@ -289,7 +296,8 @@ impl PlateDriver for Simulator {
 
     fn hold(&mut self) {
         self.command = ActuatorCommand::HOME;
-        self.target = Target::from_command(&self.rig, &ActuatorCommand::HOME, &self.target);
+        self.target =
+            Target::from_command(self.cfg.actuator, &self.rig, &ActuatorCommand::HOME, &self.target);
         self.holding = true;
     }
 

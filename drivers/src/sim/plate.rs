@@ -1,15 +1,17 @@
 //! The plate and its actuator model.
 
 use rt_core::driver::{ActuatorCommand, MAX_ACTUATORS};
-use rt_core::motion::{Pose, Rig, Twist};
+use rt_core::motion::{Pose, Rig, Twist, sin_cos};
 
 use super::config::ActuatorModel;
 use crate::rng::SplitMix64;
 
 /// Rigid plate state; `acc` is held constant over the current substep.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Plate {
     pub pose: Pose,
+    /// (sin θ, cos θ) of `pose`, kept in step with it by [`Plate::set_pose`].
+    pub sc: (f64, f64),
     pub vel: Twist,
     pub acc: Twist,
     /// Actuator forces applied over the current substep (N).
@@ -18,31 +20,63 @@ pub(crate) struct Plate {
     pub saturated: u64,
 }
 
+impl Default for Plate {
+    fn default() -> Self {
+        Self {
+            pose: Pose::HOME,
+            sc: (0.0, 1.0),
+            vel: Twist::default(),
+            acc: Twist::default(),
+            force: [0.0; MAX_ACTUATORS],
+            saturated: 0,
+        }
+    }
+}
+
 /// Target of the current tick, derived once per accepted command. A command
 /// is the setpoint for the end of the tick; the servo's reference moves
-/// linearly from the previous setpoint to it during the tick.
+/// linearly from the previous setpoint to it during the tick, in actuator
+/// space (the servo is closed on the actuator positions, as on a rig).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Target {
+    /// Plate pose and twist of the command: solved only for the ideal model,
+    /// which lands on them exactly.
     pub pose: Pose,
     pub vel: Twist,
-    pub prev_pose: Pose,
-    pub prev_vel: Twist,
+    /// The command's positions and velocities projected to plate DoF
+    /// ([`Rig::project`]), and those of the previous command.
+    pub dof: [f64; 3],
+    pub dof_vel: [f64; 3],
+    pub prev_dof: [f64; 3],
+    pub prev_dof_vel: [f64; 3],
     pub ff: [f64; MAX_ACTUATORS],
 }
 
 impl Target {
-    pub fn from_command(rig: &Rig, cmd: &ActuatorCommand, previous: &Target) -> Self {
-        let pose = rig.pose_from_actuators(&cmd.position);
-        let vel = rig.twist_from_actuators(&pose, &cmd.velocity);
-        Self { pose, vel, prev_pose: previous.pose, prev_vel: previous.vel, ff: cmd.force }
+    pub fn from_command(model: ActuatorModel, rig: &Rig, cmd: &ActuatorCommand, previous: &Target) -> Self {
+        let (pose, vel) = match model {
+            ActuatorModel::Ideal => {
+                let pose = rig.pose_from_actuators(&cmd.position);
+                (pose, rig.twist_from_actuators(&pose, &cmd.velocity))
+            }
+            ActuatorModel::SecondOrder { .. } => (Pose::HOME, Twist::default()),
+        };
+        Self {
+            pose,
+            vel,
+            dof: rig.project(&cmd.position),
+            dof_vel: rig.project(&cmd.velocity),
+            prev_dof: previous.dof,
+            prev_dof_vel: previous.dof_vel,
+            ff: cmd.force,
+        }
     }
 
-    /// Reference pose and velocity at fraction `f` of the tick.
+    /// The setpoint has been reached: it is the start of the next tick.
     #[inline]
-    fn reference(&self, f: f64) -> ([f64; 3], [f64; 3]) {
-        let l = |a: f64, b: f64| a + (b - a) * f;
-        let (p, q, v, w) = (&self.prev_pose, &self.pose, &self.prev_vel, &self.vel);
-        ([l(p.x, q.x), l(p.y, q.y), l(p.theta, q.theta)], [l(v.x, w.x), l(v.y, w.y), l(v.theta, w.theta)])
+    pub fn advance(&mut self) {
+        self.prev_dof = self.dof;
+        self.prev_dof_vel = self.dof_vel;
     }
 }
 
@@ -76,9 +110,14 @@ impl Plate {
                 let w = core::f64::consts::TAU * bandwidth_hz;
                 let (kp, kd) = (w * w, 2.0 * damping * w);
                 let p = rig.params();
-                let (rp, rv) = target.reference(fraction);
-                let e = [rp[0] - self.pose.x, rp[1] - self.pose.y, rp[2] - self.pose.theta];
-                let ed = [rv[0] - self.vel.x, rv[1] - self.vel.y, rv[2] - self.vel.theta];
+                // Tracking error in actuator space, mapped to plate DoF (the
+                // map is linear, so the reference is interpolated after it).
+                let q = rig.project_pose(&self.pose, self.sc);
+                let qv = rig.project_twist(self.sc, &self.vel);
+                let l = |a: [f64; 3], b: [f64; 3], i: usize| a[i] + (b[i] - a[i]) * fraction;
+                let e: [f64; 3] = core::array::from_fn(|i| l(target.prev_dof, target.dof, i) - q[i]);
+                let ed: [f64; 3] =
+                    core::array::from_fn(|i| l(target.prev_dof_vel, target.dof_vel, i) - qv[i]);
                 let inertia = [p.plate_mass, p.plate_mass, p.plate_inertia];
                 let pd = Twist {
                     x: kp * e[0] + kd * ed[0],
@@ -101,7 +140,7 @@ impl Plate {
                     *fi = v;
                 }
                 self.saturated += sat as u64;
-                let q = rig.generalized_force(&self.pose, &f);
+                let q = rig.generalized_force_sc(self.sc, &f);
                 self.acc = Twist { x: q[0] / inertia[0], y: q[1] / inertia[1], theta: q[2] / inertia[2] };
                 self.force = f;
             }
@@ -118,5 +157,12 @@ impl Plate {
         self.vel.x += a.x * s;
         self.vel.y += a.y * s;
         self.vel.theta += a.theta * s;
+        self.sc = sin_cos(self.pose.theta);
+    }
+
+    #[inline]
+    pub fn set_pose(&mut self, pose: Pose) {
+        self.pose = pose;
+        self.sc = sin_cos(pose.theta);
     }
 }

@@ -35,30 +35,31 @@ pub fn apply_limits(
     out: &mut ActuatorCommand,
 ) -> Result<u32, WriteError> {
     let n = limits.count.min(MAX_ACTUATORS);
-    for i in 0..n {
-        if !(cmd.position[i].is_finite() && cmd.velocity[i].is_finite() && cmd.force[i].is_finite()) {
-            return Err(WriteError::NonFinite { actuator: i });
-        }
+    // Branch-free scan first (the common case); the index only on failure.
+    let finite =
+        |i: usize| cmd.position[i].is_finite() & cmd.velocity[i].is_finite() & cmd.force[i].is_finite();
+    if !(0..n).fold(true, |ok, i| ok & finite(i)) {
+        let actuator = (0..n).find(|&i| !finite(i)).unwrap_or(0);
+        return Err(WriteError::NonFinite { actuator });
     }
     let mut clamped = 0;
+    // Limits are validated positive and v is finite: two compares (what
+    // minsd/maxsd do), not f64::clamp, which re-checks its bounds per call.
     let mut clamp = |v: f64, lim: f64| {
-        if v.abs() > lim {
-            clamped += 1;
-            v.clamp(-lim, lim)
-        } else {
-            v
-        }
+        let c = if v > lim { lim } else { v };
+        let c = if c < -lim { -lim } else { c };
+        clamped += (c != v) as u32;
+        c
     };
-    for i in 0..MAX_ACTUATORS {
-        if i < n {
-            out.position[i] = clamp(cmd.position[i], limits.stroke[i]);
-            out.velocity[i] = clamp(cmd.velocity[i], limits.velocity[i]);
-            out.force[i] = clamp(cmd.force[i], limits.force[i]);
-        } else {
-            out.position[i] = 0.0;
-            out.velocity[i] = 0.0;
-            out.force[i] = 0.0;
-        }
+    for i in 0..n {
+        out.position[i] = clamp(cmd.position[i], limits.stroke[i]);
+        out.velocity[i] = clamp(cmd.velocity[i], limits.velocity[i]);
+        out.force[i] = clamp(cmd.force[i], limits.force[i]);
+    }
+    for i in n..MAX_ACTUATORS {
+        out.position[i] = 0.0;
+        out.velocity[i] = 0.0;
+        out.force[i] = 0.0;
     }
     Ok(clamped)
 }

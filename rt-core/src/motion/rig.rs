@@ -159,6 +159,11 @@ pub struct Rig {
     jac: [[f64; 3]; MAX_ACTUATORS],
     /// (JᵀJ)⁻¹Jᵀ, 3 × count.
     pinv: [[f64; MAX_ACTUATORS]; 3],
+    /// u_i·a_i: how a rotation shortens actuator i beyond the linear term,
+    /// s_i(x, y, θ) = J0_i·(x, y, sin θ) + (cos θ − 1)·u_i·a_i.
+    radial: [f64; MAX_ACTUATORS],
+    /// pinv · radial.
+    radial_dof: [f64; 3],
 }
 
 impl Rig {
@@ -168,7 +173,13 @@ impl Rig {
             let n = a.direction[0].hypot(a.direction[1]);
             a.direction = [a.direction[0] / n, a.direction[1] / n];
         }
-        let mut rig = Self { params, jac: [[0.0; 3]; MAX_ACTUATORS], pinv: [[0.0; MAX_ACTUATORS]; 3] };
+        let mut rig = Self {
+            params,
+            jac: [[0.0; 3]; MAX_ACTUATORS],
+            pinv: [[0.0; MAX_ACTUATORS]; 3],
+            radial: [0.0; MAX_ACTUATORS],
+            radial_dof: [0.0; 3],
+        };
         let mut jtj = [[0.0; 3]; 3];
         for i in 0..params.count {
             rig.jac[i] = rig.jacobian_row(i, 0.0);
@@ -184,6 +195,10 @@ impl Rig {
                 rig.pinv[r][i] = (0..3).map(|c| inv[r][c] * rig.jac[i][c]).sum();
             }
         }
+        for (r, a) in rig.radial.iter_mut().zip(&params.actuators[..params.count]) {
+            *r = a.direction[0] * a.attach[0] + a.direction[1] * a.attach[1];
+        }
+        rig.radial_dof = rig.project(&rig.radial);
         Ok(rig)
     }
 
@@ -213,22 +228,66 @@ impl Rig {
     /// Actuator positions for a pose (exact, nonlinear).
     #[inline]
     pub fn actuator_positions(&self, pose: &Pose, out: &mut [f64; MAX_ACTUATORS]) {
-        let (s, c) = super::pose::sin_cos(pose.theta);
-        for (i, a) in self.params.actuators[..self.params.count].iter().enumerate() {
-            let p = a.attach;
-            let w = [pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]];
-            out[i] = a.direction[0] * (w[0] - p[0]) + a.direction[1] * (w[1] - p[1]);
+        self.actuator_positions_sc(pose, super::pose::sin_cos(pose.theta), out);
+    }
+
+    /// Same, with (sin θ, cos θ) of the pose precomputed.
+    #[inline]
+    pub fn actuator_positions_sc(&self, pose: &Pose, (s, c): (f64, f64), out: &mut [f64; MAX_ACTUATORS]) {
+        // s_i = J0_i·(x, y, sin θ) + (cos θ − 1)·u_i·a_i, the same as
+        // u_i·(t + R(θ)a_i − a_i).
+        let k = c - 1.0;
+        for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
+            let j = &self.jac[i];
+            *o = j[0] * pose.x + j[1] * pose.y + j[2] * s + k * self.radial[i];
         }
     }
 
     /// Actuator velocities for a pose and plate twist.
     #[inline]
     pub fn actuator_velocities(&self, pose: &Pose, v: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
-        let sc = super::pose::sin_cos(pose.theta);
+        self.actuator_velocities_sc(super::pose::sin_cos(pose.theta), v, out);
+    }
+
+    /// Same, with (sin θ, cos θ) of the pose precomputed.
+    #[inline]
+    pub fn actuator_velocities_sc(&self, (s, c): (f64, f64), v: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
+        // J(θ)_i = (u_x, u_y, cos θ·J0_i2 − sin θ·u_i·a_i).
+        let (cw, sw) = (c * v.theta, s * v.theta);
         for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
-            let j = self.jacobian_row_sc(i, sc);
-            *o = j[0] * v.x + j[1] * v.y + j[2] * v.theta;
+            let j = &self.jac[i];
+            *o = j[0] * v.x + j[1] * v.y + j[2] * cw - sw * self.radial[i];
         }
+    }
+
+    /// `project(actuator_positions(pose))` in closed form (O(1), no loop):
+    /// (x + (c−1)·r₀, y + (c−1)·r₁, sin θ + (c−1)·r₂) with r = pinv·(u·a).
+    #[inline]
+    pub fn project_pose(&self, pose: &Pose, (s, c): (f64, f64)) -> [f64; 3] {
+        let (k, r) = (c - 1.0, &self.radial_dof);
+        [pose.x + k * r[0], pose.y + k * r[1], s + k * r[2]]
+    }
+
+    /// `project(actuator_velocities(pose, v))` in closed form:
+    /// (vx, vy, cos θ·ω) − sin θ·ω·r with r = pinv·(u·a).
+    #[inline]
+    pub fn project_twist(&self, (s, c): (f64, f64), v: &Twist) -> [f64; 3] {
+        let (k, r) = (s * v.theta, &self.radial_dof);
+        [v.x - k * r[0], v.y - k * r[1], c * v.theta - k * r[2]]
+    }
+
+    /// Linearised plate DoF of an actuator-space vector: the home
+    /// pseudo-inverse applied to it (exact at home, error ~|θ| elsewhere).
+    /// This is what a servo closed on the actuator encoders sees.
+    #[inline]
+    pub fn project(&self, s: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
+        let mut d = [0.0; 3];
+        for (i, &si) in s.iter().enumerate().take(self.params.count) {
+            for (dk, pk) in d.iter_mut().zip(&self.pinv) {
+                *dk += pk[i] * si;
+            }
+        }
+        d
     }
 
     /// Pose from actuator positions: least squares over all actuators,
@@ -319,14 +378,22 @@ impl Rig {
     /// Generalized force (Fx, Fy, torque) of actuator forces at a pose.
     #[inline]
     pub fn generalized_force(&self, pose: &Pose, f: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
-        let mut q = [0.0; 3];
-        let sc = super::pose::sin_cos(pose.theta);
+        self.generalized_force_sc(super::pose::sin_cos(pose.theta), f)
+    }
+
+    /// Same, with (sin θ, cos θ) of the pose precomputed.
+    #[inline]
+    pub fn generalized_force_sc(&self, (s, c): (f64, f64), f: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
+        // J(θ)_i = (u_x, u_y, cos θ·J0_i2 − sin θ·u_i·a_i).
+        let (mut q, mut radial) = ([0.0; 3], 0.0);
         for (i, &fi) in f.iter().enumerate().take(self.params.count) {
-            let j = self.jacobian_row_sc(i, sc);
-            for r in 0..3 {
-                q[r] += j[r] * fi;
-            }
+            let j = &self.jac[i];
+            q[0] += j[0] * fi;
+            q[1] += j[1] * fi;
+            q[2] += j[2] * fi;
+            radial += self.radial[i] * fi;
         }
+        q[2] = c * q[2] - s * radial;
         q
     }
 
@@ -334,8 +401,9 @@ impl Rig {
     /// feed-forward forces. Allocation-free.
     #[inline]
     pub fn command(&self, sample: &PlateSample, cmd: &mut ActuatorCommand) {
-        self.actuator_positions(&sample.pose, &mut cmd.position);
-        self.actuator_velocities(&sample.pose, &sample.velocity, &mut cmd.velocity);
+        let sc = super::pose::sin_cos(sample.pose.theta);
+        self.actuator_positions_sc(&sample.pose, sc, &mut cmd.position);
+        self.actuator_velocities_sc(sc, &sample.velocity, &mut cmd.velocity);
         self.feedforward_forces(&sample.acceleration, &mut cmd.force);
         for i in self.params.count..MAX_ACTUATORS {
             cmd.position[i] = 0.0;
