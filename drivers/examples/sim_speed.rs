@@ -1,10 +1,11 @@
-//! Real-time factor of the simulator: 10 parts, plate at 10 kHz, one core,
-//! the full lock-step loop (motion sampling + kinematics + driver write +
-//! simulator step). Usage: sim_speed [seconds] [case index] [profile]
+//! Real-time factor of the simulator: 10 parts, plate at 10 kHz, one core.
+//! Two figures: the full lock-step loop (motion sampling + kinematics +
+//! driver write + simulator step + read), and the driver alone (write +
+//! step + read) replaying one recorded cycle of commands. Usage: sim_speed [seconds] [case index] [profile]
 use std::time::Instant;
 
 use drivers::conformance::demo_motion;
-use drivers::lockstep::play;
+use drivers::lockstep::{play, record_commands, replay};
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;
@@ -40,40 +41,46 @@ fn main() {
         if only.is_some_and(|o| o != i) {
             continue;
         }
-        let mut cfg = SimConfig::default();
-        if std::env::var("NOCF").is_ok() {
-            cfg.collisions = false;
-            cfg.fence = false;
-        }
+        let cfg = SimConfig::default();
         let ps = if matches!(shape, Shape::Point { radius } if radius < 0.0) { vec![] } else { parts(shape) };
         let rig = Rig::new(cfg.rig).expect("rig");
         let motion = demo_motion();
         let ticks = (seconds * cfg.tick_hz) as u64;
+        let commands = record_commands(&rig, &motion, 1.0 / cfg.tick_hz, motion.cycle_ticks());
+        // Full loop (motion sampling + kinematics + driver), then the driver
+        // alone replaying one recorded cycle of commands.
+        let run = |driver_only: bool| {
+            let mut sim = Box::new(Simulator::new(cfg, &ps).expect("sim"));
+            let mut st = PlateState::default();
+            let t0 = Instant::now();
+            if driver_only {
+                replay(&mut *sim, &commands, ticks, &mut st).expect("read");
+            } else {
+                play(&mut *sim, &rig, &motion, 0, ticks, &mut st).expect("read");
+            }
+            t0.elapsed().as_secs_f64()
+        };
         // Warm up first (this VM's clock ramps up over ~0.1 s of load), then
-        // take the median of REPEATS fresh runs.
+        // take the median of REPEATS fresh runs of each, interleaved.
         let warm = Instant::now();
         while !profile && warm.elapsed().as_secs_f64() < 0.3 {
-            let mut sim = Simulator::new(cfg, &ps).expect("sim");
-            let mut st = PlateState::default();
-            play(&mut sim, &rig, &motion, 0, ticks.min(10_000), &mut st).expect("read");
+            run(false);
         }
         let repeats = if profile { 1 } else { REPEATS };
-        let mut walls: Vec<f64> = (0..repeats)
-            .map(|_| {
-                let mut sim = Box::new(Simulator::new(cfg, &ps).expect("sim"));
-                let mut st = PlateState::default();
-                let t0 = Instant::now();
-                play(&mut *sim, &rig, &motion, 0, ticks, &mut st).expect("read");
-                t0.elapsed().as_secs_f64()
-            })
-            .collect();
-        walls.sort_by(f64::total_cmp);
-        let wall = walls[repeats / 2];
+        let (mut full, mut alone): (Vec<f64>, Vec<f64>) =
+            (0..repeats).map(|_| (run(false), run(true))).unzip();
+        full.sort_by(f64::total_cmp);
+        alone.sort_by(f64::total_cmp);
+        let (f, a) = (full[repeats / 2], alone[repeats / 2]);
+        let ns = |w: f64| w / ticks as f64 * 1e9;
         println!(
-            "{name:26} sim {seconds:.1} s in {wall:.3} s wall (median of {repeats}): {:.0}x real time ({:.0} ns/tick; best {:.0}x)",
-            seconds / wall,
-            wall / ticks as f64 * 1e9,
-            seconds / walls[0],
+            "{name:26} full loop {:4.0}x ({:4.0} ns/tick, best {:4.0}x) | driver alone {:4.0}x ({:4.0} ns/tick, best {:4.0}x)   [median of {repeats}, {seconds} s]",
+            seconds / f,
+            ns(f),
+            seconds / full[0],
+            seconds / a,
+            ns(a),
+            seconds / alone[0],
         );
     }
 }

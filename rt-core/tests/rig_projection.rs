@@ -51,10 +51,10 @@ fn velocities_by_definition(rig: &Rig, theta: f64, v: &Twist) -> [f64; MAX_ACTUA
 /// Column-by-column J(θ)ᵀf, the definition.
 fn generalized_force_loop(rig: &Rig, theta: f64, f: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
     let mut q = [0.0; 3];
-    for i in 0..rig.count() {
+    for (i, fi) in f.iter().enumerate().take(rig.count()) {
         let j = jacobian_row(rig, i, theta);
         for r in 0..3 {
-            q[r] += j[r] * f[i];
+            q[r] += j[r] * fi;
         }
     }
     q

@@ -104,22 +104,20 @@ pub(crate) fn collide(
     hits
 }
 
-/// Keep a part inside the plate outline shrunk by its radius. Returns true
-/// on an impact.
+/// Keep a part inside the plate outline shrunk by its radius (`lim`, see
+/// [`fence_limits`]). Returns true on an impact.
 #[inline]
 pub(crate) fn fence(
-    body: &Body,
+    lim: [f64; 2],
     part: &mut PartState,
     plate: &Pose,
     (sn, cs): (f64, f64),
     plate_vel: &Twist,
-    half: [f64; 2],
     restitution: f64,
 ) -> bool {
     let (dx, dy) = (part.position[0] - plate.x, part.position[1] - plate.y);
     let q = [cs * dx + sn * dy, -sn * dx + cs * dy];
-    let lim = [(half[0] - body.radius).max(0.0), (half[1] - body.radius).max(0.0)];
-    if q[0].abs() <= lim[0] && q[1].abs() <= lim[1] {
+    if (q[0].abs() <= lim[0]) & (q[1].abs() <= lim[1]) {
         return false;
     }
     let qc = [q[0].clamp(-lim[0], lim[0]), q[1].clamp(-lim[1], lim[1])];
@@ -145,4 +143,10 @@ pub(crate) fn fence(
         part.stuck = false;
     }
     hit
+}
+
+/// Half-extents of the region a part's center may occupy: the plate outline
+/// shrunk by the part's bounding radius.
+pub(crate) fn fence_limits(body: &Body, half: [f64; 2]) -> [f64; 2] {
+    [(half[0] - body.radius).max(0.0), (half[1] - body.radius).max(0.0)]
 }

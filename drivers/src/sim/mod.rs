@@ -84,6 +84,8 @@ pub struct Simulator {
     /// Indices of point parts (stepped four at a time) and of the others.
     points: Vec<usize>,
     extended: Vec<usize>,
+    /// Per part, [`contact::fence_limits`].
+    fence_limits: Vec<[f64; 2]>,
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
@@ -106,7 +108,9 @@ impl Simulator {
         let limits = ActuatorLimits::from_rig(&rig);
         let (extended, points): (Vec<usize>, Vec<usize>) =
             (0..bodies.len()).partition(|&i| bodies[i].extended);
+        let fence_limits = bodies.iter().map(|b| contact::fence_limits(b, cfg.plate_half_extent)).collect();
         Ok(Self {
+            fence_limits,
             points,
             extended,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
@@ -240,16 +244,9 @@ impl Simulator {
         }
         if self.cfg.fence {
             let sc = self.plate.sc;
-            for (body, p) in self.bodies.iter().zip(self.parts.iter_mut()) {
-                let hit = contact::fence(
-                    body,
-                    p,
-                    &self.plate.pose,
-                    sc,
-                    &self.plate.vel,
-                    self.cfg.plate_half_extent,
-                    self.cfg.fence_restitution,
-                );
+            for (&lim, p) in self.fence_limits.iter().zip(self.parts.iter_mut()) {
+                let hit =
+                    contact::fence(lim, p, &self.plate.pose, sc, &self.plate.vel, self.cfg.fence_restitution);
                 self.counters.fence_hits += hit as u64;
             }
         }
@@ -283,7 +280,7 @@ impl PlateDriver for Simulator {
         match apply_limits(&self.limits, command, &mut self.command) {
             Ok(clamped) => {
                 self.counters.clamped += clamped as u64;
-                self.target = Target::from_command(self.cfg.actuator, &self.rig, &self.command, &self.target);
+                self.target.accept(self.cfg.actuator, &self.rig, &self.command);
                 self.holding = false;
                 Ok(())
             }
@@ -296,8 +293,7 @@ impl PlateDriver for Simulator {
 
     fn hold(&mut self) {
         self.command = ActuatorCommand::HOME;
-        self.target =
-            Target::from_command(self.cfg.actuator, &self.rig, &ActuatorCommand::HOME, &self.target);
+        self.target.accept(self.cfg.actuator, &self.rig, &ActuatorCommand::HOME);
         self.holding = true;
     }
 

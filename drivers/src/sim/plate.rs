@@ -53,23 +53,17 @@ pub(crate) struct Target {
 }
 
 impl Target {
-    pub fn from_command(model: ActuatorModel, rig: &Rig, cmd: &ActuatorCommand, previous: &Target) -> Self {
-        let (pose, vel) = match model {
-            ActuatorModel::Ideal => {
-                let pose = rig.pose_from_actuators(&cmd.position);
-                (pose, rig.twist_from_actuators(&pose, &cmd.velocity))
-            }
-            ActuatorModel::SecondOrder { .. } => (Pose::HOME, Twist::default()),
-        };
-        Self {
-            pose,
-            vel,
-            dof: rig.project(&cmd.position),
-            dof_vel: rig.project(&cmd.velocity),
-            prev_dof: previous.dof,
-            prev_dof_vel: previous.dof_vel,
-            ff: cmd.force,
+    /// Take an accepted command as the setpoint for the end of this tick
+    /// (in place: the writer's hot path copies nothing else).
+    #[inline]
+    pub fn accept(&mut self, model: ActuatorModel, rig: &Rig, cmd: &ActuatorCommand) {
+        if let ActuatorModel::Ideal = model {
+            self.pose = rig.pose_from_actuators(&cmd.position);
+            self.vel = rig.twist_from_actuators(&self.pose, &cmd.velocity);
         }
+        self.dof = rig.project(&cmd.position);
+        self.dof_vel = rig.project(&cmd.velocity);
+        self.ff = cmd.force;
     }
 
     /// The setpoint has been reached: it is the start of the next tick.

@@ -281,11 +281,12 @@ impl Rig {
     /// This is what a servo closed on the actuator encoders sees.
     #[inline]
     pub fn project(&self, s: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
+        let (p, n) = (&self.pinv, self.params.count.min(MAX_ACTUATORS));
         let mut d = [0.0; 3];
-        for (i, &si) in s.iter().enumerate().take(self.params.count) {
-            for (dk, pk) in d.iter_mut().zip(&self.pinv) {
-                *dk += pk[i] * si;
-            }
+        for i in 0..n {
+            d[0] += p[0][i] * s[i];
+            d[1] += p[1][i] * s[i];
+            d[2] += p[2][i] * s[i];
         }
         d
     }
