@@ -73,9 +73,10 @@ fn sticks(b: &Body, a: [f64; 3], cs: f64) -> bool {
 
 /// Part twist velocity and displacement over a piece of length `s` with
 /// constant acceleration `g`.
-#[inline]
-fn advance(vp: &mut [f64; 3], disp: &mut [f64; 3], g: [f64; 3], s: f64) {
-    for i in 0..3 {
+/// N = 3 for a twist (x, y, θ), 2 for a point part.
+#[inline(always)]
+fn advance<const N: usize>(vp: &mut [f64; N], disp: &mut [f64; N], g: [f64; N], s: f64) {
+    for i in 0..N {
         disp[i] += vp[i] * s + 0.5 * g[i] * s * s;
         vp[i] += g[i] * s;
     }
@@ -158,15 +159,6 @@ pub(crate) fn step(
     disp
 }
 
-/// `advance` for a point part (no rotation).
-#[inline(always)]
-fn advance_point(v: &mut [f64; 2], disp: &mut [f64; 2], g: [f64; 2], s: f64) {
-    for i in 0..2 {
-        disp[i] += v[i] * s + 0.5 * g[i] * s * s;
-        v[i] += g[i] * s;
-    }
-}
-
 /// [`step`] for a point part, the common case made cheap: one branch while
 /// stuck, two square roots while sliding, and no division in the event test.
 /// Same model and event logic; the rest tolerances use (|a| + μ_k g)² ≤
@@ -186,7 +178,7 @@ pub(crate) fn step_point(
     let mut disp = [0.0; 2];
     if *stuck {
         if sticks {
-            advance_point(v, &mut disp, a, h);
+            advance(v, &mut disp, a, h);
             return disp;
         }
         *stuck = false;
@@ -205,7 +197,7 @@ pub(crate) fn step_point(
             xi = [0.0; 2];
             if sticks {
                 *stuck = true;
-                advance_point(v, &mut disp, a, rem);
+                advance(v, &mut disp, a, rem);
                 return disp;
             }
         }
@@ -219,7 +211,7 @@ pub(crate) fn step_point(
         let num = -dot(xi, bv);
         if piece + 1 < MAX_PIECES && bb > 0.0 && num > 1e-3 * h * bb && num < rem * bb {
             let s_star = num / bb;
-            advance_point(v, &mut disp, g, s_star);
+            advance(v, &mut disp, g, s_star);
             xi = [xi[0] + bv[0] * s_star, xi[1] + bv[1] * s_star];
             rem -= s_star;
             if dot(xi, xi) <= snap2 {
@@ -237,7 +229,7 @@ pub(crate) fn step_point(
         } else {
             g
         };
-        advance_point(v, &mut disp, g2, rem);
+        advance(v, &mut disp, g2, rem);
         return disp;
     }
     // Out of pieces (MAX_PIECES − 1 events in one step): plain Euler.
@@ -248,6 +240,6 @@ pub(crate) fn step_point(
         let k = ck / aa.sqrt();
         [k * a[0], k * a[1]]
     };
-    advance_point(v, &mut disp, g, rem);
+    advance(v, &mut disp, g, rem);
     disp
 }
