@@ -22,6 +22,44 @@ fn main() -> anyhow::Result<()> {
         r.saturated_schedules,
         r.schedules
     );
+    // Optional: trails picture, and for sort the parts on their side every 15 s.
+    if let Some(svg) = std::env::args().nth(4) {
+        let half = config.plate.half_extent;
+        upm_clients::launcher::plot::draw_trails(
+            svg.as_ref(),
+            &name,
+            half,
+            &config.plate.centers,
+            &r.trails,
+        )?;
+    }
+    let sort_x = sc.planner_params(&config).sort_x;
+    let mut timeline = String::new();
+    for step in 1..=(secs / 15.0) as usize {
+        let at = step as f64 * 15.0;
+        let on_side = r
+            .trails
+            .parts
+            .values()
+            .filter(|t| {
+                t.points
+                    .iter()
+                    .rev()
+                    .find(|q| q[0] <= at)
+                    .is_some_and(|q| if t.class == 0 { q[1] <= -sort_x } else { q[1] >= sort_x })
+            })
+            .count();
+        timeline.push_str(&format!(" {at}s:{on_side}"));
+    }
+    println!("on their side over time:{timeline}");
+    for (id, t) in &r.trails.parts {
+        for w in t.points.windows(2) {
+            let d = (w[1][1] - w[0][1]).hypot(w[1][2] - w[0][2]);
+            if d > 0.02 {
+                println!("part {id} jumps {d:.3} m at t {:.3}: {:?} -> {:?}", w[0][0], w[0], w[1]);
+            }
+        }
+    }
     for p in m["parts"].as_array().into_iter().flatten() {
         println!("{} {} {:?} -> {:?} {}", p["id"], p["class"], p["start"], p["final"], p["goal_met"]);
     }

@@ -69,13 +69,25 @@ fn local_moves_one_part_to_its_goal() {
 }
 
 #[test]
-fn sort_runs_deterministically_and_reports_its_fraction() {
+fn sort_runs_deterministically() {
     let (a, _) = lockstep("sort", 3, 20.0);
     let (b, _) = lockstep("sort", 3, 20.0);
     assert_eq!(a, b, "same seed, same result");
-    let f = a["sorted_fraction"].as_f64().expect("fraction");
-    eprintln!("sort seed 3 after 20 s: sorted_fraction {f} (target 1.0 not reached yet, see README)");
-    assert!((0.0..=1.0).contains(&f));
+}
+
+#[test]
+fn sort_puts_every_part_on_its_side() {
+    // Seed 11 is the slowest of the 32 seeds measured (all ten sorted at
+    // 270 s of the scenario's 300 s); see BENCHMARKS.md.
+    let secs = Scenario::load(&resolve("sort")).expect("scenario").duration_s;
+    for seed in [1, 11, 24] {
+        let (m, r) = lockstep("sort", seed, secs);
+        let f = m["sorted_fraction"].as_f64().expect("fraction");
+        eprintln!("sort seed {seed} after {secs} s: sorted_fraction {f}, collisions {}", m["collisions"]);
+        assert_eq!(f, 1.0, "seed {seed}: {m}");
+        assert_eq!(r.hold_events, 0, "seed {seed}");
+        assert_eq!(r.rejected_requests, 0, "seed {seed}");
+    }
 }
 
 #[test]

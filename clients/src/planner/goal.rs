@@ -81,8 +81,9 @@ impl GoalPlanner {
 }
 
 impl GoalPlanner {
-    /// Drive the `sort_batch` unsorted parts nearest to their side; leave
-    /// the others free.
+    /// Drive the `sort_batch` unsorted parts nearest to their side (all of
+    /// them, as in the paper, when the batch is large enough), steering
+    /// around oncoming parts; leave the others free.
     fn plan_sort(&mut self, parts: &PartStates, out: &mut ForceRequest) -> bool {
         let x_goal = self.p.sort_x + 0.1;
         let side = |p: &PartState| if p.class == 0 { -1.0 } else { 1.0 };
@@ -90,11 +91,23 @@ impl GoalPlanner {
         todo.sort_by(|a, b| {
             (x_goal - side(a) * a.x).total_cmp(&(x_goal - side(b) * b.x)).then(a.id.cmp(&b.id))
         });
+        if todo.is_empty() {
+            // Done: ask for zero force everywhere, so the plate rests on an
+            // explicit request rather than on the core's stale-input hold.
+            for part in parts.parts() {
+                if out.push(ForceEntry::force(part.id, [0.0; 2])).is_err() {
+                    break;
+                }
+            }
+            return !out.is_empty();
+        }
         let active: Vec<&PartState> = todo.into_iter().take(self.p.sort_batch.max(1)).collect();
         for part in &active {
-            let start = self.start_of(part);
-            let goal = [side(part) * (x_goal + 0.05), start[1]];
-            if out.push(ForceEntry::force(part.id, self.force_to(part, goal, [0.0; 2]))).is_err() {
+            // No pull back to a start row: a part keeps the row a dodge took
+            // it to, so it does not steer back into the part it passed.
+            let goal = [side(part) * (x_goal + 0.05), part.y];
+            let vff = [0.0, self.dodge(part, parts)];
+            if out.push(ForceEntry::force(part.id, self.force_to(part, goal, vff))).is_err() {
                 return true;
             }
         }
@@ -122,6 +135,29 @@ impl GoalPlanner {
             self.set_anchor(part.id, [part.x, part.y]);
         }
         !out.is_empty()
+    }
+}
+
+impl GoalPlanner {
+    /// Sideways speed that takes `part` around the parts of the other class
+    /// ahead of it in its lane: two parts heading for opposite sides
+    /// otherwise meet head-on and push against each other for good.
+    fn dodge(&self, part: &PartState, parts: &PartStates) -> f64 {
+        let (reach, width) = (self.p.sort_dodge_distance, self.p.sort_dodge_width);
+        let heading = if part.class == 0 { -1.0 } else { 1.0 };
+        let mut vy = 0.0;
+        for other in parts.parts().iter().filter(|o| o.class != part.class) {
+            let ahead = (other.x - part.x) * heading;
+            let dy = part.y - other.y;
+            if ahead <= 0.0 || ahead >= reach || dy.abs() >= width {
+                continue;
+            }
+            // Head-on: the classes pick opposite ways, so the two parts
+            // never both dodge the same way.
+            let away = if dy.abs() > 1e-3 { dy.signum() } else { -heading };
+            vy += away * self.p.max_speed * (1.0 - dy.abs() / width) * (1.0 - ahead / reach);
+        }
+        vy.clamp(-self.p.max_speed, self.p.max_speed)
     }
 }
 
@@ -220,5 +256,59 @@ impl Planner for GoalPlanner {
             }
         }
         !out.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn states(parts: &[(u32, u32, [f64; 2])]) -> PartStates {
+        let mut s = PartStates::new();
+        for &(id, class, [x, y]) in parts {
+            s.push(PartState::new(id, class, 0, [x, y, 0.0], [0.0; 3])).expect("capacity");
+        }
+        s
+    }
+
+    fn sort_planner() -> GoalPlanner {
+        GoalPlanner::new(Mode::Sort, PlannerParams::default()).expect("params")
+    }
+
+    #[test]
+    fn head_on_parts_dodge_opposite_ways() {
+        let p = sort_planner();
+        // Black (heading left) just right of grey (heading right), same row.
+        let s = states(&[(1, 0, [0.05, 0.1]), (2, 1, [0.0, 0.1])]);
+        let (black, grey) = (p.dodge(&s.parts()[0], &s), p.dodge(&s.parts()[1], &s));
+        assert!(black != 0.0 && grey != 0.0, "{black} {grey}");
+        assert!(black.signum() != grey.signum(), "{black} {grey}");
+        // Slightly offset rows: each moves away from the other.
+        let s = states(&[(1, 0, [0.05, 0.11]), (2, 1, [0.0, 0.09])]);
+        assert!(p.dodge(&s.parts()[0], &s) > 0.0 && p.dodge(&s.parts()[1], &s) < 0.0);
+    }
+
+    #[test]
+    fn no_dodge_for_parts_behind_beside_or_of_the_same_class() {
+        let p = sort_planner();
+        // Grey behind black (black heads left, grey is to its right).
+        let s = states(&[(1, 0, [0.0, 0.1]), (2, 1, [0.05, 0.1])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+        // Far outside the lane, or beyond the look-ahead.
+        let s = states(&[(1, 0, [0.05, 0.3]), (2, 1, [0.0, 0.1]), (3, 1, [-0.5, 0.3])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+        // Same class ahead.
+        let s = states(&[(1, 0, [0.05, 0.1]), (2, 0, [0.0, 0.1])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+    }
+
+    #[test]
+    fn a_finished_sort_asks_for_zero_force_instead_of_going_stale() {
+        let mut p = sort_planner();
+        let s = states(&[(1, 0, [-0.8, 0.0]), (2, 1, [0.8, 0.1])]);
+        let mut out = ForceRequest::new();
+        assert!(p.plan(&s, 0.0, &mut out));
+        assert_eq!(out.entries().len(), 2);
+        assert!(out.entries().iter().all(|e| e.requested_force() == Some([0.0; 2])));
     }
 }

@@ -42,13 +42,17 @@ pub struct PlannerParams {
     /// sort: |x| a part must pass on its side.
     pub sort_x: f64,
     /// sort: parts driven at once (the nearest to their side first); the
-    /// rest are left unconstrained. Asking all ten at once for opposite
-    /// forces between neighbours is beyond what |k| ≤ k_max can give.
+    /// rest are left unconstrained. The paper drives all of them.
     pub sort_batch: usize,
     /// sort: that many other parts nearest to the driven ones are held where
     /// they were last driven (a PD, like the driven parts), so the field
     /// does not drag them along.
     pub sort_hold: usize,
+    /// sort: a part steers sideways around parts of the other class that
+    /// are ahead of it closer than this (m) ...
+    pub sort_dodge_distance: f64,
+    /// ... and within this (m) of its lane.
+    pub sort_dodge_width: f64,
     /// track: rectangles (centre x, centre y, width, height) per part id 1, 2.
     pub track_rects: Vec<[f64; 4]>,
     /// track: speed along the path (m/s).
@@ -75,8 +79,10 @@ impl Default for PlannerParams {
             mu_m_g: 0.1,
             mass: 0.1 / (0.25 * 9.81),
             sort_x: 0.6,
-            sort_batch: 2,
-            sort_hold: 3,
+            sort_batch: ipc_types::MAX_PARTS,
+            sort_hold: 0,
+            sort_dodge_distance: 0.15,
+            sort_dodge_width: 0.06,
             track_rects: vec![[-0.45, 0.0, 0.4, 0.3], [0.45, 0.0, 0.4, 0.3]],
             track_speed: 0.02,
             spin_id: 1,
