@@ -42,7 +42,7 @@ pub fn draw_trails(
     let palette = [BLACK, RGBColor(120, 120, 120), BLUE, GREEN, MAGENTA, CYAN];
     for (id, trail) in &trails.parts {
         let color = palette[trail.class as usize % palette.len()];
-        let pts: Vec<(f64, f64)> = trail.points.iter().map(|p| (p[1], p[2])).collect();
+        let pts = thinned(trail.points.iter().map(|p| (p[1], p[2])), 0.001 * xs);
         chart.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(1))).map_err(|x| e(&x))?;
         if let (Some(a), Some(b)) = (pts.first(), pts.last()) {
             chart.draw_series([Circle::new(*a, 5, color.stroke_width(1))]).map_err(|x| e(&x))?;
@@ -54,4 +54,35 @@ pub fn draw_trails(
     }
     root.present().map_err(|x| e(&x))?;
     Ok(())
+}
+
+/// The points of a trail without those closer than `step` to the last one
+/// kept (about a pixel), so a long run's picture stays small; the last point
+/// is always kept.
+fn thinned(points: impl Iterator<Item = (f64, f64)>, step: f64) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    let mut skipped = None;
+    for p in points {
+        match out.last() {
+            Some(q) if (p.0 - q.0).hypot(p.1 - q.1) < step => skipped = Some(p),
+            _ => {
+                out.push(p);
+                skipped = None;
+            }
+        }
+    }
+    out.extend(skipped);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::thinned;
+
+    #[test]
+    fn thinning_keeps_the_ends_and_drops_sub_step_points() {
+        let pts = [(0.0, 0.0), (0.0001, 0.0), (0.0002, 0.0), (0.01, 0.0), (0.0101, 0.0)];
+        assert_eq!(thinned(pts.into_iter(), 0.001), vec![(0.0, 0.0), (0.01, 0.0), (0.0101, 0.0)]);
+        assert!(thinned(std::iter::empty(), 0.001).is_empty());
+    }
 }

@@ -37,6 +37,11 @@ impl GoalPlanner {
         if !(p.max_force_fraction > 0.0 && p.max_force_fraction <= 1.0) {
             anyhow::bail!("planner.max_force_fraction must be in (0, 1]");
         }
+        if !(p.sort_dodge_distance.is_finite() && p.sort_dodge_distance >= 0.0 && pos(p.sort_dodge_width)) {
+            anyhow::bail!(
+                "planner: sort_dodge_distance must be >= 0 (0: no dodging) and sort_dodge_width > 0"
+            );
+        }
         if mode == Mode::Track && (p.track_rects.is_empty() || !pos(p.track_speed)) {
             anyhow::bail!("planner: track needs track_rects and a positive track_speed");
         }
@@ -299,6 +304,23 @@ mod tests {
         assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
         // Same class ahead.
         let s = states(&[(1, 0, [0.05, 0.1]), (2, 0, [0.0, 0.1])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+    }
+
+    #[test]
+    fn bad_dodge_parameters_are_refused() {
+        for (distance, width) in [(-0.1, 0.06), (f64::NAN, 0.06), (0.15, 0.0), (0.15, f64::INFINITY)] {
+            let p = PlannerParams {
+                sort_dodge_distance: distance,
+                sort_dodge_width: width,
+                ..Default::default()
+            };
+            let e = GoalPlanner::new(Mode::Sort, p).expect_err("refused");
+            assert!(e.to_string().contains("sort_dodge"), "{e}");
+        }
+        let off = PlannerParams { sort_dodge_distance: 0.0, ..Default::default() };
+        let p = GoalPlanner::new(Mode::Sort, off).expect("0 turns dodging off");
+        let s = states(&[(1, 0, [0.05, 0.1]), (2, 1, [0.0, 0.1])]);
         assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
     }
 

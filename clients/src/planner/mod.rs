@@ -49,7 +49,7 @@ pub struct PlannerParams {
     /// does not drag them along.
     pub sort_hold: usize,
     /// sort: a part steers sideways around parts of the other class that
-    /// are ahead of it closer than this (m) ...
+    /// are ahead of it closer than this (m; 0 turns dodging off) ...
     pub sort_dodge_distance: f64,
     /// ... and within this (m) of its lane.
     pub sort_dodge_width: f64,
