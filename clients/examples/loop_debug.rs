@@ -46,7 +46,7 @@ fn main() -> anyhow::Result<()> {
                     .iter()
                     .rev()
                     .find(|q| q[0] <= at)
-                    .is_some_and(|q| if t.class == 0 { q[1] <= -sort_x } else { q[1] >= sort_x })
+                    .is_some_and(|q| upm_clients::planner::goal::sort_side(t.class) * q[1] >= sort_x)
             })
             .count();
         timeline.push_str(&format!(" {at}s:{on_side}"));

@@ -11,7 +11,7 @@ use serde_json::{Value, json};
 use crate::config::{Config, SimPartSection};
 use crate::launcher::Trails;
 use crate::planner::PlannerParams;
-use crate::planner::goal::distance_to_rectangle;
+use crate::planner::goal::{distance_to_rectangle, sort_side};
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -146,7 +146,7 @@ impl Scenario {
             let (Some(first), Some(last)) = (trail.points.first(), trail.points.last()) else { continue };
             let goal_met = match p.name.as_str() {
                 "sort" => {
-                    let ok = if trail.class == 0 { last[1] <= -p.sort_x } else { last[1] >= p.sort_x };
+                    let ok = sort_side(trail.class) * last[1] >= p.sort_x;
                     sorted += usize::from(ok);
                     ok
                 }

@@ -91,7 +91,7 @@ impl GoalPlanner {
     /// around oncoming parts; leave the others free.
     fn plan_sort(&mut self, parts: &PartStates, out: &mut ForceRequest) -> bool {
         let x_goal = self.p.sort_x + 0.1;
-        let side = |p: &PartState| if p.class == 0 { -1.0 } else { 1.0 };
+        let side = |p: &PartState| sort_side(p.class);
         let mut todo: Vec<&PartState> = parts.parts().iter().filter(|p| side(p) * p.x < x_goal).collect();
         todo.sort_by(|a, b| {
             (x_goal - side(a) * a.x).total_cmp(&(x_goal - side(b) * b.x)).then(a.id.cmp(&b.id))
@@ -149,7 +149,7 @@ impl GoalPlanner {
     /// otherwise meet head-on and push against each other for good.
     fn dodge(&self, part: &PartState, parts: &PartStates) -> f64 {
         let (reach, width) = (self.p.sort_dodge_distance, self.p.sort_dodge_width);
-        let heading = if part.class == 0 { -1.0 } else { 1.0 };
+        let heading = sort_side(part.class);
         let mut vy = 0.0;
         for other in parts.parts().iter().filter(|o| o.class != part.class) {
             let ahead = (other.x - part.x) * heading;
@@ -164,6 +164,11 @@ impl GoalPlanner {
         }
         vy.clamp(-self.p.max_speed, self.p.max_speed)
     }
+}
+
+/// sort: the side a part of `class` goes to, −1 (left, class 0) or +1.
+pub fn sort_side(class: u32) -> f64 {
+    if class == 0 { -1.0 } else { 1.0 }
 }
 
 /// The point remembered for `part`, or its current position, remembered now.
@@ -218,11 +223,8 @@ impl Planner for GoalPlanner {
         for part in parts.parts() {
             let start = self.start_of(part);
             let entry = match self.mode {
-                Mode::Sort => {
-                    let side = if part.class == 0 { -1.0 } else { 1.0 };
-                    let goal = [side * (self.p.sort_x + 0.1), start[1]];
-                    ForceEntry::force(part.id, self.force_to(part, goal, [0.0; 2]))
-                }
+                // Planned as a whole by `plan_sort` above.
+                Mode::Sort => continue,
                 Mode::Track => {
                     // Parts without a path hold their start.
                     match self.p.track_rects.get(part.id.wrapping_sub(1) as usize) {
