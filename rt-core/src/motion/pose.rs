@@ -1,15 +1,34 @@
 //! Plate pose, twist and one sample of the motion.
 
-/// (sin θ, cos θ), with a short Taylor series for the small angles of plate
-/// motion (|θ| < 0.02: truncation < 1e-20, about 5× faster than libm);
-/// exactly (0, 1) at θ = 0.
+/// (sin θ, cos θ), by Taylor polynomials for the angles plate motion uses
+/// (|θ| < 0.25: truncation < 1e-20 relative, so the result is within an ulp
+/// or two of libm's, several times faster and without a call); exactly
+/// (0, 1) at θ = 0. Horner form with the reciprocal factorials as constants:
+/// a division per term would cost more than the whole polynomial.
 #[inline]
 pub fn sin_cos(theta: f64) -> (f64, f64) {
-    if theta.abs() < 0.02 {
+    const S: [f64; 6] = [
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 6_227_020_800.0,
+    ];
+    const C: [f64; 7] = [
+        -1.0 / 2.0,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+        -1.0 / 87_178_291_200.0,
+    ];
+    if theta.abs() < 0.25 {
         let t2 = theta * theta;
-        let s = theta * (1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0)));
-        let c = 1.0 - t2 / 2.0 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0)));
-        (s, c)
+        let ps = S.iter().rev().fold(0.0, |acc, &k| acc * t2 + k);
+        let pc = C.iter().rev().fold(0.0, |acc, &k| acc * t2 + k);
+        (theta + theta * t2 * ps, 1.0 + t2 * pc)
     } else {
         theta.sin_cos()
     }
@@ -79,4 +98,24 @@ pub struct PlateSample {
     pub slot: u16,
     /// True on the first tick of a cycle (pose exactly home there).
     pub cycle_start: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sin_cos;
+
+    /// The polynomials agree with libm to an ulp or two over their whole
+    /// range, on both sides of the switch, and are exact at 0.
+    #[test]
+    fn sin_cos_matches_libm() {
+        assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        let mut worst: f64 = 0.0;
+        for i in -30_000..=30_000 {
+            let theta = i as f64 * 1e-5 + 1.234_567e-7;
+            let (s, c) = sin_cos(theta);
+            let (sl, cl) = theta.sin_cos();
+            worst = worst.max((s - sl).abs() / sl.abs().max(f64::MIN_POSITIVE)).max((c - cl).abs());
+        }
+        assert!(worst <= 4.0 * f64::EPSILON, "worst relative error {worst:e}");
+    }
 }
