@@ -38,7 +38,7 @@ pub struct CoreArgs {
 pub fn truth_fill(ids: Vec<u32>, classes: Vec<u32>) -> TruthFill<Simulator> {
     Box::new(move |sim: &Simulator, out: &mut PartStates| {
         out.clear();
-        for (i, p) in sim.parts().iter().enumerate() {
+        for (i, p) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
             let id = ids.get(i).copied().unwrap_or(i as u32 + 1);
             let class = classes.get(i).copied().unwrap_or(0);
             let pose = [p.position[0], p.position[1], p.angle];

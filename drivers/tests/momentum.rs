@@ -22,26 +22,26 @@ fn collision_conserves_momentum() {
     assert!(
         s.set_part(1, PartState { position: [0.1, 0.01], velocity: [-0.5, 0.0], ..PartState::default() })
     );
-    let p = |s: &Simulator| {
+    let p = |s: &mut Simulator| {
         let ps = s.parts();
         [
             0.04 * ps[0].velocity[0] + 0.1 * ps[1].velocity[0],
             0.04 * ps[0].velocity[1] + 0.1 * ps[1].velocity[1],
         ]
     };
-    let e = |s: &Simulator| {
+    let e = |s: &mut Simulator| {
         let ps = s.parts();
         0.02 * (ps[0].velocity[0].powi(2) + ps[0].velocity[1].powi(2))
             + 0.05 * (ps[1].velocity[0].powi(2) + ps[1].velocity[1].powi(2))
     };
-    let (p0, e0) = (p(&s), e(&s));
+    let (p0, e0) = (p(&mut s), e(&mut s));
     for _ in 0..2000 {
         s.advance();
     }
     assert!(s.counters().collisions >= 1, "no impact happened");
-    let p1 = p(&s);
+    let p1 = p(&mut s);
     assert!((p1[0] - p0[0]).abs() < 1e-9 && (p1[1] - p0[1]).abs() < 1e-9, "{p0:?} → {p1:?}");
-    assert!((e(&s) - e0).abs() < 1e-9 * e0, "elastic impact must keep energy");
+    assert!((e(&mut s) - e0).abs() < 1e-9 * e0, "elastic impact must keep energy");
     assert!(s.parts()[1].velocity[0] > 0.0, "the heavy disc must be pushed back");
 }
 

@@ -119,7 +119,7 @@ pub fn measure(
             sim.set_part(i, PartState { position, ..PartState::default() });
         }
         play(&mut sim, &rig, &motion, c * n, n, &mut state).context("simulator read")?;
-        for (i, s) in sim.parts().iter().enumerate() {
+        for (i, s) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
             let f = [mass * s.velocity[0] / t, mass * s.velocity[1] / t];
             for d in 0..2 {
                 sum_f[i][d] += f[d];

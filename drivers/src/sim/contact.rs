@@ -8,73 +8,96 @@
 
 use rt_core::motion::{Pose, Twist};
 
+use super::lanes::{Group, Lanes, W};
 use super::part::{Body, PartState};
 
 /// Verlet skin (m).
 pub(crate) const SKIN: f64 = 0.01;
 
+/// Pairs of part indices; the anchors live in the lanes.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Broadphase {
     pub pairs: Vec<(u16, u16)>,
-    pub anchor: Vec<[f64; 2]>,
     pub valid: bool,
 }
 
 impl Broadphase {
     pub fn with_capacity(n: usize) -> Self {
-        Self {
-            pairs: Vec::with_capacity(n * n.saturating_sub(1) / 2),
-            anchor: vec![[0.0; 2]; n],
-            valid: false,
-        }
+        Self { pairs: Vec::with_capacity(n * n.saturating_sub(1) / 2), valid: false }
     }
 
     /// Rebuild if needed; never grows past the capacity reserved in
     /// `with_capacity` (n(n−1)/2 pairs), so no allocation.
-    #[inline]
-    fn refresh(&mut self, bodies: &[Body], parts: &[PartState]) {
-        let half2 = 0.25 * SKIN * SKIN;
-        if self.valid
-            && parts.iter().zip(&self.anchor).all(|(p, a)| {
-                let (dx, dy) = (p.position[0] - a[0], p.position[1] - a[1]);
-                dx * dx + dy * dy < half2
-            })
-        {
+    #[inline(always)]
+    fn refresh(&mut self, bodies: &[Body], lanes: &mut Lanes) {
+        if self.valid && !moved_half_skin(&lanes.groups) {
             return;
         }
+        self.rebuild(bodies, lanes);
+    }
+
+    #[inline(never)]
+    fn rebuild(&mut self, bodies: &[Body], lanes: &mut Lanes) {
         self.pairs.clear();
-        for i in 0..parts.len() {
-            self.anchor[i] = parts[i].position;
-            for j in i + 1..parts.len() {
+        let pos = |l: usize| {
+            let g = &lanes.groups[l / W];
+            [g.x[l % W], g.y[l % W]]
+        };
+        for i in 0..lanes.lane.len() {
+            let pi = pos(lanes.lane[i]);
+            for j in i + 1..lanes.lane.len() {
+                let pj = pos(lanes.lane[j]);
                 let r = bodies[i].radius + bodies[j].radius + SKIN;
-                let (dx, dy) = (
-                    parts[j].position[0] - parts[i].position[0],
-                    parts[j].position[1] - parts[i].position[1],
-                );
+                let (dx, dy) = (pj[0] - pi[0], pj[1] - pi[1]);
                 if dx * dx + dy * dy < r * r && self.pairs.len() < self.pairs.capacity() {
                     self.pairs.push((i as u16, j as u16));
                 }
             }
         }
+        for g in &mut lanes.groups {
+            g.anchor_x = g.x;
+            g.anchor_y = g.y;
+        }
         self.valid = true;
     }
 }
 
+/// Has any lane moved SKIN/2 from its anchor? One pass, no early exit, so
+/// the loop vectorises.
+#[inline(always)]
+fn moved_half_skin(groups: &[Group]) -> bool {
+    let half2 = 0.25 * SKIN * SKIN;
+    let mut far = false;
+    for g in groups {
+        for k in 0..W {
+            let (dx, dy) = (g.x[k] - g.anchor_x[k], g.y[k] - g.anchor_y[k]);
+            far |= dx * dx + dy * dy >= half2;
+        }
+    }
+    far
+}
+
 /// Resolve part–part overlaps. Returns the number of impacts.
-#[inline]
-pub(crate) fn collide(
-    bp: &mut Broadphase,
-    bodies: &[Body],
-    parts: &mut [PartState],
-    restitution: f64,
-) -> u64 {
-    bp.refresh(bodies, parts);
+#[inline(always)]
+pub(crate) fn collide(bp: &mut Broadphase, bodies: &[Body], lanes: &mut Lanes, restitution: f64) -> u64 {
+    bp.refresh(bodies, lanes);
+    if bp.pairs.is_empty() {
+        return 0;
+    }
+    resolve_pairs(bp, bodies, lanes, restitution)
+}
+
+/// The pairs of the Verlet list (out of line: most ticks have none).
+#[inline(never)]
+fn resolve_pairs(bp: &Broadphase, bodies: &[Body], lanes: &mut Lanes, restitution: f64) -> u64 {
     let mut hits = 0;
     for &(i, j) in &bp.pairs {
         let (i, j) = (i as usize, j as usize);
         let r = bodies[i].radius + bodies[j].radius;
-        let (dx, dy) =
-            (parts[j].position[0] - parts[i].position[0], parts[j].position[1] - parts[i].position[1]);
+        let (mut a, mut b) = (PartState::default(), PartState::default());
+        lanes.load(lanes.lane[i], &mut a);
+        lanes.load(lanes.lane[j], &mut b);
+        let (dx, dy) = (b.position[0] - a.position[0], b.position[1] - a.position[1]);
         let d2 = dx * dx + dy * dy;
         if d2 >= r * r || r <= 0.0 {
             continue;
@@ -82,24 +105,71 @@ pub(crate) fn collide(
         let d = d2.sqrt();
         let n = if d > 0.0 { [dx / d, dy / d] } else { [1.0, 0.0] };
         let (wi, wj) = (1.0 / bodies[i].mass, 1.0 / bodies[j].mass);
-        let vn = (parts[j].velocity[0] - parts[i].velocity[0]) * n[0]
-            + (parts[j].velocity[1] - parts[i].velocity[1]) * n[1];
+        let vn = (b.velocity[0] - a.velocity[0]) * n[0] + (b.velocity[1] - a.velocity[1]) * n[1];
         if vn < 0.0 {
             let jn = -(1.0 + restitution) * vn / (wi + wj);
             for k in 0..2 {
-                parts[i].velocity[k] -= jn * wi * n[k];
-                parts[j].velocity[k] += jn * wj * n[k];
+                a.velocity[k] -= jn * wi * n[k];
+                b.velocity[k] += jn * wj * n[k];
             }
-            parts[i].stuck = false;
-            parts[j].stuck = false;
+            a.stuck = false;
+            b.stuck = false;
             hits += 1;
         }
         // Separate by mass-weighted position correction (momentum-neutral).
         let push = (r - d) / (wi + wj);
         for k in 0..2 {
-            parts[i].position[k] -= push * wi * n[k];
-            parts[j].position[k] += push * wj * n[k];
+            a.position[k] -= push * wi * n[k];
+            b.position[k] += push * wj * n[k];
         }
+        lanes.store(lanes.lane[i], &a);
+        lanes.store(lanes.lane[j], &b);
+    }
+    hits
+}
+
+/// The fence for every lane: a vectorised inside test per group, and
+/// [`fence`] for the lanes outside. Returns the number of impacts.
+#[inline(always)]
+pub(crate) fn fence_groups(
+    groups: &mut [Group],
+    plate: &Pose,
+    (sn, cs): (f64, f64),
+    plate_vel: &Twist,
+    restitution: f64,
+) -> u64 {
+    let mut hits = 0;
+    for g in groups {
+        let mut outside = [false; W];
+        for k in 0..W {
+            let (dx, dy) = (g.x[k] - plate.x, g.y[k] - plate.y);
+            let q = [cs * dx + sn * dy, -sn * dx + cs * dy];
+            // Written as "not inside" so that NaN counts as outside.
+            outside[k] = !((q[0].abs() <= g.lim_x[k]) & (q[1].abs() <= g.lim_y[k]));
+        }
+        if outside.iter().fold(false, |any, &o| any | o) {
+            hits += fence_lanes(g, outside, plate, (sn, cs), plate_vel, restitution);
+        }
+    }
+    hits
+}
+
+/// [`fence`] for the `outside` lanes of a group (out of line: rare).
+#[inline(never)]
+fn fence_lanes(
+    g: &mut Group,
+    outside: [bool; W],
+    plate: &Pose,
+    sc: (f64, f64),
+    plate_vel: &Twist,
+    restitution: f64,
+) -> u64 {
+    let mut hits = 0;
+    for k in (0..W).filter(|&k| outside[k]) {
+        let mut p = PartState::default();
+        g.load(k, &mut p);
+        hits += fence([g.lim_x[k], g.lim_y[k]], &mut p, plate, sc, plate_vel, restitution) as u64;
+        g.store(k, &p);
     }
     hits
 }

@@ -9,11 +9,14 @@
 mod config;
 mod contact;
 mod friction;
+mod lanes;
 mod part;
 mod plate;
 mod point_lanes;
 
 use core::fmt;
+
+use multiversion::multiversion;
 
 use rt_core::driver::{
     ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError, apply_limits,
@@ -25,6 +28,7 @@ pub use part::{DISC_CONTACTS, MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, Par
 
 use contact::Broadphase;
 use friction::Coulomb;
+use lanes::Lanes;
 use part::Body;
 use plate::{Plate, Target};
 use point_lanes::PlateNow;
@@ -80,12 +84,13 @@ pub struct Simulator {
     target: Target,
     holding: bool,
     bodies: Vec<Body>,
+    /// Every part's state as the user sees it: angle and spin are kept here,
+    /// the linear state is copied from `lanes` when asked for.
     parts: Vec<PartState>,
-    /// Indices of point parts (stepped four at a time) and of the others.
-    points: Vec<usize>,
+    /// The linear state of every part, four lanes at a time.
+    lanes: Lanes,
+    /// Indices of the extended parts.
     extended: Vec<usize>,
-    /// Per part, [`contact::fence_limits`].
-    fence_limits: Vec<[f64; 2]>,
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
@@ -106,12 +111,12 @@ impl Simulator {
             states.push(PartState { position: spec.position, angle: spec.angle, ..PartState::default() });
         }
         let limits = ActuatorLimits::from_rig(&rig);
-        let (extended, points): (Vec<usize>, Vec<usize>) =
-            (0..bodies.len()).partition(|&i| bodies[i].extended);
-        let fence_limits = bodies.iter().map(|b| contact::fence_limits(b, cfg.plate_half_extent)).collect();
+        let is_extended: Vec<bool> = bodies.iter().map(|b| b.extended).collect();
+        let extended = (0..bodies.len()).filter(|&i| is_extended[i]).collect();
+        let fence_limits: Vec<[f64; 2]> =
+            bodies.iter().map(|b| contact::fence_limits(b, cfg.plate_half_extent)).collect();
         Ok(Self {
-            fence_limits,
-            points,
+            lanes: Lanes::new(&states, &is_extended, &fence_limits),
             extended,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
             h: 1.0 / cfg.tick_hz,
@@ -138,8 +143,23 @@ impl Simulator {
         &self.rig
     }
 
-    pub fn parts(&self) -> &[PartState] {
+    /// Every part's state. Takes `&mut self` because the linear state is
+    /// copied out of the lanes here, on demand, rather than on every tick;
+    /// [`Simulator::part`] reads one part through `&self`.
+    pub fn parts(&mut self) -> &[PartState] {
+        self.lanes.mirror(&mut self.parts);
         &self.parts
+    }
+
+    /// State of part `i` (None if out of range).
+    pub fn part(&self, i: usize) -> Option<PartState> {
+        let mut p = *self.parts.get(i)?;
+        self.lanes.load(self.lanes.lane[i], &mut p);
+        Some(p)
+    }
+
+    pub fn part_count(&self) -> usize {
+        self.parts.len()
     }
 
     /// Mass of part `i` (None if out of range).
@@ -161,6 +181,7 @@ impl Simulator {
         match self.parts.get_mut(i) {
             Some(p) if finite => {
                 *p = state;
+                self.lanes.store(self.lanes.lane[i], &state);
                 self.broadphase.valid = false;
                 true
             }
@@ -188,6 +209,11 @@ impl Simulator {
     /// One tick: `substeps` × (plate acceleration → friction on every part →
     /// plate and parts integrate), then contacts and fence.
     pub fn step(&mut self) {
+        step_tick(self);
+    }
+
+    #[inline(always)]
+    fn step_body(&mut self) {
         let n = self.cfg.substeps;
         let s = self.h / n as f64;
         for sub in 0..n {
@@ -203,9 +229,12 @@ impl Simulator {
             );
             let (pose, vel, acc) = (self.plate.pose, self.plate.vel, self.plate.acc);
             let now = PlateNow { x: pose.x, y: pose.y, vel, acc };
-            point_lanes::step_points(&now, &mut self.parts, &self.points, s, self.mu);
+            let point_groups = &mut self.lanes.groups[..self.lanes.point_groups];
+            point_lanes::step_points(&now, point_groups, s, self.mu);
             for &i in &self.extended {
                 let (body, p) = (&self.bodies[i], &mut self.parts[i]);
+                let lane = self.lanes.lane[i];
+                self.lanes.load(lane, p);
                 let vpl = vel.at(&pose, p.position);
                 // d/dt of the plate velocity seen along the part's path.
                 let (rx, ry) = (p.position[0] - pose.x, p.position[1] - pose.y);
@@ -224,6 +253,7 @@ impl Simulator {
                 p.angle += d[2];
                 p.velocity = [vp[0], vp[1]];
                 p.angular_velocity = vp[2];
+                self.lanes.store(lane, p);
             }
             self.plate.integrate(s);
         }
@@ -238,20 +268,28 @@ impl Simulator {
             self.counters.collisions += contact::collide(
                 &mut self.broadphase,
                 &self.bodies,
-                &mut self.parts,
+                &mut self.lanes,
                 self.cfg.part_restitution,
             );
         }
         if self.cfg.fence {
-            let sc = self.plate.sc;
-            for (&lim, p) in self.fence_limits.iter().zip(self.parts.iter_mut()) {
-                let hit =
-                    contact::fence(lim, p, &self.plate.pose, sc, &self.plate.vel, self.cfg.fence_restitution);
-                self.counters.fence_hits += hit as u64;
-            }
+            self.counters.fence_hits += contact::fence_groups(
+                &mut self.lanes.groups,
+                &self.plate.pose,
+                self.plate.sc,
+                &self.plate.vel,
+                self.cfg.fence_restitution,
+            );
         }
         self.counters.ticks += 1;
     }
+}
+
+/// [`Simulator::step`], with an AVX2 clone where the CPU has it (nothing is
+/// fused, so both clones give the same bits).
+#[multiversion(targets("x86_64+avx2"))]
+fn step_tick(sim: &mut Simulator) {
+    sim.step_body();
 }
 
 impl PlateDriver for Simulator {

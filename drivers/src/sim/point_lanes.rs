@@ -1,15 +1,13 @@
-//! Point parts four at a time: the common cases of [`friction::step_point`]
-//! (stuck and staying stuck; sliding with no approach to rest in the step)
-//! in four branch-free lanes. A lane that needs anything else (at rest,
-//! breaking loose, a reversal inside the step) is redone by the scalar
-//! routine from the same inputs. The lanes use the scalar routine's
-//! operations in the same order, IEEE `sqrt` and `/` are correctly rounded
-//! and nothing is fused, so both paths give the same bits.
-
-use multiversion::multiversion;
+//! Point parts four at a time, over [`Group`]s: the common cases of
+//! [`friction::step_point`] (stuck and staying stuck; sliding with no
+//! approach to rest in the step) in four branch-free lanes. A lane that
+//! needs anything else (at rest, breaking loose, a reversal inside the step)
+//! is redone by the scalar routine from the same inputs. The lanes use the
+//! scalar routine's operations in the same order, IEEE `sqrt` and `/` are
+//! correctly rounded and nothing is fused, so both paths give the same bits.
 
 use super::friction::{self, Coulomb};
-use super::part::PartState;
+use super::lanes::{Group, W};
 use rt_core::motion::Twist;
 
 /// Plate state held constant over one substep.
@@ -21,66 +19,67 @@ pub(crate) struct PlateNow {
     pub acc: Twist,
 }
 
-/// (a, ξ) of one point part: the plate's acceleration along the part's path
-/// and plate − part velocity at the part (the inputs of `step_point`).
+/// (a, ξ) of one point part at `pos` moving at `v`: the plate's
+/// acceleration along the part's path and plate − part velocity at the part
+/// (the inputs of `step_point`).
 #[inline(always)]
-pub(crate) fn relative(pl: &PlateNow, p: &PartState) -> ([f64; 2], [f64; 2]) {
+pub(crate) fn relative(pl: &PlateNow, pos: [f64; 2], v: [f64; 2]) -> ([f64; 2], [f64; 2]) {
     let (vel, acc) = (pl.vel, pl.acc);
-    let (rx, ry) = (p.position[0] - pl.x, p.position[1] - pl.y);
-    let (ux, uy) = (p.velocity[0] - vel.x, p.velocity[1] - vel.y);
+    let (rx, ry) = (pos[0] - pl.x, pos[1] - pl.y);
+    let (ux, uy) = (v[0] - vel.x, v[1] - vel.y);
     let a = [acc.x - acc.theta * ry - vel.theta * uy, acc.y + acc.theta * rx + vel.theta * ux];
     let xi = [-vel.theta * ry - ux, vel.theta * rx - uy];
     (a, xi)
 }
 
-/// One point part, scalar.
+/// Lane `k` of `g`, scalar.
 #[inline(always)]
-pub(crate) fn step_one(pl: &PlateNow, p: &mut PartState, s: f64, mu: Coulomb) {
-    let (a, xi) = relative(pl, p);
-    let d = friction::step_point(xi, &mut p.velocity, a, s, mu, &mut p.stuck);
-    p.position[0] += d[0];
-    p.position[1] += d[1];
+fn step_lane(pl: &PlateNow, g: &mut Group, k: usize, s: f64, mu: Coulomb) {
+    let mut v = [g.vx[k], g.vy[k]];
+    let (a, xi) = relative(pl, [g.x[k], g.y[k]], v);
+    let d = friction::step_point(xi, &mut v, a, s, mu, &mut g.stuck[k]);
+    g.x[k] += d[0];
+    g.y[k] += d[1];
+    [g.vx[k], g.vy[k]] = v;
 }
 
-/// Every point part in `points` (indices into `parts`), four lanes at a
-/// time; the last group is padded with a repeated index that is not
-/// written back. AVX2 clone where the CPU has it (nothing is fused, so both
-/// clones give the same bits).
-#[multiversion(targets("x86_64+avx2"))]
-pub(crate) fn step_points(pl: &PlateNow, parts: &mut [PartState], points: &[usize], s: f64, mu: Coulomb) {
-    for group in points.chunks(4) {
-        let last = group[group.len() - 1];
-        let idx = core::array::from_fn(|k| group.get(k).copied().unwrap_or(last));
-        step_four(pl, parts, idx, group.len(), s, mu);
+/// Every live lane of `groups` (the point parts). Inlined into the
+/// simulator's step, which has an AVX2 clone.
+#[inline(always)]
+pub(crate) fn step_points(pl: &PlateNow, groups: &mut [Group], s: f64, mu: Coulomb) {
+    for g in groups {
+        step_group(pl, g, s, mu);
     }
 }
 
-/// Four point parts (indices into `parts`), lanes with scalar fallback;
-/// only the first `real` lanes are written back.
+/// One group: branch-free lanes, written back where live and fast; the
+/// other live lanes by the scalar routine.
 #[inline(always)]
-fn step_four(pl: &PlateNow, parts: &mut [PartState], idx: [usize; 4], real: usize, s: f64, mu: Coulomb) {
-    let ps = idx.map(|i| parts[i]);
-    let mut out = [[0.0; 4]; 4];
-    let mut fast = [false; 4];
-    // Branch-free lane body over plain arrays: LLVM vectorises this loop
-    // (ymm in the AVX2 clone).
-    for l in 0..4 {
-        let p = &ps[l];
-        let (a, xi) = relative(pl, p);
-        let r = fast_lane(a, xi, p.velocity, p.stuck, s, mu);
-        out[l] = r.0;
-        fast[l] = r.1;
-    }
-    for (lane, &i) in idx.iter().enumerate().take(real) {
-        let p = &mut parts[i];
-        if !fast[lane] {
-            step_one(pl, p, s, mu);
-            continue;
+fn step_group(pl: &PlateNow, g: &mut Group, s: f64, mu: Coulomb) {
+    let mut out = [[0.0; W]; 4];
+    let mut fast = [false; W];
+    // Plain arrays in and out: LLVM vectorises this loop (ymm in the AVX2
+    // clone).
+    for k in 0..W {
+        let v = [g.vx[k], g.vy[k]];
+        let (a, xi) = relative(pl, [g.x[k], g.y[k]], v);
+        let (r, f) = fast_lane(a, xi, v, g.stuck[k], s, mu);
+        for c in 0..4 {
+            out[c][k] = r[c];
         }
-        let [dx, dy, vx, vy] = out[lane];
-        p.position[0] += dx;
-        p.position[1] += dy;
-        p.velocity = [vx, vy];
+        fast[k] = f & g.live[k];
+    }
+    for k in 0..W {
+        let f = fast[k];
+        g.x[k] = if f { g.x[k] + out[0][k] } else { g.x[k] };
+        g.y[k] = if f { g.y[k] + out[1][k] } else { g.y[k] };
+        g.vx[k] = if f { out[2][k] } else { g.vx[k] };
+        g.vy[k] = if f { out[3][k] } else { g.vy[k] };
+    }
+    for k in 0..W {
+        if g.live[k] & !fast[k] {
+            step_lane(pl, g, k, s, mu);
+        }
     }
 }
 
@@ -116,6 +115,8 @@ fn fast_lane(a: [f64; 2], xi: [f64; 2], v: [f64; 2], stuck: bool, h: f64, mu: Co
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::lanes::Lanes;
+    use crate::sim::part::PartState;
     use proptest::prelude::*;
 
     const MU: Coulomb = Coulomb { kinetic: 0.25 * 9.81, stat: 0.3 * 9.81 };
@@ -140,17 +141,18 @@ mod tests {
         }
     }
 
-    /// The lanes are used, and the fallback too, on a real run: four parts
-    /// stepped as a group match four stepped one by one, bit for bit.
+    /// The lanes are used, and the fallback too, on a real run: seven parts
+    /// stepped in groups match the same parts stepped one lane at a time,
+    /// bit for bit; the unused lane never moves.
     #[test]
-    fn groups_match_parts_stepped_one_by_one() {
+    fn groups_match_lanes_stepped_one_by_one() {
         let pl = PlateNow {
             x: 1e-4,
             y: -2e-4,
             vel: Twist { x: 0.05, y: -0.02, theta: 0.3 },
             acc: Twist { x: 30.0, y: -12.0, theta: 80.0 },
         };
-        let mut parts: Vec<PartState> = (0..7)
+        let parts: Vec<PartState> = (0..7)
             .map(|i| PartState {
                 position: [0.1 * i as f64 - 0.3, 0.05 * i as f64],
                 velocity: [0.01 * i as f64, if i % 2 == 0 { 0.05 } else { 0.0 }],
@@ -158,14 +160,20 @@ mod tests {
                 ..PartState::default()
             })
             .collect();
-        let mut one_by_one = parts.clone();
-        let idx: Vec<usize> = (0..parts.len()).collect();
+        let mut lanes = Lanes::new(&parts, &[false; 7], &[[1.0; 2]; 7]);
+        let mut one_by_one = lanes.clone();
+        let unused = lanes.groups[1];
         for _ in 0..2000 {
-            step_points(&pl, &mut parts, &idx, 1e-4, MU);
-            for p in &mut one_by_one {
-                step_one(&pl, p, 1e-4, MU);
+            step_points(&pl, &mut lanes.groups, 1e-4, MU);
+            for g in &mut one_by_one.groups {
+                let live = g.live;
+                for k in (0..W).filter(|&k| live[k]) {
+                    step_lane(&pl, g, k, 1e-4, MU);
+                }
             }
         }
-        assert_eq!(parts, one_by_one);
+        assert_eq!(lanes.groups, one_by_one.groups);
+        assert_eq!(lanes.groups[1].x[3], unused.x[3]);
+        assert_ne!(lanes.groups[0].x[0], parts[0].position[0]);
     }
 }

@@ -7,14 +7,8 @@
 /// a division per term would cost more than the whole polynomial.
 #[inline]
 pub fn sin_cos(theta: f64) -> (f64, f64) {
-    const S: [f64; 6] = [
-        -1.0 / 6.0,
-        1.0 / 120.0,
-        -1.0 / 5040.0,
-        1.0 / 362_880.0,
-        -1.0 / 39_916_800.0,
-        1.0 / 6_227_020_800.0,
-    ];
+    const S: [f64; 6] =
+        [-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0, -1.0 / 39_916_800.0, 1.0 / 6_227_020_800.0];
     const C: [f64; 7] = [
         -1.0 / 2.0,
         1.0 / 24.0,
@@ -30,8 +24,16 @@ pub fn sin_cos(theta: f64) -> (f64, f64) {
         let pc = C.iter().rev().fold(0.0, |acc, &k| acc * t2 + k);
         (theta + theta * t2 * ps, 1.0 + t2 * pc)
     } else {
-        theta.sin_cos()
+        libm_sin_cos(theta)
     }
+}
+
+/// Out of line and cold: LLVM treats `f64::sin_cos` as speculatable and
+/// otherwise evaluates it on every call, alongside the polynomial.
+#[cold]
+#[inline(never)]
+fn libm_sin_cos(theta: f64) -> (f64, f64) {
+    theta.sin_cos()
 }
 
 /// Plate pose: translation of the plate origin (its center of mass) and
