@@ -78,7 +78,7 @@ impl Plate {
     /// Set `acc` for a substep of length `s`; `remaining` substeps in this
     /// tick including this one (the ideal model lands on the target at the
     /// end of the tick).
-    #[inline]
+    #[inline(always)]
     pub fn plan_substep(
         &mut self,
         model: ActuatorModel,
@@ -120,18 +120,22 @@ impl Plate {
                 };
                 let mut f = [0.0; MAX_ACTUATORS];
                 rig.feedforward_forces(&pd, &mut f);
+                for (fi, ff) in f.iter_mut().zip(&target.ff) {
+                    *fi += ff;
+                }
+                if noise > 0.0 {
+                    for fi in &mut f[..p.count] {
+                        *fi += noise * rng.normal();
+                    }
+                }
+                // Every slot, masked (beyond `count` the force is 0 and the
+                // limit unused): the loop has no variable bound.
                 let mut sat = false;
-                for (i, fi) in f.iter_mut().enumerate().take(p.count) {
+                for (i, fi) in f.iter_mut().enumerate() {
                     let lim = p.actuators[i].max_force;
-                    let mut v = *fi + target.ff[i];
-                    if noise > 0.0 {
-                        v += noise * rng.normal();
-                    }
-                    if v.abs() > lim {
-                        sat = true;
-                        v = v.clamp(-lim, lim);
-                    }
-                    *fi = v;
+                    let over = (i < p.count) & (fi.abs() > lim);
+                    sat |= over;
+                    *fi = if over { lim.copysign(*fi) } else { *fi };
                 }
                 self.saturated += sat as u64;
                 let q = rig.generalized_force_sc(self.sc, &f);

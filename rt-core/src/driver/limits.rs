@@ -63,3 +63,43 @@ pub fn apply_limits(
     }
     Ok(clamped)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits() -> ActuatorLimits {
+        let mut l = ActuatorLimits { count: 3, ..ActuatorLimits::default() };
+        for i in 0..3 {
+            (l.stroke[i], l.velocity[i], l.force[i]) = (1.0, 2.0, 3.0);
+        }
+        l
+    }
+
+    /// Live entries are clamped and counted; entries beyond `count` are
+    /// zeroed whatever they hold, and never counted or refused.
+    #[test]
+    fn clamps_live_entries_and_zeroes_the_rest() {
+        let mut cmd = ActuatorCommand::HOME;
+        cmd.position[..3].copy_from_slice(&[0.5, -1.5, 1.0]);
+        cmd.velocity[..3].copy_from_slice(&[2.5, 0.0, -2.0]);
+        cmd.force[..3].copy_from_slice(&[-9.0, 3.0, 0.1]);
+        cmd.position[3] = f64::NAN;
+        cmd.force[7] = 1e9;
+        let mut out = ActuatorCommand::default();
+        assert_eq!(apply_limits(&limits(), &cmd, &mut out), Ok(3));
+        assert_eq!(out.position[..3], [0.5, -1.0, 1.0]);
+        assert_eq!(out.velocity[..3], [2.0, 0.0, -2.0]);
+        assert_eq!(out.force[..3], [-3.0, 3.0, 0.1]);
+        assert!(out.position[3..].iter().chain(&out.velocity[3..]).chain(&out.force[3..]).all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn non_finite_live_entry_is_refused_with_its_index() {
+        let mut cmd = ActuatorCommand::HOME;
+        cmd.velocity[2] = f64::INFINITY;
+        let mut out = ActuatorCommand::default();
+        assert_eq!(apply_limits(&limits(), &cmd, &mut out), Err(WriteError::NonFinite { actuator: 2 }));
+        assert_eq!(out, ActuatorCommand::default());
+    }
+}

@@ -157,6 +157,14 @@ pub struct Rig {
     params: RigParams,
     /// Rows of the home Jacobian ∂s/∂(x, y, θ).
     jac: [[f64; 3]; MAX_ACTUATORS],
+    /// `jac` transposed, zero beyond `count`: the per-actuator maps run
+    /// over every slot without a variable bound, so they vectorise.
+    jt: [[f64; MAX_ACTUATORS]; 3],
+    /// Per actuator, (pinv column, 0) and (J0 row, u·a): the sums over
+    /// actuators accumulate four outputs in one register, in the same order
+    /// as one sum per output.
+    pinv_col: [[f64; 4]; MAX_ACTUATORS],
+    force_col: [[f64; 4]; MAX_ACTUATORS],
     /// (JᵀJ)⁻¹Jᵀ, 3 × count.
     pinv: [[f64; MAX_ACTUATORS]; 3],
     /// u_i·a_i: how a rotation shortens actuator i beyond the linear term,
@@ -176,6 +184,9 @@ impl Rig {
         let mut rig = Self {
             params,
             jac: [[0.0; 3]; MAX_ACTUATORS],
+            jt: [[0.0; MAX_ACTUATORS]; 3],
+            pinv_col: [[0.0; 4]; MAX_ACTUATORS],
+            force_col: [[0.0; 4]; MAX_ACTUATORS],
             pinv: [[0.0; MAX_ACTUATORS]; 3],
             radial: [0.0; MAX_ACTUATORS],
             radial_dof: [0.0; 3],
@@ -183,6 +194,9 @@ impl Rig {
         let mut jtj = [[0.0; 3]; 3];
         for i in 0..params.count {
             rig.jac[i] = rig.jacobian_row(i, 0.0);
+            for r in 0..3 {
+                rig.jt[r][i] = rig.jac[i][r];
+            }
             for r in 0..3 {
                 for c in 0..3 {
                     jtj[r][c] += rig.jac[i][r] * rig.jac[i][c];
@@ -197,6 +211,10 @@ impl Rig {
         }
         for (r, a) in rig.radial.iter_mut().zip(&params.actuators[..params.count]) {
             *r = a.direction[0] * a.attach[0] + a.direction[1] * a.attach[1];
+        }
+        for i in 0..params.count {
+            rig.pinv_col[i] = [rig.pinv[0][i], rig.pinv[1][i], rig.pinv[2][i], 0.0];
+            rig.force_col[i] = [rig.jac[i][0], rig.jac[i][1], rig.jac[i][2], rig.radial[i]];
         }
         rig.radial_dof = rig.project(&rig.radial);
         Ok(rig)
@@ -236,10 +254,9 @@ impl Rig {
     pub fn actuator_positions_sc(&self, pose: &Pose, (s, c): (f64, f64), out: &mut [f64; MAX_ACTUATORS]) {
         // s_i = J0_i·(x, y, sin θ) + (cos θ − 1)·u_i·a_i, the same as
         // u_i·(t + R(θ)a_i − a_i).
-        let k = c - 1.0;
-        for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
-            let j = &self.jac[i];
-            *o = j[0] * pose.x + j[1] * pose.y + j[2] * s + k * self.radial[i];
+        let (k, j) = (c - 1.0, &self.jt);
+        for i in 0..MAX_ACTUATORS {
+            out[i] = j[0][i] * pose.x + j[1][i] * pose.y + j[2][i] * s + k * self.radial[i];
         }
     }
 
@@ -253,10 +270,9 @@ impl Rig {
     #[inline]
     pub fn actuator_velocities_sc(&self, (s, c): (f64, f64), v: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
         // J(θ)_i = (u_x, u_y, cos θ·J0_i2 − sin θ·u_i·a_i).
-        let (cw, sw) = (c * v.theta, s * v.theta);
-        for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
-            let j = &self.jac[i];
-            *o = j[0] * v.x + j[1] * v.y + j[2] * cw - sw * self.radial[i];
+        let (cw, sw, j) = (c * v.theta, s * v.theta, &self.jt);
+        for i in 0..MAX_ACTUATORS {
+            out[i] = j[0][i] * v.x + j[1][i] * v.y + j[2][i] * cw - sw * self.radial[i];
         }
     }
 
@@ -281,14 +297,13 @@ impl Rig {
     /// This is what a servo closed on the actuator encoders sees.
     #[inline]
     pub fn project(&self, s: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
-        let (p, n) = (&self.pinv, self.params.count.min(MAX_ACTUATORS));
-        let mut d = [0.0; 3];
-        for i in 0..n {
-            d[0] += p[0][i] * s[i];
-            d[1] += p[1][i] * s[i];
-            d[2] += p[2][i] * s[i];
+        let mut d = [0.0; 4];
+        for (col, &si) in self.pinv_col.iter().zip(s).take(self.params.count) {
+            for r in 0..4 {
+                d[r] += col[r] * si;
+            }
         }
-        d
+        [d[0], d[1], d[2]]
     }
 
     /// Pose from actuator positions: least squares over all actuators,
@@ -371,8 +386,9 @@ impl Rig {
             self.params.plate_mass * acc.y,
             self.params.plate_inertia * acc.theta,
         ];
-        for (i, o) in out.iter_mut().enumerate().take(self.params.count) {
-            *o = self.pinv[0][i] * q[0] + self.pinv[1][i] * q[1] + self.pinv[2][i] * q[2];
+        // pinv is zero beyond `count`, so those forces come out 0.
+        for i in 0..MAX_ACTUATORS {
+            out[i] = self.pinv[0][i] * q[0] + self.pinv[1][i] * q[1] + self.pinv[2][i] * q[2];
         }
     }
 
@@ -386,16 +402,13 @@ impl Rig {
     #[inline]
     pub fn generalized_force_sc(&self, (s, c): (f64, f64), f: &[f64; MAX_ACTUATORS]) -> [f64; 3] {
         // J(θ)_i = (u_x, u_y, cos θ·J0_i2 − sin θ·u_i·a_i).
-        let (mut q, mut radial) = ([0.0; 3], 0.0);
-        for (i, &fi) in f.iter().enumerate().take(self.params.count) {
-            let j = &self.jac[i];
-            q[0] += j[0] * fi;
-            q[1] += j[1] * fi;
-            q[2] += j[2] * fi;
-            radial += self.radial[i] * fi;
+        let mut q = [0.0; 4];
+        for (col, &fi) in self.force_col.iter().zip(f).take(self.params.count) {
+            for r in 0..4 {
+                q[r] += col[r] * fi;
+            }
         }
-        q[2] = c * q[2] - s * radial;
-        q
+        [q[0], q[1], c * q[2] - s * q[3]]
     }
 
     /// The command that plays one motion sample: positions, velocities and
