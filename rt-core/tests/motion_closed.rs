@@ -82,3 +82,20 @@ fn time_and_tick_sampling_agree() {
         assert!((a.pose.theta - b.pose.theta).abs() < 1e-12, "tick {tick}");
     }
 }
+
+/// Sampling is periodic in the cycle on both sides of the 32-bit fast path
+/// (ticks past u32::MAX take the 64-bit division).
+#[test]
+fn sample_tick_is_periodic_past_32_bit_ticks() {
+    let mut m = PlateMotion::new(MotionParams::default()).expect("defaults valid");
+    let es = [ScheduleEntry { center: [0.3, -0.2], k: 0.4 }, ScheduleEntry { center: [-0.5, 0.1], k: -0.7 }];
+    m.set_schedule(&es).expect("playable");
+    let cycle = m.cycle_ticks();
+    let far = (u32::MAX as u64 / cycle + 3) * cycle;
+    assert!(far > u32::MAX as u64);
+    for t in (0..cycle).step_by(7) {
+        let (near, past) = (m.sample_tick(t), m.sample_tick(far + t));
+        assert_eq!(near, past, "tick {t}");
+        assert_eq!(near.cycle_start, t == 0);
+    }
+}

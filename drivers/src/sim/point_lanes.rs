@@ -43,58 +43,91 @@ fn step_lane(pl: &PlateNow, g: &mut Group, k: usize, s: f64, mu: Coulomb) {
     [g.vx[k], g.vy[k]] = v;
 }
 
+/// Groups stepped side by side: each lane's chain of square roots and
+/// divisions is long, and issuing several groups' chains together hides
+/// their latency.
+const BLOCK: usize = 4;
+
 /// Every live lane of `groups` (the point parts). Inlined into the
 /// simulator's step, which has an AVX2 clone.
 #[inline(always)]
 pub(crate) fn step_points(pl: &PlateNow, groups: &mut [Group], s: f64, mu: Coulomb) {
-    for g in groups {
-        step_group(pl, g, s, mu);
+    for block in groups.chunks_mut(BLOCK) {
+        step_block(pl, block, s, mu);
     }
 }
 
-/// One group: branch-free lanes, written back where live and fast; the
-/// other live lanes by the scalar routine.
+/// Up to [`BLOCK`] groups, in phases over all of them: the first friction
+/// direction, then the rest of the fast path, then the write-back (where
+/// live and fast) and the scalar routine for the other live lanes.
 #[inline(always)]
-fn step_group(pl: &PlateNow, g: &mut Group, s: f64, mu: Coulomb) {
-    let mut out = [[0.0; W]; 4];
-    let mut fast = [false; W];
-    // Plain arrays in and out: LLVM vectorises this loop (ymm in the AVX2
-    // clone).
-    for k in 0..W {
-        let v = [g.vx[k], g.vy[k]];
-        let (a, xi) = relative(pl, [g.x[k], g.y[k]], v);
-        let (r, f) = fast_lane(a, xi, v, g.stuck[k], s, mu);
-        for c in 0..4 {
-            out[c][k] = r[c];
-        }
-        fast[k] = f & g.live[k];
-    }
-    for k in 0..W {
-        let f = fast[k];
-        g.x[k] = if f { g.x[k] + out[0][k] } else { g.x[k] };
-        g.y[k] = if f { g.y[k] + out[1][k] } else { g.y[k] };
-        g.vx[k] = if f { out[2][k] } else { g.vx[k] };
-        g.vy[k] = if f { out[3][k] } else { g.vy[k] };
-    }
-    for k in 0..W {
-        if g.live[k] & !fast[k] {
-            step_lane(pl, g, k, s, mu);
+fn step_block(pl: &PlateNow, block: &mut [Group], s: f64, mu: Coulomb) {
+    let mut a = [[[0.0; W]; 2]; BLOCK];
+    let mut xi = [[[0.0; W]; 2]; BLOCK];
+    let mut n2 = [[0.0; W]; BLOCK];
+    let mut kk = [[0.0; W]; BLOCK];
+    // Plain arrays in and out: LLVM vectorises the lane loops (ymm in the
+    // AVX2 clone).
+    for (b, g) in block.iter().enumerate() {
+        for k in 0..W {
+            let (ak, xk) = relative(pl, [g.x[k], g.y[k]], [g.vx[k], g.vy[k]]);
+            [a[b][0][k], a[b][1][k]] = ak;
+            [xi[b][0][k], xi[b][1][k]] = xk;
+            (n2[b][k], kk[b][k]) = direction(xk, mu);
         }
     }
+    for (b, g) in block.iter_mut().enumerate() {
+        let mut out = [[0.0; W]; 4];
+        let mut fast = [false; W];
+        for k in 0..W {
+            let v = [g.vx[k], g.vy[k]];
+            let (ak, xk) = ([a[b][0][k], a[b][1][k]], [xi[b][0][k], xi[b][1][k]]);
+            let (r, f) = fast_lane(ak, xk, (n2[b][k], kk[b][k]), v, g.stuck[k], s, mu);
+            for c in 0..4 {
+                out[c][k] = r[c];
+            }
+            fast[k] = f & g.live[k];
+        }
+        for k in 0..W {
+            let f = fast[k];
+            g.x[k] = if f { g.x[k] + out[0][k] } else { g.x[k] };
+            g.y[k] = if f { g.y[k] + out[1][k] } else { g.y[k] };
+            g.vx[k] = if f { out[2][k] } else { g.vx[k] };
+            g.vy[k] = if f { out[3][k] } else { g.vy[k] };
+        }
+        for k in 0..W {
+            if g.live[k] & !fast[k] {
+                step_lane(pl, g, k, s, mu);
+            }
+        }
+    }
+}
+
+/// |ξ|² and μ_k g / |ξ| (the scale of the start friction direction).
+#[inline(always)]
+fn direction(xi: [f64; 2], mu: Coulomb) -> (f64, f64) {
+    let n2 = xi[0] * xi[0] + xi[1] * xi[1];
+    (n2, mu.kinetic / n2.sqrt())
 }
 
 /// The two common cases of `step_point` without branches: returns
 /// (displacement, new velocity) and whether the lane was one of them
 /// (stuck and staying stuck; sliding, not at rest, no event in the step).
 #[inline(always)]
-fn fast_lane(a: [f64; 2], xi: [f64; 2], v: [f64; 2], stuck: bool, h: f64, mu: Coulomb) -> ([f64; 4], bool) {
+fn fast_lane(
+    a: [f64; 2],
+    xi: [f64; 2],
+    (n2, k): (f64, f64),
+    v: [f64; 2],
+    stuck: bool,
+    h: f64,
+    mu: Coulomb,
+) -> ([f64; 4], bool) {
     let ck = mu.kinetic;
     let aa = a[0] * a[0] + a[1] * a[1];
     let sticks = aa <= mu.stat * mu.stat;
     let scale2 = 2.0 * (aa + ck * ck) * h * h;
     let tol2 = 1e-18 * scale2;
-    let n2 = xi[0] * xi[0] + xi[1] * xi[1];
-    let k = ck / n2.sqrt();
     let g = [k * xi[0], k * xi[1]];
     let b = [a[0] - g[0], a[1] - g[1]];
     let bb = b[0] * b[0] + b[1] * b[1];
@@ -131,7 +164,7 @@ mod tests {
             stuck: bool,
         ) {
             let h = 1e-4;
-            let (out, fast) = fast_lane(a, xi, v, stuck, h, MU);
+            let (out, fast) = fast_lane(a, xi, direction(xi, MU), v, stuck, h, MU);
             let (mut vs, mut st) = (v, stuck);
             let d = friction::step_point(if stuck { [0.0; 2] } else { xi }, &mut vs, a, h, MU, &mut st);
             if fast {
