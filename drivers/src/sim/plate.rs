@@ -146,7 +146,7 @@ impl Plate {
     }
 
     /// Integrate pose and velocity over `s` with the planned acceleration.
-    #[inline]
+    #[inline(always)]
     pub fn integrate(&mut self, s: f64) {
         let a = self.acc;
         self.pose.x += self.vel.x * s + 0.5 * a.x * s * s;

@@ -78,25 +78,42 @@ fn step_block(pl: &PlateNow, block: &mut [Group], s: f64, mu: Coulomb) {
     }
     for (b, g) in block.iter_mut().enumerate() {
         let mut out = [[0.0; W]; 4];
-        let mut fast = [false; W];
+        let mut lane = [Lane::default(); W];
         for k in 0..W {
             let v = [g.vx[k], g.vy[k]];
             let (ak, xk) = ([a[b][0][k], a[b][1][k]], [xi[b][0][k], xi[b][1][k]]);
-            let (r, f) = fast_lane(ak, xk, (n2[b][k], kk[b][k]), v, g.stuck[k], s, mu);
+            let (r, l) = fast_lane(ak, xk, (n2[b][k], kk[b][k]), v, g.stuck[k], s, mu);
             for c in 0..4 {
                 out[c][k] = r[c];
             }
-            fast[k] = f & g.live[k];
+            lane[k] = Lane { fast: l.fast & g.live[k], event: l.event & g.live[k] };
+        }
+        let mut done = lane.map(|l| l.fast);
+        // About one lane in twenty has an event: take them four at a time
+        // too, when the group has any.
+        if lane.iter().fold(false, |any, l| any | l.event) {
+            let mut stuck = g.stuck;
+            for k in 0..W {
+                let (ak, xk) = ([a[b][0][k], a[b][1][k]], [xi[b][0][k], xi[b][1][k]]);
+                let (r, st, ok) = event_lane(ak, xk, kk[b][k], [g.vx[k], g.vy[k]], s, mu);
+                let take = lane[k].event & ok;
+                for c in 0..4 {
+                    out[c][k] = if take { r[c] } else { out[c][k] };
+                }
+                stuck[k] = if take { st } else { stuck[k] };
+                done[k] |= take;
+            }
+            g.stuck = stuck;
         }
         for k in 0..W {
-            let f = fast[k];
+            let f = done[k];
             g.x[k] = if f { g.x[k] + out[0][k] } else { g.x[k] };
             g.y[k] = if f { g.y[k] + out[1][k] } else { g.y[k] };
             g.vx[k] = if f { out[2][k] } else { g.vx[k] };
             g.vy[k] = if f { out[3][k] } else { g.vy[k] };
         }
         for k in 0..W {
-            if g.live[k] & !fast[k] {
+            if g.live[k] & !done[k] {
                 step_lane(pl, g, k, s, mu);
             }
         }
@@ -122,7 +139,7 @@ fn fast_lane(
     stuck: bool,
     h: f64,
     mu: Coulomb,
-) -> ([f64; 4], bool) {
+) -> ([f64; 4], Lane) {
     let ck = mu.kinetic;
     let aa = a[0] * a[0] + a[1] * a[1];
     let sticks = aa <= mu.stat * mu.stat;
@@ -140,9 +157,71 @@ fn fast_lane(
     let g2 = [if moving { k2 * m[0] } else { g[0] }, if moving { k2 * m[1] } else { g[1] }];
     let gx = if stuck { a[0] } else { g2[0] };
     let gy = if stuck { a[1] } else { g2[1] };
-    let fast = (stuck & sticks) | (!stuck & (n2 > tol2) & !event);
+    let sliding = !stuck & (n2 > tol2);
+    let fast = (stuck & sticks) | (sliding & !event);
     let d = [v[0] * h + 0.5 * gx * h * h, v[1] * h + 0.5 * gy * h * h];
-    ([d[0], d[1], v[0] + gx * h, v[1] + gy * h], fast)
+    ([d[0], d[1], v[0] + gx * h, v[1] + gy * h], Lane { fast, event: sliding & event })
+}
+
+/// What [`fast_lane`] found: `fast` if it took the step, `event` if the
+/// lane slides into a closest approach to relative rest inside the step
+/// (then [`event_lane`] may take it).
+#[derive(Debug, Clone, Copy, Default)]
+struct Lane {
+    fast: bool,
+    event: bool,
+}
+
+/// A sliding lane with one closest approach inside the step, as
+/// `step_point` does it: up to the event, snap to relative rest if there,
+/// then stick, leave rest along a, or slide on with a midpoint direction.
+/// Returns (displacement, new velocity), the new stick flag, and false
+/// where the rest of the step holds a second event (left to the scalar
+/// routine). Same operations in the same order as `step_point`.
+#[inline(always)]
+fn event_lane(a: [f64; 2], xi: [f64; 2], k: f64, v: [f64; 2], h: f64, mu: Coulomb) -> ([f64; 4], bool, bool) {
+    let ck = mu.kinetic;
+    let dot = |x: [f64; 2], y: [f64; 2]| x[0] * y[0] + x[1] * y[1];
+    let aa = dot(a, a);
+    let sticks = aa <= mu.stat * mu.stat;
+    let scale2 = 2.0 * (aa + ck * ck) * h * h;
+    let (tol2, snap2) = (1e-18 * scale2, 1e-12 * scale2);
+    let mut v = v;
+    // Piece 1: to the closest approach.
+    let g = [k * xi[0], k * xi[1]];
+    let bv = [a[0] - g[0], a[1] - g[1]];
+    let bb = dot(bv, bv);
+    let s1 = -dot(xi, bv) / bb;
+    let mut disp = [0.0 + (v[0] * s1 + 0.5 * g[0] * s1 * s1), 0.0 + (v[1] * s1 + 0.5 * g[1] * s1 * s1)];
+    v = [v[0] + g[0] * s1, v[1] + g[1] * s1];
+    let mut xi = [xi[0] + bv[0] * s1, xi[1] + bv[1] * s1];
+    let rem = h - s1;
+    let snap = dot(xi, xi) <= snap2;
+    v = [if snap { v[0] + xi[0] } else { v[0] }, if snap { v[1] + xi[1] } else { v[1] }];
+    xi = if snap { [0.0; 2] } else { xi };
+    // Piece 2: at rest (stick or leave along a) or still sliding.
+    let n2 = dot(xi, xi);
+    let at_rest = n2 <= tol2;
+    v = [if at_rest { v[0] + xi[0] } else { v[0] }, if at_rest { v[1] + xi[1] } else { v[1] }];
+    xi = if at_rest { [0.0; 2] } else { xi };
+    let stuck = at_rest & sticks;
+    let (dir, d2) = if at_rest { (a, aa) } else { (xi, n2) };
+    let k2 = ck / d2.sqrt();
+    let g2 = [k2 * dir[0], k2 * dir[1]];
+    let bv2 = [a[0] - g2[0], a[1] - g2[1]];
+    let bb2 = dot(bv2, bv2);
+    let num2 = -dot(xi, bv2);
+    let again = (bb2 > 0.0) & (num2 > 1e-3 * h * bb2) & (num2 < rem * bb2);
+    let xm = [xi[0] + 0.5 * bv2[0] * rem, xi[1] + 0.5 * bv2[1] * rem];
+    let m2 = dot(xm, xm);
+    let k3 = ck / m2.sqrt();
+    let moving = m2 > tol2;
+    let g3 = [if moving { k3 * xm[0] } else { g2[0] }, if moving { k3 * xm[1] } else { g2[1] }];
+    let gl = if stuck { a } else { g3 };
+    disp =
+        [disp[0] + (v[0] * rem + 0.5 * gl[0] * rem * rem), disp[1] + (v[1] * rem + 0.5 * gl[1] * rem * rem)];
+    v = [v[0] + gl[0] * rem, v[1] + gl[1] * rem];
+    ([disp[0], disp[1], v[0], v[1]], stuck, stuck | !again)
 }
 
 #[cfg(test)]
@@ -164,7 +243,8 @@ mod tests {
             stuck: bool,
         ) {
             let h = 1e-4;
-            let (out, fast) = fast_lane(a, xi, direction(xi, MU), v, stuck, h, MU);
+            let (out, lane) = fast_lane(a, xi, direction(xi, MU), v, stuck, h, MU);
+            let fast = lane.fast;
             let (mut vs, mut st) = (v, stuck);
             let d = friction::step_point(if stuck { [0.0; 2] } else { xi }, &mut vs, a, h, MU, &mut st);
             if fast {
@@ -172,6 +252,63 @@ mod tests {
                 prop_assert_eq!(st, stuck);
             }
         }
+
+        /// Where an event lane says it took the step, it gives the scalar
+        /// routine's bits and stick flag (small ξ, so events are common).
+        #[test]
+        fn event_lanes_match_the_scalar_step(
+            a in prop::array::uniform2(-20.0f64..20.0),
+            xi in prop::array::uniform2(-0.003f64..0.003),
+            v in prop::array::uniform2(-0.5f64..0.5),
+        ) {
+            let h = 1e-4;
+            let (n2, k) = direction(xi, MU);
+            let (_, lane) = fast_lane(a, xi, (n2, k), v, false, h, MU);
+            let (out, stuck, ok) = event_lane(a, xi, k, v, h, MU);
+            let (mut vs, mut st) = (v, false);
+            let d = friction::step_point(xi, &mut vs, a, h, MU, &mut st);
+            if lane.event && ok {
+                prop_assert_eq!(out, [d[0], d[1], vs[0], vs[1]]);
+                prop_assert_eq!(stuck, st);
+            }
+        }
+    }
+
+    /// The event path is used, and for each way a step can end: stuck,
+    /// leaving rest (ξ heading straight at zero, |a| above the static
+    /// limit), and sliding on past the closest approach.
+    #[test]
+    fn event_lanes_cover_every_ending() {
+        let (h, mut seen) = (1e-4, [0; 3]);
+        for i in 0..40_000u32 {
+            let f = |j: u32| (i.wrapping_mul(2_654_435_761).rotate_left(j) as f64 / u32::MAX as f64) - 0.5;
+            let a = [10.0 * f(3), 10.0 * f(7)];
+            // Every other case heads straight at relative rest.
+            let straight = i % 2 == 0;
+            let xi = if straight {
+                [-1e-4 * f(11).abs() * a[0], -1e-4 * f(11).abs() * a[1]]
+            } else {
+                [0.006 * f(11), 0.006 * f(13)]
+            };
+            let v = [f(17), f(19)];
+            let (n2, k) = direction(xi, MU);
+            let (_, lane) = fast_lane(a, xi, (n2, k), v, false, h, MU);
+            let (out, stuck, ok) = event_lane(a, xi, k, v, h, MU);
+            if !(lane.event && ok) {
+                continue;
+            }
+            let (mut vs, mut st) = (v, false);
+            let d = friction::step_point(xi, &mut vs, a, h, MU, &mut st);
+            assert_eq!((out, stuck), ([d[0], d[1], vs[0], vs[1]], st));
+            seen[if stuck {
+                0
+            } else if straight {
+                1
+            } else {
+                2
+            }] += 1;
+        }
+        assert!(seen.iter().all(|&n| n > 0), "endings seen (stuck, leaving rest, sliding on): {seen:?}");
     }
 
     /// The lanes are used, and the fallback too, on a real run: seven parts
