@@ -5,7 +5,7 @@
 /// or two of libm's, several times faster and without a call); exactly
 /// (0, 1) at θ = 0. Horner form with the reciprocal factorials as constants:
 /// a division per term would cost more than the whole polynomial.
-#[inline]
+#[inline(always)]
 pub fn sin_cos(theta: f64) -> (f64, f64) {
     const S: [f64; 6] =
         [-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0, -1.0 / 39_916_800.0, 1.0 / 6_227_020_800.0];

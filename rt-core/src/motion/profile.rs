@@ -17,6 +17,9 @@ pub struct Profile {
     pub w: [f64; MAX_KNOTS],
     pub theta: [f64; MAX_KNOTS],
     pub n: usize,
+    /// dω/dt of the segment starting at each knot, computed once here
+    /// rather than divided out at every sample.
+    alpha: [f64; MAX_KNOTS],
 }
 
 /// Angle, angular velocity and angular acceleration at one instant.
@@ -36,6 +39,8 @@ impl Profile {
             p.w[i] = w;
             if i > 0 {
                 p.theta[i] = p.theta[i - 1] + 0.5 * (p.w[i - 1] + w) * (t - p.t[i - 1]);
+                let span = t - p.t[i - 1];
+                p.alpha[i - 1] = if span > 0.0 { (w - p.w[i - 1]) / span } else { 0.0 };
             }
         }
         p
@@ -64,8 +69,7 @@ impl Profile {
         while i + 2 < self.n && t >= self.t[i + 1] {
             i += 1;
         }
-        let span = self.t[i + 1] - self.t[i];
-        let alpha = if span > 0.0 { (self.w[i + 1] - self.w[i]) / span } else { 0.0 };
+        let alpha = self.alpha[i];
         let dt = t - self.t[i];
         ProfilePoint {
             theta: self.theta[i] + self.w[i] * dt + 0.5 * alpha * dt * dt,
