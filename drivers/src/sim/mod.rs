@@ -292,6 +292,23 @@ fn step_tick(sim: &mut Simulator) {
     sim.step_body();
 }
 
+/// [`PlateDriver::write`], with an AVX2 clone like [`step_tick`].
+#[multiversion(targets("x86_64+avx2"))]
+fn write_command(sim: &mut Simulator, command: &ActuatorCommand) -> Result<(), WriteError> {
+    match apply_limits(&sim.limits, command, &mut sim.command) {
+        Ok(clamped) => {
+            sim.counters.clamped += clamped as u64;
+            sim.target.accept(sim.cfg.actuator, &sim.rig, &sim.command);
+            sim.holding = false;
+            Ok(())
+        }
+        Err(e) => {
+            sim.counters.rejected += 1;
+            Err(e)
+        }
+    }
+}
+
 impl PlateDriver for Simulator {
     fn limits(&self) -> ActuatorLimits {
         self.limits
@@ -315,18 +332,7 @@ impl PlateDriver for Simulator {
     }
 
     fn write(&mut self, command: &ActuatorCommand) -> Result<(), WriteError> {
-        match apply_limits(&self.limits, command, &mut self.command) {
-            Ok(clamped) => {
-                self.counters.clamped += clamped as u64;
-                self.target.accept(self.cfg.actuator, &self.rig, &self.command);
-                self.holding = false;
-                Ok(())
-            }
-            Err(e) => {
-                self.counters.rejected += 1;
-                Err(e)
-            }
-        }
+        write_command(self, command)
     }
 
     fn hold(&mut self) {

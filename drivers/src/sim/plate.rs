@@ -55,7 +55,7 @@ pub(crate) struct Target {
 impl Target {
     /// Take an accepted command as the setpoint for the end of this tick
     /// (in place: the writer's hot path copies nothing else).
-    #[inline]
+    #[inline(always)]
     pub fn accept(&mut self, model: ActuatorModel, rig: &Rig, cmd: &ActuatorCommand) {
         if let ActuatorModel::Ideal = model {
             self.pose = rig.pose_from_actuators(&cmd.position);

@@ -28,38 +28,42 @@ impl ActuatorLimits {
 /// Copy `cmd` into `out` within `limits`: non-finite → Err (out untouched);
 /// otherwise clamp and return how many entries were clamped. Entries beyond
 /// `count` are zeroed.
-#[inline]
+#[inline(always)]
 pub fn apply_limits(
     limits: &ActuatorLimits,
     cmd: &ActuatorCommand,
     out: &mut ActuatorCommand,
 ) -> Result<u32, WriteError> {
     let n = limits.count.min(MAX_ACTUATORS);
-    // Branch-free scan first (the common case); the index only on failure.
-    let finite =
-        |i: usize| cmd.position[i].is_finite() & cmd.velocity[i].is_finite() & cmd.force[i].is_finite();
-    if !(0..n).fold(true, |ok, i| ok & finite(i)) {
-        let actuator = (0..n).find(|&i| !finite(i)).unwrap_or(0);
+    // Every slot, branch-free, with entries beyond `count` masked off: the
+    // fixed-width loops vectorise. `x − x == 0` is the finite test as one
+    // float compare. The index is looked for only on failure.
+    let finite = |x: f64| x - x == 0.0;
+    let mut ok = true;
+    for i in 0..MAX_ACTUATORS {
+        let live_ok = finite(cmd.position[i]) & finite(cmd.velocity[i]) & finite(cmd.force[i]);
+        ok &= live_ok | (i >= n);
+    }
+    if !ok {
+        let bad = |i: usize| !(finite(cmd.position[i]) & finite(cmd.velocity[i]) & finite(cmd.force[i]));
+        let actuator = (0..n).find(|&i| bad(i)).unwrap_or(0);
         return Err(WriteError::NonFinite { actuator });
     }
     let mut clamped = 0;
-    // Limits are validated positive and v is finite: two compares (what
-    // minsd/maxsd do), not f64::clamp, which re-checks its bounds per call.
-    let mut clamp = |v: f64, lim: f64| {
-        let c = if v > lim { lim } else { v };
-        let c = if c < -lim { -lim } else { c };
-        clamped += (c != v) as u32;
-        c
-    };
-    for i in 0..n {
+    for i in 0..MAX_ACTUATORS {
+        let live = i < n;
+        // Limits are validated positive and v is finite where live: two
+        // compares (what minsd/maxsd do), not f64::clamp, which re-checks
+        // its bounds per call.
+        let mut clamp = |v: f64, lim: f64| {
+            let c = if v > lim { lim } else { v };
+            let c = if c < -lim { -lim } else { c };
+            clamped += (live & (c != v)) as u32;
+            if live { c } else { 0.0 }
+        };
         out.position[i] = clamp(cmd.position[i], limits.stroke[i]);
         out.velocity[i] = clamp(cmd.velocity[i], limits.velocity[i]);
         out.force[i] = clamp(cmd.force[i], limits.force[i]);
-    }
-    for i in n..MAX_ACTUATORS {
-        out.position[i] = 0.0;
-        out.velocity[i] = 0.0;
-        out.force[i] = 0.0;
     }
     Ok(clamped)
 }
