@@ -1,6 +1,7 @@
 //! The motor loop without wall-clock time: read → update (sample the motion,
 //! kinematics) → write → advance, one iteration per tick.
 
+use multiversion::multiversion;
 use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState, WriteError};
 use rt_core::motion::{PlateMotion, PlateSample, Rig};
 
@@ -32,8 +33,9 @@ pub fn play<D: PlateDriver>(
 }
 
 /// The update step: the command for the end of tick `t`, given the sample at
-/// its start (`now`, advanced to the end).
-#[inline]
+/// its start (`now`, advanced to the end). AVX2 clone where the CPU has it
+/// (nothing is fused, so both clones give the same bits).
+#[multiversion(targets("x86_64+avx2"))]
 fn next_command(
     rig: &Rig,
     motion: &PlateMotion,

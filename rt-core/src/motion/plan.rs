@@ -339,7 +339,7 @@ impl PlateMotion {
 
     /// The motion at motor tick `tick` (tick 0 = start of a cycle).
     /// Allocation-free, panic-free, O(1).
-    #[inline]
+    #[inline(always)]
     pub fn sample_tick(&self, tick: u64) -> PlateSample {
         let n = self.slot_ticks();
         let cycle = self.cycle_ticks();
@@ -378,7 +378,7 @@ impl PlateMotion {
         s
     }
 
-    #[inline]
+    #[inline(always)]
     fn eval_slot(&self, slot: usize, t: f64) -> PlateSample {
         let Some(s) = self.slots.get(slot) else {
             return PlateSample::default();

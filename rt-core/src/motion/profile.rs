@@ -59,7 +59,7 @@ impl Profile {
     }
 
     /// Evaluate at `t` (clamped to the knot range). Exactly 0 at t = 0.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, t: f64) -> ProfilePoint {
         if self.n < 2 {
             return ProfilePoint::default();

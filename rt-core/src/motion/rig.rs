@@ -413,7 +413,7 @@ impl Rig {
 
     /// The command that plays one motion sample: positions, velocities and
     /// feed-forward forces. Allocation-free.
-    #[inline]
+    #[inline(always)]
     pub fn command(&self, sample: &PlateSample, cmd: &mut ActuatorCommand) {
         let sc = super::pose::sin_cos(sample.pose.theta);
         self.actuator_positions_sc(&sample.pose, sc, &mut cmd.position);
