@@ -38,6 +38,7 @@ pub fn apply_limits(
     // Every slot, branch-free, with entries beyond `count` masked off: the
     // fixed-width loops vectorise. `x − x == 0` is the finite test as one
     // float compare. The index is looked for only on failure.
+    #[allow(clippy::eq_op)] // x − x is 0 for finite x, NaN otherwise: the point.
     let finite = |x: f64| x - x == 0.0;
     let mut ok = true;
     for i in 0..MAX_ACTUATORS {
