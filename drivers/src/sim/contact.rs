@@ -71,7 +71,8 @@ fn moved_half_skin(groups: &[Group]) -> bool {
     for g in groups {
         for k in 0..W {
             let (dx, dy) = (g.x[k] - g.anchor_x[k], g.y[k] - g.anchor_y[k]);
-            far |= dx * dx + dy * dy >= half2;
+            // "Not closer", so that NaN forces a rebuild.
+            far |= !(dx * dx + dy * dy < half2);
         }
     }
     far

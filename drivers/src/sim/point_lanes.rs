@@ -159,7 +159,9 @@ fn fast_lane(
     let gy = if stuck { a[1] } else { g2[1] };
     let sliding = !stuck & (n2 > tol2);
     let fast = (stuck & sticks) | (sliding & !event);
-    let d = [v[0] * h + 0.5 * gx * h * h, v[1] * h + 0.5 * gy * h * h];
+    // `0.0 +` as in step_point, whose displacement starts from zero (so a
+    // −0.0 comes out +0.0 on both paths).
+    let d = [0.0 + (v[0] * h + 0.5 * gx * h * h), 0.0 + (v[1] * h + 0.5 * gy * h * h)];
     ([d[0], d[1], v[0] + gx * h, v[1] + gy * h], Lane { fast, event: sliding & event })
 }
 
@@ -272,6 +274,18 @@ mod tests {
                 prop_assert_eq!(stuck, st);
             }
         }
+    }
+
+    /// A −0.0 displacement comes out +0.0 on both paths (bits, not ==).
+    #[test]
+    fn signed_zero_displacement_matches_the_scalar_step() {
+        let (a, v, h) = ([-0.0, -0.0], [-0.0, -0.0], 1e-4);
+        let (n2, k) = direction([0.0; 2], MU);
+        let (out, lane) = fast_lane(a, [0.0; 2], (n2, k), v, true, h, MU);
+        let (mut vs, mut st) = (v, true);
+        let d = friction::step_point([0.0; 2], &mut vs, a, h, MU, &mut st);
+        assert!(lane.fast);
+        assert_eq!(out.map(f64::to_bits), [d[0], d[1], vs[0], vs[1]].map(f64::to_bits));
     }
 
     /// The event path is used, and for each way a step can end: stuck,
