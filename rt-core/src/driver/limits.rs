@@ -40,14 +40,13 @@ pub fn apply_limits(
     // float compare. The index is looked for only on failure.
     #[allow(clippy::eq_op)] // x − x is 0 for finite x, NaN otherwise: the point.
     let finite = |x: f64| x - x == 0.0;
+    let entry_ok = |i: usize| finite(cmd.position[i]) & finite(cmd.velocity[i]) & finite(cmd.force[i]);
     let mut ok = true;
     for i in 0..MAX_ACTUATORS {
-        let live_ok = finite(cmd.position[i]) & finite(cmd.velocity[i]) & finite(cmd.force[i]);
-        ok &= live_ok | (i >= n);
+        ok &= entry_ok(i) | (i >= n);
     }
     if !ok {
-        let bad = |i: usize| !(finite(cmd.position[i]) & finite(cmd.velocity[i]) & finite(cmd.force[i]));
-        let actuator = (0..n).find(|&i| bad(i)).unwrap_or(0);
+        let actuator = (0..n).find(|&i| !entry_ok(i)).unwrap_or(0);
         return Err(WriteError::NonFinite { actuator });
     }
     let mut clamped = 0;

@@ -155,10 +155,9 @@ fn inv3(m: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
 #[derive(Debug, Clone)]
 pub struct Rig {
     params: RigParams,
-    /// Rows of the home Jacobian ∂s/∂(x, y, θ).
-    jac: [[f64; 3]; MAX_ACTUATORS],
-    /// `jac` transposed, zero beyond `count`: the per-actuator maps run
-    /// over every slot without a variable bound, so they vectorise.
+    /// The home Jacobian ∂s/∂(x, y, θ) transposed (one row per DoF), zero
+    /// beyond `count`: the per-actuator maps run over every slot without a
+    /// variable bound, so they vectorise.
     jt: [[f64; MAX_ACTUATORS]; 3],
     /// Per actuator, (pinv column, 0) and (J0 row, u·a): the sums over
     /// actuators accumulate four outputs in one register, in the same order
@@ -183,7 +182,6 @@ impl Rig {
         }
         let mut rig = Self {
             params,
-            jac: [[0.0; 3]; MAX_ACTUATORS],
             jt: [[0.0; MAX_ACTUATORS]; 3],
             pinv_col: [[0.0; 4]; MAX_ACTUATORS],
             force_col: [[0.0; 4]; MAX_ACTUATORS],
@@ -191,22 +189,24 @@ impl Rig {
             radial: [0.0; MAX_ACTUATORS],
             radial_dof: [0.0; 3],
         };
+        // Rows of the home Jacobian; only the layouts derived from it are kept.
+        let mut jac = [[0.0; 3]; MAX_ACTUATORS];
         let mut jtj = [[0.0; 3]; 3];
         for i in 0..params.count {
-            rig.jac[i] = rig.jacobian_row(i, 0.0);
+            jac[i] = rig.jacobian_row(i, 0.0);
             for r in 0..3 {
-                rig.jt[r][i] = rig.jac[i][r];
+                rig.jt[r][i] = jac[i][r];
             }
             for r in 0..3 {
                 for c in 0..3 {
-                    jtj[r][c] += rig.jac[i][r] * rig.jac[i][c];
+                    jtj[r][c] += jac[i][r] * jac[i][c];
                 }
             }
         }
         let inv = inv3(jtj).ok_or(RigError::Singular)?;
         for r in 0..3 {
             for i in 0..params.count {
-                rig.pinv[r][i] = (0..3).map(|c| inv[r][c] * rig.jac[i][c]).sum();
+                rig.pinv[r][i] = (0..3).map(|c| inv[r][c] * jac[i][c]).sum();
             }
         }
         for (r, a) in rig.radial.iter_mut().zip(&params.actuators[..params.count]) {
@@ -214,7 +214,7 @@ impl Rig {
         }
         for i in 0..params.count {
             rig.pinv_col[i] = [rig.pinv[0][i], rig.pinv[1][i], rig.pinv[2][i], 0.0];
-            rig.force_col[i] = [rig.jac[i][0], rig.jac[i][1], rig.jac[i][2], rig.radial[i]];
+            rig.force_col[i] = [jac[i][0], jac[i][1], jac[i][2], rig.radial[i]];
         }
         rig.radial_dof = rig.project(&rig.radial);
         Ok(rig)
