@@ -87,7 +87,7 @@ fn sliding_block_stops_after_v0_over_mu_k_g_and_sticks() {
 #[test]
 fn disc_spins_down_under_torsional_friction() {
     // A disc spinning on a plate at rest: friction torque μ_k·m·g·ρ_t with
-    // the ring lever ρ_t = a/√2, so ω falls linearly, then sticks.
+    // the uniform disc's lever ρ_t = 2a/3, so ω falls linearly, then sticks.
     let a = 0.05;
     let mut s =
         sim(&[PartSpec { shape: Shape::Disc { radius: a }, mass: 0.04, position: [0.0, 0.0], angle: 0.0 }]);
@@ -95,7 +95,7 @@ fn disc_spins_down_under_torsional_friction() {
     let w0 = 3.0;
     assert!(s.set_part(0, PartState { angular_velocity: w0, ..PartState::default() }));
     let inertia = s.part_inertia(0).expect("part");
-    let alpha = cfg.mu_kinetic * cfg.gravity * 0.04 * a * core::f64::consts::FRAC_1_SQRT_2 / inertia;
+    let alpha = cfg.mu_kinetic * cfg.gravity * 0.04 * a * (2.0 / 3.0) / inertia;
     let ticks = 100;
     for _ in 0..ticks {
         s.advance();
@@ -109,4 +109,42 @@ fn disc_spins_down_under_torsional_friction() {
         w0 - alpha * t
     );
     assert!(p.velocity[0].abs() < 1e-12 && p.velocity[1].abs() < 1e-12);
+}
+
+#[test]
+fn sliding_and_spinning_disc_stops_both_at_once() {
+    // Farkas, Bartels, Unger & Wolf, PRL 90, 248302 (2003): on a uniform
+    // disc the coupling of sliding and spinning friction drives the ratio
+    // ε = v/(ωR) towards a fixed point, ≈ 0.653, from either side, so that
+    // both motions end together. (Contact on a ring has its own fixed
+    // point; a model without the coupling has none.)
+    let a = 0.05;
+    let mut tails = [0.0; 2];
+    for (tail, (v0, w0)) in tails.iter_mut().zip([(0.1, 1.5), (0.1, 5.0)]) {
+        let mut s = sim(&[PartSpec {
+            shape: Shape::Disc { radius: a },
+            mass: 0.04,
+            position: [0.0, 0.0],
+            angle: 0.0,
+        }]);
+        let start = PartState { velocity: [v0, 0.0], angular_velocity: w0, ..PartState::default() };
+        assert!(s.set_part(0, start));
+        let n0 = v0.hypot(w0 * a);
+        for _ in 0..100_000 {
+            s.advance();
+            let p = s.parts()[0];
+            let (v, wr) = (p.velocity[0].hypot(p.velocity[1]), p.angular_velocity * a);
+            // Both still moving until the motion has all but ended.
+            if v.hypot(wr) < 0.005 * n0 {
+                *tail = v / wr;
+                break;
+            }
+            assert!(v > 0.0 && wr > 0.0, "one motion ended first: v {v}, ωR {wr}");
+        }
+    }
+    // From above and from below, ε has closed in on the fixed point.
+    let [above, below] = tails;
+    eprintln!("ε at 0.5 % of the start: {above} from ε₀ = 4/3, {below} from ε₀ = 0.4");
+    assert!(above > 0.653 && above < 0.68, "from ε₀ = 4/3: ε = {above}");
+    assert!(below < 0.653 && below > 0.62, "from ε₀ = 0.4: ε = {below}");
 }

@@ -10,8 +10,12 @@
 //! step is placed exactly rather than smeared over the step; at relative rest
 //! the part sticks if the force it needs is inside the static limit surface
 //! (|F| ≤ μ_s·m·g for a point; an ellipse in (F, τ) for extended parts).
+//! Kinetic friction sums over a part's contact points, except for a disc,
+//! whose uniform pressure over the face is integrated exactly
+//! ([`super::disc_friction`]).
 //! No velocity regularisation: friction has full magnitude at any |ξ| > 0.
 
+use super::disc_friction;
 use super::part::Body;
 
 /// Pieces per step before the remainder is taken with one midpoint piece.
@@ -37,6 +41,17 @@ fn kinetic(b: &Body, rot: (f64, f64), xi: [f64; 3], ck: f64) -> [f64; 3] {
         if n2 > 0.0 {
             let s = ck / n2.sqrt();
             return [s * xi[0], s * xi[1], 0.0];
+        }
+        return [0.0; 3];
+    }
+    if b.disc {
+        // Uniform pressure over the face, integrated in advance.
+        let q = xi[2] * b.radius;
+        let n2 = xi[0] * xi[0] + xi[1] * xi[1] + q * q;
+        if n2 > 0.0 {
+            let [ca, cb] = disc_friction::lookup(disc_friction::table(), q * q / n2);
+            let k = ck / n2.sqrt();
+            return [k * ca * xi[0], k * ca * xi[1], k * cb * b.radius * q / b.rho2];
         }
         return [0.0; 3];
     }
@@ -96,7 +111,8 @@ pub(crate) fn step(
     mu: Coulomb,
     stuck: &mut bool,
 ) -> [f64; 3] {
-    let rot = if b.extended { angle.sin_cos() } else { (0.0, 1.0) };
+    // Only contact points turn with the part; a uniform disc's friction does not.
+    let rot = if b.extended && !b.disc { angle.sin_cos() } else { (0.0, 1.0) };
     let ck = mu.kinetic;
     let mut disp = [0.0; 3];
     let mut rem = h;

@@ -8,6 +8,7 @@
 
 mod config;
 mod contact;
+mod disc_friction;
 mod friction;
 mod lanes;
 mod part;
@@ -24,7 +25,7 @@ use rt_core::driver::{
 use rt_core::motion::{Pose, Rig, RigError, Twist};
 
 pub use config::{ActuatorModel, SimConfig, SimConfigError};
-pub use part::{DISC_CONTACTS, MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartState, Shape};
+pub use part::{MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartState, Shape};
 
 use contact::Broadphase;
 use friction::Coulomb;
@@ -109,6 +110,10 @@ impl Simulator {
             let (body, _) = Body::new(spec).map_err(|error| SimError::Part { index, error })?;
             bodies.push(body);
             states.push(PartState { position: spec.position, angle: spec.angle, ..PartState::default() });
+        }
+        if bodies.iter().any(|b| b.disc) {
+            // Build the disc friction table now, not on the first tick.
+            disc_friction::table();
         }
         let limits = ActuatorLimits::from_rig(&rig);
         let is_extended: Vec<bool> = bodies.iter().map(|b| b.extended).collect();

@@ -1,23 +1,18 @@
 //! Parts: shapes, their contact patches (points with pressure weights) and
 //! their dynamic state.
 
-use core::f64::consts::{FRAC_1_SQRT_2, TAU};
-
 /// Most vertices of a polygon part.
 pub const MAX_POLYGON_VERTICES: usize = 8;
 /// Most contact points of one part (a polygon uses 2 per vertex).
 pub const MAX_CONTACTS: usize = 2 * MAX_POLYGON_VERTICES;
-/// Contact points of a disc.
-pub const DISC_CONTACTS: usize = 6;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape {
     /// A point mass; `radius` only matters for the fence and collisions.
     Point { radius: f64 },
-    /// A uniform disc: pressure on a ring of 6 points at a/√2, which has
-    /// the disc's second moment a²/4 (so the friction torque of a linear
-    /// field, τ = curl·a²/4, is exact; max spin-friction torque is
-    /// 0.707·μmga against 0.667·μmga for a true uniform disc).
+    /// A uniform disc with uniform pressure over its whole face; its
+    /// friction is the exact integral over the face (`disc_friction`), so
+    /// sliding gives μmg and pure spin ⅔·μmga.
     Disc { radius: f64 },
     /// A uniform convex polygon, vertices counter-clockwise about any origin
     /// (re-centered on the centroid). Pressure by the edge-midpoint rule on
@@ -57,9 +52,11 @@ pub(crate) struct Body {
     pub n_contacts: usize,
     /// Σ w_c |ρ_c|: lever of the maximum spin-friction torque.
     pub torsion_lever: f64,
-    /// Bounding radius (fence, collisions).
+    /// Bounding radius (fence, collisions); a disc's own radius.
     pub radius: f64,
     pub extended: bool,
+    /// Friction from the uniform-disc table rather than the contact points.
+    pub disc: bool,
 }
 
 /// Why a part was refused (index in the list given).
@@ -90,6 +87,7 @@ impl Body {
             torsion_lever: 0.0,
             radius: 0.0,
             extended: false,
+            disc: false,
         };
         b.weights[0] = 1.0;
         let ok_r = |r: f64| r.is_finite() && r >= 0.0;
@@ -105,17 +103,13 @@ impl Body {
                 if !(ok_r(radius) && radius > 0.0) {
                     return Err(PartError::Radius);
                 }
-                let rr = radius * FRAC_1_SQRT_2;
-                for c in 0..DISC_CONTACTS {
-                    let a = TAU * c as f64 / DISC_CONTACTS as f64;
-                    b.contacts[c] = [rr * a.cos(), rr * a.sin()];
-                    b.weights[c] = 1.0 / DISC_CONTACTS as f64;
-                }
-                b.n_contacts = DISC_CONTACTS;
+                b.n_contacts = 0;
                 b.rho2 = 0.5 * radius * radius;
-                b.torsion_lever = rr;
+                // ∫ |ρ| dA / A over a uniform disc.
+                b.torsion_lever = 2.0 * radius / 3.0;
                 b.radius = radius;
                 b.extended = true;
+                b.disc = true;
                 Ok((b, [0.0; 2]))
             }
             Shape::Polygon { vertices, count } => polygon(b, &vertices, count),

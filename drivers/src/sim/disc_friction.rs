@@ -1,0 +1,206 @@
+//! Kinetic friction of a uniform disc: uniform pressure over the whole face,
+//! integrated exactly once per process and tabulated.
+//!
+//! For a relative twist (v, ω) of plate over part, the friction on a disc of
+//! radius R depends only on the direction of (v, ωR). With n = |(v, ωR)| and
+//! t² = (ωR)²/n²:
+//!
+//!   F/m = μ_k g · A(t²) · v / n,    τ/m = μ_k g · R · B(t²) · ωR / n.
+//!
+//! A and B are universal. A(0) = 1 (pure sliding: μ_k m g), B(1) = 2/3 (pure
+//! spin: ⅔ μ_k m g R), and A(1) = 1, B(0) = 1/4 are the linear responses at
+//! the two ends. Each ring of the face contributes complete elliptic
+//! integrals (evaluated by the AGM); the integral over the radius is
+//! tanh-sinh quadrature, split at the ring through the instantaneous centre,
+//! where the ring integrals are not smooth. One evaluation then costs one
+//! square root, two divisions and a table lookup, instead of a sum over
+//! contact points.
+
+use core::f64::consts::PI;
+use std::sync::OnceLock;
+
+/// Table intervals over t² ∈ [0, 1].
+const INTERVALS: usize = 1024;
+
+/// (A, B) at t² = i / INTERVALS.
+type Table = [[f64; 2]; INTERVALS + 1];
+
+static TABLE: OnceLock<Table> = OnceLock::new();
+
+/// The table, built on first use (about 10 ms; call it at construction so
+/// that the hot path only reads it).
+pub(crate) fn table() -> &'static Table {
+    TABLE.get_or_init(build)
+}
+
+/// (A(t²), B(t²)) by linear interpolation; `t2` in [0, 1].
+#[inline(always)]
+pub(crate) fn lookup(table: &Table, t2: f64) -> [f64; 2] {
+    let x = t2 * INTERVALS as f64;
+    // `as` saturates, and min keeps i + 1 in range at t² = 1.
+    let i = (x as usize).min(INTERVALS - 1);
+    let f = x - i as f64;
+    let (lo, hi) = (table[i], table[i + 1]);
+    [lo[0] + f * (hi[0] - lo[0]), lo[1] + f * (hi[1] - lo[1])]
+}
+
+fn build() -> Table {
+    let nodes = TanhSinh::new();
+    let mut t = [[0.0; 2]; INTERVALS + 1];
+    for (i, row) in t.iter_mut().enumerate() {
+        *row = coefficients_with(&nodes, i as f64 / INTERVALS as f64);
+    }
+    t
+}
+
+/// (A, B) at t² by quadrature; the two ends are the linear-response limits.
+#[cfg(test)]
+fn coefficients(t2: f64) -> [f64; 2] {
+    coefficients_with(&TanhSinh::new(), t2)
+}
+
+fn coefficients_with(nodes: &TanhSinh, t2: f64) -> [f64; 2] {
+    if t2 <= 0.0 {
+        return [1.0, 0.25];
+    }
+    if t2 >= 1.0 {
+        return [1.0, 2.0 / 3.0];
+    }
+    let (s, q) = ((1.0 - t2).sqrt(), t2.sqrt());
+    // Unit radius, v = s along x, ωR = q; ring integrals per unit angle
+    // weight: I_x(r) = 2[(s − qr)K + (s + qr)E]/s, I_τ(r) = 2[(s + qr)E −
+    // (s − qr)K]/q, with modulus k² = 4sqr/(s + qr)². Here the 1/s and 1/q
+    // are folded into A = F/s and B = τ/q.
+    let ring = |r: f64| {
+        let (minus, plus) = (s - q * r, s + q * r);
+        let (k, e) = elliptic_ke(minus.abs() / plus);
+        [(minus * k + plus * e) * r, (plus * e - minus * k) * r]
+    };
+    let r_star = s / q;
+    let mut sum = nodes.integrate(&ring, 0.0, r_star.min(1.0));
+    if r_star < 1.0 {
+        let outer = nodes.integrate(&ring, r_star, 1.0);
+        sum = [sum[0] + outer[0], sum[1] + outer[1]];
+    }
+    // F = (1/π) ∫ I_x r dr, so A = F/s = (2/π) ∫ ring_x dr / s²; B likewise.
+    [2.0 / PI * sum[0] / (s * s), 2.0 / PI * sum[1] / (q * q)]
+}
+
+/// Complete elliptic integrals K(k) and E(k), given the complementary
+/// modulus k' = √(1 − k²) (exact here, with no cancellation near k = 1),
+/// by the arithmetic–geometric mean.
+fn elliptic_ke(k_prime: f64) -> (f64, f64) {
+    let (mut a, mut b) = (1.0f64, k_prime);
+    // Σ 2^(n−1) c_n², with c_0² = k² = 1 − k'².
+    let mut sum = 0.5 * (1.0 - k_prime) * (1.0 + k_prime);
+    let mut pow = 0.5;
+    for _ in 0..64 {
+        let c = 0.5 * (a - b);
+        if c <= 1e-17 * a {
+            break;
+        }
+        let next = [0.5 * (a + b), (a * b).sqrt()];
+        pow *= 2.0;
+        sum += pow * c * c;
+        [a, b] = next;
+    }
+    let k = PI / (2.0 * a);
+    (k, k * (1.0 - sum))
+}
+
+/// Tanh-sinh quadrature: nodes and weights on (−1, 1), computed once.
+/// Exact to rounding for integrands analytic inside the interval, even with
+/// integrable singularities at its ends.
+struct TanhSinh {
+    /// (x, w), x = tanh(π/2 · sinh t) for t = j·STEP, |t| ≤ 3.
+    nodes: [(f64, f64); 2 * Self::LEVELS + 1],
+}
+
+impl TanhSinh {
+    const STEP: f64 = 1.0 / 16.0;
+    const LEVELS: usize = 48;
+
+    fn new() -> Self {
+        let nodes = core::array::from_fn(|i| {
+            let t = (i as f64 - Self::LEVELS as f64) * Self::STEP;
+            let u = 0.5 * PI * t.sinh();
+            (u.tanh(), Self::STEP * 0.5 * PI * t.cosh() / (u.cosh() * u.cosh()))
+        });
+        Self { nodes }
+    }
+
+    /// ∫ f over [lo, hi].
+    fn integrate(&self, f: &impl Fn(f64) -> [f64; 2], lo: f64, hi: f64) -> [f64; 2] {
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        let mut sum = [0.0; 2];
+        for &(xu, wu) in &self.nodes {
+            let x = mid + half * xu;
+            // The ends themselves are never sampled (the ring integrals are
+            // infinite times zero there); their weight is below rounding.
+            if x <= lo || x >= hi {
+                continue;
+            }
+            let v = f(x);
+            sum[0] += half * wu * v[0];
+            sum[1] += half * wu * v[1];
+        }
+        sum
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Brute force: midpoint rule over a fine polar grid of the unit disc.
+    fn brute(t2: f64) -> [f64; 2] {
+        let (s, q) = ((1.0 - t2).sqrt(), t2.sqrt());
+        let (nr, nt) = (800, 1600);
+        let (mut fx, mut tau) = (0.0, 0.0);
+        for i in 0..nr {
+            let r = (i as f64 + 0.5) / nr as f64;
+            for j in 0..nt {
+                let th = (j as f64 + 0.5) / nt as f64 * 2.0 * PI;
+                let (y, x) = (r * th.sin(), r * th.cos());
+                let (wx, wy) = (s - q * y, q * x);
+                let n = wx.hypot(wy);
+                let da = r / nr as f64 * 2.0 * PI / nt as f64 / PI;
+                fx += wx / n * da;
+                tau += (x * wy - y * wx) / n * da;
+            }
+        }
+        [fx / s, tau / q]
+    }
+
+    #[test]
+    fn quadrature_matches_a_brute_force_sum_over_the_face() {
+        for t2 in [0.05, 0.3, 0.5, 0.62, 0.9] {
+            let (exact, b) = (coefficients(t2), brute(t2));
+            for k in 0..2 {
+                assert!((exact[k] - b[k]).abs() < 2e-6, "t² = {t2}: {exact:?} vs brute {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn ends_are_the_linear_responses_and_the_table_is_continuous() {
+        let t = table();
+        assert!((coefficients(1e-6)[0] - 1.0).abs() < 1e-5);
+        assert!((coefficients(1e-6)[1] - 0.25).abs() < 1e-5);
+        assert!((coefficients(1.0 - 1e-6)[0] - 1.0).abs() < 1e-5);
+        assert!((coefficients(1.0 - 1e-6)[1] - 2.0 / 3.0).abs() < 1e-5);
+        for w in t.windows(2) {
+            assert!(w[0].iter().chain(&w[1]).all(|v| v.is_finite() && *v > 0.0));
+            assert!((w[0][0] - w[1][0]).abs() < 2e-3 && (w[0][1] - w[1][1]).abs() < 2e-3, "{w:?}");
+        }
+    }
+
+    #[test]
+    fn lookup_interpolates_between_rows() {
+        let t = table();
+        for t2 in [0.0, 0.1234, 0.5, 0.77, 1.0] {
+            let (got, want) = (lookup(t, t2), coefficients(t2));
+            assert!((got[0] - want[0]).abs() < 1e-5 && (got[1] - want[1]).abs() < 1e-5, "{t2}");
+        }
+    }
+}
