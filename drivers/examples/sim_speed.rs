@@ -31,7 +31,7 @@ fn main() {
     let cases = [
         ("no parts (plate + loop only)", Shape::Point { radius: -1.0 }),
         ("10 point parts", Shape::Point { radius: 0.01 }),
-        ("10 discs (6 contacts)", Shape::Disc { radius: 0.03 }),
+        ("10 discs (uniform face)", Shape::Disc { radius: 0.03 }),
         ("10 squares (8 contacts)", Shape::Polygon { vertices: square, count: 4 }),
     ];
     let only: Option<usize> = std::env::args().nth(2).and_then(|s| s.parse().ok());

@@ -95,9 +95,7 @@ fn resolve_pairs(bp: &Broadphase, bodies: &[Body], lanes: &mut Lanes, restitutio
     for &(i, j) in &bp.pairs {
         let (i, j) = (i as usize, j as usize);
         let r = bodies[i].radius + bodies[j].radius;
-        let (mut a, mut b) = (PartState::default(), PartState::default());
-        lanes.load(lanes.lane[i], &mut a);
-        lanes.load(lanes.lane[j], &mut b);
+        let (mut a, mut b) = (lanes.load(lanes.lane[i]), lanes.load(lanes.lane[j]));
         let (dx, dy) = (b.position[0] - a.position[0], b.position[1] - a.position[1]);
         let d2 = dx * dx + dy * dy;
         if d2 >= r * r || r <= 0.0 {
@@ -167,8 +165,7 @@ fn fence_lanes(
 ) -> u64 {
     let mut hits = 0;
     for k in (0..W).filter(|&k| outside[k]) {
-        let mut p = PartState::default();
-        g.load(k, &mut p);
+        let mut p = g.load(k);
         hits += fence([g.lim_x[k], g.lim_y[k]], &mut p, plate, sc, plate_vel, restitution) as u64;
         g.store(k, &p);
     }

@@ -23,7 +23,7 @@ use std::sync::OnceLock;
 const INTERVALS: usize = 1024;
 
 /// (A, B) at t² = i / INTERVALS.
-type Table = [[f64; 2]; INTERVALS + 1];
+pub(crate) type Table = [[f64; 2]; INTERVALS + 1];
 
 static TABLE: OnceLock<Table> = OnceLock::new();
 
@@ -33,15 +33,59 @@ pub(crate) fn table() -> &'static Table {
     TABLE.get_or_init(build)
 }
 
-/// (A(t²), B(t²)) by linear interpolation; `t2` in [0, 1].
+/// (A(t²), B(t²)) by linear interpolation; `t2` in [0, 1] (NaN gives a
+/// finite row and a NaN result).
 #[inline(always)]
 pub(crate) fn lookup(table: &Table, t2: f64) -> [f64; 2] {
     let x = t2 * INTERVALS as f64;
-    // `as` saturates, and min keeps i + 1 in range at t² = 1.
-    let i = (x as usize).min(INTERVALS - 1);
-    let f = x - i as f64;
+    let row = x.floor().min((INTERVALS - 1) as f64);
+    // The row's index from the bits of row + 2⁵² (exact for integers below
+    // 2⁵²): no float-to-integer conversion, which lanes cannot vectorise.
+    let i = ((row + TWO_POW_52).to_bits() as usize) & (INTERVALS - 1);
+    let f = x - row;
     let (lo, hi) = (table[i], table[i + 1]);
     [lo[0] + f * (hi[0] - lo[0]), lo[1] + f * (hi[1] - lo[1])]
+}
+
+const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
+const _: () = assert!(INTERVALS.is_power_of_two());
+
+/// Kinetic friction per unit mass (force, and torque over I) on a disc of
+/// radius `r` and I/m `rho2` for relative twist `xi`; zero at relative rest.
+#[inline(always)]
+pub(crate) fn kinetic(table: &Table, r: f64, rho2: f64, xi: [f64; 3], ck: f64) -> [f64; 3] {
+    let (n2, t2) = kinetic_args(r, xi);
+    kinetic_finish(r, rho2, xi, n2, lookup(table, t2), ck)
+}
+
+/// [`kinetic`] in two branch-free halves around the table lookup, so that
+/// the disc lanes can vectorise the halves: this one gives (n², t²).
+#[inline(always)]
+pub(crate) fn kinetic_args(r: f64, xi: [f64; 3]) -> (f64, f64) {
+    let q = xi[2] * r;
+    let n2 = xi[0] * xi[0] + xi[1] * xi[1] + q * q;
+    // At n² = 0, t² is NaN: the lookup's cast gives row 0, and the result
+    // is masked in `kinetic_finish`.
+    (n2, q * q / n2)
+}
+
+#[inline(always)]
+pub(crate) fn kinetic_finish(
+    r: f64,
+    rho2: f64,
+    xi: [f64; 3],
+    n2: f64,
+    [ca, cb]: [f64; 2],
+    ck: f64,
+) -> [f64; 3] {
+    let q = xi[2] * r;
+    let k = ck / n2.sqrt();
+    let moving = n2 > 0.0;
+    [
+        if moving { k * ca * xi[0] } else { 0.0 },
+        if moving { k * ca * xi[1] } else { 0.0 },
+        if moving { k * cb * r * q / rho2 } else { 0.0 },
+    ]
 }
 
 fn build() -> Table {

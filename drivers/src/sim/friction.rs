@@ -28,9 +28,15 @@ pub(crate) struct Coulomb {
     pub stat: f64,
 }
 
+/// Twist inner product with the part's I/m `rho2` weighting the spin.
+#[inline(always)]
+pub(crate) fn twist_dot(rho2: f64, x: [f64; 3], y: [f64; 3]) -> f64 {
+    x[0] * y[0] + x[1] * y[1] + rho2 * x[2] * y[2]
+}
+
 #[inline]
 fn dot(b: &Body, x: [f64; 3], y: [f64; 3]) -> f64 {
-    x[0] * y[0] + x[1] * y[1] + b.rho2 * x[2] * y[2]
+    twist_dot(b.rho2, x, y)
 }
 
 /// Kinetic friction on the part for relative twist `xi` (any scale).
@@ -45,15 +51,7 @@ fn kinetic(b: &Body, rot: (f64, f64), xi: [f64; 3], ck: f64) -> [f64; 3] {
         return [0.0; 3];
     }
     if b.disc {
-        // Uniform pressure over the face, integrated in advance.
-        let q = xi[2] * b.radius;
-        let n2 = xi[0] * xi[0] + xi[1] * xi[1] + q * q;
-        if n2 > 0.0 {
-            let [ca, cb] = disc_friction::lookup(disc_friction::table(), q * q / n2);
-            let k = ck / n2.sqrt();
-            return [k * ca * xi[0], k * ca * xi[1], k * cb * b.radius * q / b.rho2];
-        }
-        return [0.0; 3];
+        return disc_friction::kinetic(disc_friction::table(), b.radius, b.rho2, xi, ck);
     }
     let (sn, cs) = rot;
     let mut f = [0.0; 3];
@@ -78,11 +76,18 @@ fn kinetic(b: &Body, rot: (f64, f64), xi: [f64; 3], ck: f64) -> [f64; 3] {
 /// Can static friction supply the acceleration `a` (part moving with plate)?
 #[inline]
 fn sticks(b: &Body, a: [f64; 3], cs: f64) -> bool {
-    let lin2 = a[0] * a[0] + a[1] * a[1];
     if !b.extended {
-        return lin2 <= cs * cs;
+        return a[0] * a[0] + a[1] * a[1] <= cs * cs;
     }
-    let t = b.rho2 * a[2] / (cs * b.torsion_lever);
+    sticks_extended(b.rho2, b.torsion_lever, a, cs)
+}
+
+/// The static limit of an extended part with I/m `rho2` and spin-friction
+/// lever `lever`: an ellipse in (F, τ).
+#[inline(always)]
+pub(crate) fn sticks_extended(rho2: f64, lever: f64, a: [f64; 3], cs: f64) -> bool {
+    let lin2 = a[0] * a[0] + a[1] * a[1];
+    let t = rho2 * a[2] / (cs * lever);
     lin2 / (cs * cs) + t * t <= 1.0
 }
 

@@ -9,6 +9,7 @@
 mod config;
 mod contact;
 mod disc_friction;
+mod disc_lanes;
 mod friction;
 mod lanes;
 mod part;
@@ -29,7 +30,7 @@ pub use part::{MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartStat
 
 use contact::Broadphase;
 use friction::Coulomb;
-use lanes::Lanes;
+use lanes::{LaneKind, Lanes, W};
 use part::Body;
 use plate::{Plate, Target};
 use point_lanes::PlateNow;
@@ -85,13 +86,13 @@ pub struct Simulator {
     target: Target,
     holding: bool,
     bodies: Vec<Body>,
-    /// Every part's state as the user sees it: angle and spin are kept here,
-    /// the linear state is copied from `lanes` when asked for.
+    /// Every part's state as last copied out of `lanes` (by `parts()`).
     parts: Vec<PartState>,
-    /// The linear state of every part, four lanes at a time.
+    /// Every part's state, four lanes at a time.
     lanes: Lanes,
-    /// Indices of the extended parts.
-    extended: Vec<usize>,
+    /// Indices of the extended parts other than discs (friction summed over
+    /// contact points, one part at a time).
+    patches: Vec<usize>,
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
@@ -116,13 +117,21 @@ impl Simulator {
             disc_friction::table();
         }
         let limits = ActuatorLimits::from_rig(&rig);
-        let is_extended: Vec<bool> = bodies.iter().map(|b| b.extended).collect();
-        let extended = (0..bodies.len()).filter(|&i| is_extended[i]).collect();
+        let kind: Vec<LaneKind> = bodies
+            .iter()
+            .map(|b| match (b.extended, b.disc) {
+                (false, _) => LaneKind::Point,
+                (true, true) => LaneKind::Disc,
+                (true, false) => LaneKind::Patch,
+            })
+            .collect();
+        let patches = (0..bodies.len()).filter(|&i| kind[i] == LaneKind::Patch).collect();
         let fence_limits: Vec<[f64; 2]> =
             bodies.iter().map(|b| contact::fence_limits(b, cfg.plate_half_extent)).collect();
+        let radius: Vec<f64> = bodies.iter().map(|b| b.radius).collect();
         Ok(Self {
-            lanes: Lanes::new(&states, &is_extended, &fence_limits),
-            extended,
+            lanes: Lanes::new(&states, &kind, &fence_limits, &radius),
+            patches,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
             h: 1.0 / cfg.tick_hz,
             plate: Plate::default(),
@@ -148,8 +157,8 @@ impl Simulator {
         &self.rig
     }
 
-    /// Every part's state. Takes `&mut self` because the linear state is
-    /// copied out of the lanes here, on demand, rather than on every tick;
+    /// Every part's state. Takes `&mut self` because the state is copied out
+    /// of the lanes here, on demand, rather than on every tick;
     /// [`Simulator::part`] reads one part through `&self`.
     pub fn parts(&mut self) -> &[PartState] {
         self.lanes.mirror(&mut self.parts);
@@ -158,9 +167,7 @@ impl Simulator {
 
     /// State of part `i` (None if out of range).
     pub fn part(&self, i: usize) -> Option<PartState> {
-        let mut p = *self.parts.get(i)?;
-        self.lanes.load(self.lanes.lane[i], &mut p);
-        Some(p)
+        self.lanes.lane.get(i).map(|&l| self.lanes.load(l))
     }
 
     pub fn part_count(&self) -> usize {
@@ -234,31 +241,32 @@ impl Simulator {
             );
             let (pose, vel, acc) = (self.plate.pose, self.plate.vel, self.plate.acc);
             let now = PlateNow { x: pose.x, y: pose.y, vel, acc };
-            let point_groups = &mut self.lanes.groups[..self.lanes.point_groups];
-            point_lanes::step_points(&now, point_groups, s, self.mu);
-            for &i in &self.extended {
-                let (body, p) = (&self.bodies[i], &mut self.parts[i]);
-                let lane = self.lanes.lane[i];
-                self.lanes.load(lane, p);
-                let vpl = vel.at(&pose, p.position);
-                // d/dt of the plate velocity seen along the part's path.
-                let (rx, ry) = (p.position[0] - pose.x, p.position[1] - pose.y);
-                let (ux, uy) = (p.velocity[0] - vel.x, p.velocity[1] - vel.y);
-                let a = [
-                    acc.x - acc.theta * ry - vel.theta * uy,
-                    acc.y + acc.theta * rx + vel.theta * ux,
-                    acc.theta,
-                ];
-                let wp = p.angular_velocity;
-                let xi = [vpl[0] - p.velocity[0], vpl[1] - p.velocity[1], vel.theta - wp];
-                let mut vp = [p.velocity[0], p.velocity[1], wp];
+            let (points, rest) = self.lanes.groups.split_at_mut(self.lanes.point_groups);
+            point_lanes::step_points(&now, points, s, self.mu);
+            if self.lanes.disc_groups > 0 {
+                let first = self.lanes.point_groups * W;
+                disc_lanes::step_discs(
+                    &now,
+                    &mut rest[..self.lanes.disc_groups],
+                    &self.lanes.part_of[first..],
+                    &self.bodies,
+                    s,
+                    self.mu,
+                    disc_friction::table(),
+                );
+            }
+            for &i in &self.patches {
+                let (body, lane) = (&self.bodies[i], self.lanes.lane[i]);
+                let mut p = self.lanes.load(lane);
+                let (a, xi) = disc_lanes::relative_twist(&now, p.position, p.velocity, p.angular_velocity);
+                let mut vp = [p.velocity[0], p.velocity[1], p.angular_velocity];
                 let d = friction::step(body, p.angle, xi, &mut vp, a, s, self.mu, &mut p.stuck);
                 p.position[0] += d[0];
                 p.position[1] += d[1];
                 p.angle += d[2];
                 p.velocity = [vp[0], vp[1]];
                 p.angular_velocity = vp[2];
-                self.lanes.store(lane, p);
+                self.lanes.store(lane, &p);
             }
             self.plate.integrate(s);
         }

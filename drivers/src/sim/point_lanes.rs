@@ -229,7 +229,7 @@ fn event_lane(a: [f64; 2], xi: [f64; 2], k: f64, v: [f64; 2], h: f64, mu: Coulom
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::lanes::Lanes;
+    use crate::sim::lanes::{LaneKind, Lanes};
     use crate::sim::part::PartState;
     use proptest::prelude::*;
 
@@ -344,7 +344,7 @@ mod tests {
                 ..PartState::default()
             })
             .collect();
-        let mut lanes = Lanes::new(&parts, &[false; 7], &[[1.0; 2]; 7]);
+        let mut lanes = Lanes::new(&parts, &[LaneKind::Point; 7], &[[1.0; 2]; 7], &[0.0; 7]);
         let mut one_by_one = lanes.clone();
         let unused = lanes.groups[1];
         for _ in 0..2000 {
