@@ -133,11 +133,20 @@ fn fast_discs(
     (out, fast)
 }
 
-/// Lane `k` by the scalar routine (out of line: about one lane-step in
-/// twenty).
+/// Lane `k` of any extended part (`body`) by the scalar routine, from its
+/// (a, ξ): a disc lane off the fast path (about one lane-step in twenty,
+/// hence out of line), and every polygon lane.
 #[inline(never)]
-fn step_lane(g: &mut Group, k: usize, body: &Body, a: [f64; 3], xi: [f64; 3], s: f64, mu: Coulomb) {
-    debug_assert!(body.disc && body.radius == g.radius[k]);
+pub(crate) fn step_lane(
+    g: &mut Group,
+    k: usize,
+    body: &Body,
+    a: [f64; 3],
+    xi: [f64; 3],
+    s: f64,
+    mu: Coulomb,
+) {
+    debug_assert!(body.extended && (!body.disc || body.radius == g.radius[k]));
     let mut vp = [g.vx[k], g.vy[k], g.w[k]];
     let d = friction::step(body, g.angle[k], xi, &mut vp, a, s, mu, &mut g.stuck[k]);
     g.x[k] += d[0];

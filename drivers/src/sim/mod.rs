@@ -256,17 +256,10 @@ impl Simulator {
                 );
             }
             for &i in &self.patches {
-                let (body, lane) = (&self.bodies[i], self.lanes.lane[i]);
-                let mut p = self.lanes.load(lane);
-                let (a, xi) = disc_lanes::relative_twist(&now, p.position, p.velocity, p.angular_velocity);
-                let mut vp = [p.velocity[0], p.velocity[1], p.angular_velocity];
-                let d = friction::step(body, p.angle, xi, &mut vp, a, s, self.mu, &mut p.stuck);
-                p.position[0] += d[0];
-                p.position[1] += d[1];
-                p.angle += d[2];
-                p.velocity = [vp[0], vp[1]];
-                p.angular_velocity = vp[2];
-                self.lanes.store(lane, &p);
+                let l = self.lanes.lane[i];
+                let (g, k) = (&mut self.lanes.groups[l / W], l % W);
+                let (a, xi) = disc_lanes::relative_twist(&now, [g.x[k], g.y[k]], [g.vx[k], g.vy[k]], g.w[k]);
+                disc_lanes::step_lane(g, k, &self.bodies[i], a, xi, s, self.mu);
             }
             self.plate.integrate(s);
         }
