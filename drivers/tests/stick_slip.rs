@@ -16,14 +16,20 @@ fn point(p: [f64; 2]) -> PartSpec {
 
 /// Drive the plate along x with constant acceleration `a` for `ticks`.
 fn accelerate(s: &mut Simulator, a: f64, ticks: u64) {
+    accelerate_turning(s, a, 0.0, ticks);
+}
+
+/// Same, while turning about its origin with angular acceleration `alpha`.
+fn accelerate_turning(s: &mut Simulator, a: f64, alpha: f64, ticks: u64) {
     let rig = Rig::new(s.config().rig).expect("rig");
     let h = s.tick_period();
     let mut cmd = ActuatorCommand::HOME;
     for t in 1..=ticks {
         let time = t as f64 * h;
-        let pose = Pose { x: 0.5 * a * time * time, y: 0.0, theta: 0.0 };
+        let pose = Pose { x: 0.5 * a * time * time, y: 0.0, theta: 0.5 * alpha * time * time };
         rig.actuator_positions(&pose, &mut cmd.position);
-        rig.actuator_velocities(&pose, &Twist { x: a * time, y: 0.0, theta: 0.0 }, &mut cmd.velocity);
+        let twist = Twist { x: a * time, y: 0.0, theta: alpha * time };
+        rig.actuator_velocities(&pose, &twist, &mut cmd.velocity);
         s.write(&cmd).expect("finite");
         s.advance();
     }
@@ -147,4 +153,56 @@ fn sliding_and_spinning_disc_stops_both_at_once() {
     eprintln!("ε at 0.5 % of the start: {above} from ε₀ = 4/3, {below} from ε₀ = 0.4");
     assert!(above > 0.653 && above < 0.68, "from ε₀ = 4/3: ε = {above}");
     assert!(below < 0.653 && below > 0.62, "from ε₀ = 0.4: ε = {below}");
+}
+
+/// Static friction a uniformly pressed disc can supply when sliding in
+/// direction t² = (ωR)²/|(v, ωR)|² would start, in units of μ_s m g:
+/// (force, torque / R), by a midpoint sum over the face (independent of the
+/// simulator's tables).
+fn disc_limit_point(t2: f64) -> (f64, f64) {
+    let (s, q) = ((1.0 - t2).sqrt(), t2.sqrt());
+    let (nr, nt) = (300, 600);
+    let (mut f, mut tau) = (0.0, 0.0);
+    for i in 0..nr {
+        let r = (i as f64 + 0.5) / nr as f64;
+        for j in 0..nt {
+            let th = (j as f64 + 0.5) / nt as f64 * core::f64::consts::TAU;
+            let (x, y) = (r * th.cos(), r * th.sin());
+            let (wx, wy) = (s - q * y, q * x);
+            let n = wx.hypot(wy);
+            let da = r / nr as f64 * 2.0 / nt as f64;
+            f += wx / n * da;
+            tau += (x * wy - y * wx) / n * da;
+        }
+    }
+    (f, tau)
+}
+
+#[test]
+fn disc_under_force_and_torque_sticks_exactly_inside_its_limit() {
+    // A disc at the plate's origin while the plate accelerates along x and
+    // turns: it needs force m·a and torque I·α. Near t² = 0.62 the true
+    // limit lies 7 % inside the ellipse through its two ends, so an
+    // elliptic stick test would hold the disc at 3 % above the limit.
+    let r = 0.03;
+    let (f, tau) = disc_limit_point(0.62);
+    for (k, should_stick) in [(0.97, true), (1.03, false)] {
+        let mut s =
+            sim(&[PartSpec { shape: Shape::Disc { radius: r }, mass: 0.04, position: [0.0; 2], angle: 0.0 }]);
+        let cfg = *s.config();
+        let cs = cfg.mu_static * cfg.gravity;
+        let rho2 = s.part_inertia(0).expect("part") / 0.04;
+        let (a, alpha) = (k * f * cs, k * tau * cs * r / rho2);
+        assert!((k * f).powi(2) + (1.5 * k * tau).powi(2) < 1.0, "inside the ellipse");
+        accelerate_turning(&mut s, a, alpha, 60);
+        let p = s.parts()[0];
+        let w = s.plate_velocity().theta;
+        assert_eq!(p.stuck, should_stick, "load {k} × the limit: {p:?}");
+        let slip = (p.angular_velocity - w).abs() / w;
+        if should_stick {
+            assert!(slip < 1e-9, "spin {} plate {w}", p.angular_velocity);
+        } else {
+            assert!(slip > 0.01, "spin {} plate {w}", p.angular_velocity);
+        }
+    }
 }

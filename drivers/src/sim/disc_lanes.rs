@@ -7,7 +7,7 @@
 //! paths give the same bits.
 
 use super::disc_friction::{self, Table};
-use super::friction::{self, Coulomb, sticks_extended, twist_dot};
+use super::friction::{self, Coulomb, twist_dot};
 use super::lanes::{Group, W};
 use super::part::Body;
 use super::point_lanes::{PlateNow, relative};
@@ -81,13 +81,16 @@ fn fast_discs(
     let lane3 = |v: &[[f64; W]; 3], k: usize| [v[0][k], v[1][k], v[2][k]];
     let mut out = [[0.0; W]; 6];
     let (mut n2, mut t2, mut coef) = ([0.0; W], [0.0; W], [[0.0; 2]; W]);
+    let (mut load2, mut z, mut limit) = ([0.0; W], [0.0; W], [0.0; W]);
     // As `Body::new` sets them for a disc.
     let rho2 = g.radius.map(|r| 0.5 * r * r);
     for k in 0..W {
         (n2[k], t2[k]) = disc_friction::kinetic_args(g.radius[k], lane3(xi, k));
+        (load2[k], z[k]) = disc_friction::static_args(g.radius[k], rho2[k], lane3(a, k), mu.stat);
     }
     for k in 0..W {
         coef[k] = disc_friction::lookup(table, t2[k]);
+        limit[k] = disc_friction::limit_lookup(table, z[k]);
     }
     let mut g1 = [[0.0; W]; 3];
     let mut xm = [[0.0; W]; 3];
@@ -116,7 +119,7 @@ fn fast_discs(
         let (stuck, v) = (g.stuck[k], [g.vx[k], g.vy[k], g.w[k]]);
         let scale = dot(a, a).sqrt() + ck;
         let tol = 1e-9 * scale * h;
-        let sticks = sticks_extended(rho2[k], 2.0 * r / 3.0, a, mu.stat);
+        let sticks = disc_friction::sticks_with(load2[k], limit[k]);
         let at_rest = dot(xi, xi) <= tol * tol;
         let xmk = lane3(&xm, k);
         let gm = disc_friction::kinetic_finish(r, rho2[k], xmk, n2[k], coef[k], ck);

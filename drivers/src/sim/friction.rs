@@ -9,7 +9,8 @@
 //! along its current straight path (event location), so a reversal inside a
 //! step is placed exactly rather than smeared over the step; at relative rest
 //! the part sticks if the force it needs is inside the static limit surface
-//! (|F| ≤ μ_s·m·g for a point; an ellipse in (F, τ) for extended parts).
+//! (|F| ≤ μ_s·m·g for a point; for a disc, the exact curve of its face;
+//! for a polygon, an ellipse in (F, τ)).
 //! Kinetic friction sums over a part's contact points, except for a disc,
 //! whose uniform pressure over the face is integrated exactly
 //! ([`super::disc_friction`]).
@@ -79,16 +80,21 @@ fn sticks(b: &Body, a: [f64; 3], cs: f64) -> bool {
     if !b.extended {
         return a[0] * a[0] + a[1] * a[1] <= cs * cs;
     }
-    sticks_extended(b.rho2, b.torsion_lever, a, cs)
+    if b.disc {
+        return disc_friction::sticks(disc_friction::table(), b.radius, b.rho2, a, cs);
+    }
+    sticks_polygon(b.rho2, b.torsion_lever, a, cs)
 }
 
-/// The static limit of an extended part with I/m `rho2` and spin-friction
-/// lever `lever`: an ellipse in (F, τ), exact at pure force and pure
-/// torque. Between them it is an approximation: for a uniform disc the
-/// true limit curve lies inside the ellipse by up to ≈ 7 % (near t² ≈ 0.6),
-/// so there a disc may stay stuck slightly longer than Coulomb says.
+/// The static limit of a polygon with I/m `rho2` and spin-friction lever
+/// `lever`: an ellipse in (F, τ), exact at pure force and pure torque.
+/// Between them it is an approximation. For a uniform disc the true curve
+/// lies inside the ellipse by up to 7 % (near t² ≈ 0.62), which is why
+/// discs use their exact curve ([`disc_friction::sticks`]); a polygon's
+/// curve depends on the direction of the force in the part, and is not
+/// tabulated, so a polygon may stay stuck slightly longer than Coulomb says.
 #[inline(always)]
-pub(crate) fn sticks_extended(rho2: f64, lever: f64, a: [f64; 3], cs: f64) -> bool {
+fn sticks_polygon(rho2: f64, lever: f64, a: [f64; 3], cs: f64) -> bool {
     let lin2 = a[0] * a[0] + a[1] * a[1];
     let t = rho2 * a[2] / (cs * lever);
     lin2 / (cs * cs) + t * t <= 1.0
