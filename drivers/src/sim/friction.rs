@@ -9,8 +9,8 @@
 //! along its current straight path (event location), so a reversal inside a
 //! step is placed exactly rather than smeared over the step; at relative rest
 //! the part sticks if the force it needs is inside the static limit surface
-//! (|F| ≤ μ_s·m·g for a point; for a disc, the exact curve of its face;
-//! for a polygon, an ellipse in (F, τ)).
+//! (exact for every shape: |F| ≤ μ_s·m·g for a point, the tabulated curve
+//! of its face for a disc, the contact points' limit for a polygon).
 //! Kinetic friction sums over a part's contact points, except for a disc,
 //! whose uniform pressure over the face is integrated exactly
 //! ([`super::disc_friction`]).
@@ -18,6 +18,7 @@
 
 use super::disc_friction;
 use super::part::Body;
+use super::polygon_limit;
 
 /// Pieces per step before the remainder is taken with one midpoint piece.
 const MAX_PIECES: usize = 8;
@@ -75,29 +76,20 @@ fn kinetic(b: &Body, rot: (f64, f64), xi: [f64; 3], ck: f64) -> [f64; 3] {
 }
 
 /// Can static friction supply the acceleration `a` (part moving with plate)?
+/// `rot` is (sin, cos) of a polygon's angle.
 #[inline]
-fn sticks(b: &Body, a: [f64; 3], cs: f64) -> bool {
+fn sticks(b: &Body, rot: (f64, f64), a: [f64; 3], cs: f64) -> bool {
     if !b.extended {
         return a[0] * a[0] + a[1] * a[1] <= cs * cs;
     }
     if b.disc {
         return disc_friction::sticks(disc_friction::table(), b.radius, b.rho2, a, cs);
     }
-    sticks_polygon(b.rho2, b.torsion_lever, a, cs)
-}
-
-/// The static limit of a polygon with I/m `rho2` and spin-friction lever
-/// `lever`: an ellipse in (F, τ), exact at pure force and pure torque.
-/// Between them it is an approximation. For a uniform disc the true curve
-/// lies inside the ellipse by up to 7 % (near t² ≈ 0.62), which is why
-/// discs use their exact curve ([`disc_friction::sticks`]); a polygon's
-/// curve depends on the direction of the force in the part, and is not
-/// tabulated, so a polygon may stay stuck slightly longer than Coulomb says.
-#[inline(always)]
-fn sticks_polygon(rho2: f64, lever: f64, a: [f64; 3], cs: f64) -> bool {
-    let lin2 = a[0] * a[0] + a[1] * a[1];
-    let t = rho2 * a[2] / (cs * lever);
-    lin2 / (cs * cs) + t * t <= 1.0
+    // The load in the body frame, per μ_s m g.
+    let (sn, cn) = rot;
+    let f = [(cn * a[0] + sn * a[1]) / cs, (cn * a[1] - sn * a[0]) / cs];
+    let n = b.n_contacts;
+    polygon_limit::holds(&b.contacts[..n], &b.weights[..n], b.torsion_lever, f, b.rho2 * a[2] / cs)
 }
 
 /// Part twist velocity and displacement over a piece of length `s` with
@@ -138,7 +130,7 @@ pub(crate) fn step(
             break;
         }
         if *stuck {
-            if sticks(b, a, mu.stat) {
+            if sticks(b, rot, a, mu.stat) {
                 advance(vp, &mut disp, a, rem);
                 return disp;
             }
@@ -152,7 +144,7 @@ pub(crate) fn step(
                 vp[i] += xi[i];
             }
             xi = [0.0; 3];
-            if sticks(b, a, mu.stat) {
+            if sticks(b, rot, a, mu.stat) {
                 *stuck = true;
                 continue;
             }

@@ -15,6 +15,7 @@ mod lanes;
 mod part;
 mod plate;
 mod point_lanes;
+mod polygon_limit;
 
 use core::fmt;
 
