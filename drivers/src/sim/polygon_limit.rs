@@ -15,8 +15,16 @@
 //! first: outside if |F| > 1 or |τ| > Σ w_i |r_i|, inside the cone spanned
 //! by the pure forces and the two pure torques.
 
+use super::part::MAX_CONTACTS;
+
 /// Newton steps at most (quadratic convergence: a handful are used).
 const MAX_NEWTON: usize = 40;
+
+/// Distance in the plane (the arguments are small: no overflow guard).
+#[inline(always)]
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    ((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1])).sqrt()
+}
 
 /// Can friction at `contacts` (body frame, weights summing to 1, spin lever
 /// `lever` = Σ w_i |r_i|) hold the load: force `f` (body frame) and torque
@@ -29,44 +37,66 @@ pub(crate) fn holds(contacts: &[[f64; 2]], weights: &[f64], lever: f64, f: [f64;
     if ff.sqrt() + tau.abs() / lever <= 1.0 {
         return true;
     }
-    min_psi(contacts, weights, f, tau, 1.0) >= 0.0 && min_psi(contacts, weights, f, tau, -1.0) >= 0.0
+    let kinks = Kinks::new(contacts, weights);
+    min_psi(contacts, weights, &kinks, f, tau, 1.0) >= 0.0
+        && min_psi(contacts, weights, &kinks, f, tau, -1.0) >= 0.0
+}
+
+/// What both senses share at the contact points: Σ_i w_i |r_j − r_i| and
+/// the pull Σ_{i≠j} w_i (r_j − r_i)/|r_j − r_i| of the others.
+struct Kinks {
+    spread: [f64; MAX_CONTACTS],
+    pull: [[f64; 2]; MAX_CONTACTS],
+}
+
+impl Kinks {
+    fn new(r: &[[f64; 2]], w: &[f64]) -> Self {
+        let mut k = Self { spread: [0.0; MAX_CONTACTS], pull: [[0.0; 2]; MAX_CONTACTS] };
+        for j in 0..r.len() {
+            for i in j + 1..r.len() {
+                let n = dist(r[j], r[i]);
+                if n > 0.0 {
+                    let u = [(r[j][0] - r[i][0]) / n, (r[j][1] - r[i][1]) / n];
+                    k.spread[j] += w[i] * n;
+                    k.spread[i] += w[j] * n;
+                    k.pull[j] = [k.pull[j][0] + w[i] * u[0], k.pull[j][1] + w[i] * u[1]];
+                    k.pull[i] = [k.pull[i][0] - w[j] * u[0], k.pull[i][1] - w[j] * u[1]];
+                }
+            }
+        }
+        k
+    }
 }
 
 /// min over c of ψ(c) = Σ w_i |r_i − c| + sense·(c × F − τ).
-fn min_psi(r: &[[f64; 2]], w: &[f64], f: [f64; 2], tau: f64, sense: f64) -> f64 {
+fn min_psi(r: &[[f64; 2]], w: &[f64], kinks: &Kinks, f: [f64; 2], tau: f64, sense: f64) -> f64 {
     // c × F = ℓ·c with ℓ = (F_y, −F_x).
     let l = [sense * f[1], -sense * f[0]];
     let psi = |c: [f64; 2]| {
-        let spread: f64 = r.iter().zip(w).map(|(ri, wi)| wi * (ri[0] - c[0]).hypot(ri[1] - c[1])).sum();
+        let spread: f64 = r.iter().zip(w).map(|(ri, wi)| wi * dist(*ri, c)).sum();
         spread + l[0] * c[0] + l[1] * c[1] - sense * tau
     };
-    // Kinks: a contact point is the minimum iff the pull of the others and
-    // of the load, g, is within its own weight.
-    for (j, rj) in r.iter().enumerate() {
-        let mut g = l;
-        for (i, (ri, wi)) in r.iter().zip(w).enumerate() {
-            let d = [rj[0] - ri[0], rj[1] - ri[1]];
-            let n = d[0].hypot(d[1]);
-            if i != j && n > 0.0 {
-                g = [g[0] + wi * d[0] / n, g[1] + wi * d[1] / n];
-            }
-        }
-        if g[0].hypot(g[1]) <= w[j] {
-            return psi(*rj);
-        }
+    // Kinks: if the minimum is at a contact point, it is at the lowest one,
+    // and it is there iff the pull of the others and of the load is within
+    // that contact's own weight.
+    let at = |j: usize| kinks.spread[j] + l[0] * r[j][0] + l[1] * r[j][1] - sense * tau;
+    let best = (1..r.len()).fold(0, |b, j| if at(j) < at(b) { j } else { b });
+    let g = [l[0] + kinks.pull[best][0], l[1] + kinks.pull[best][1]];
+    if g[0].hypot(g[1]) <= w[best] {
+        return at(best);
     }
-    // Smooth minimum: damped Newton from the centre (never a contact).
-    // Newton creeps towards a contact point whose kink lies on its way (the
-    // line search keeps cutting the step); within 10⁻⁶ of its size of a
-    // contact, which is not the minimum, leave down the steepest edge.
+    // Smooth minimum: damped Newton from that contact point. Newton also
+    // creeps towards a contact whose kink lies on its way (the line search
+    // keeps cutting the step); on or within 10⁻⁶ of its size of a contact,
+    // which is not the minimum, it leaves down the steepest edge.
     let scale = r.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
-    let mut c = [0.0; 2];
-    let mut value = psi(c);
+    let mut c = r[best];
+    let mut value = at(best);
     for _ in 0..MAX_NEWTON {
         let (mut g, mut h, mut on) = (l, [0.0; 3], None);
         for (i, (ri, wi)) in r.iter().zip(w).enumerate() {
             let d = [c[0] - ri[0], c[1] - ri[1]];
-            let n = d[0].hypot(d[1]);
+            let n = dist(c, *ri);
             if n <= 1e-6 * scale {
                 on = Some(i);
                 continue;
@@ -230,8 +260,10 @@ mod tests {
                 let f = [m * th.cos(), m * th.sin()];
                 let tau = u(&mut rng) * b.torsion_lever;
                 let sense = if u(&mut rng) > 0.0 { 1.0 } else { -1.0 };
-                let (got, want) =
-                    (min_psi(r, w, f, tau, sense), grid_min(r, w, f, tau, sense, 50.0 * b.radius));
+                let (got, want) = (
+                    min_psi(r, w, &Kinks::new(r, w), f, tau, sense),
+                    grid_min(r, w, f, tau, sense, 50.0 * b.radius),
+                );
                 assert!((got - want).abs() < 1e-9 * b.radius, "{f:?} {tau} {sense}: {got} vs grid {want}");
                 if r.iter().any(|&c| {
                     let spread: f64 =
@@ -248,7 +280,10 @@ mod tests {
         // a contact point (by symmetry) that is not the minimum.
         let (r, w) = (&square.contacts[..8], &square.weights[..8]);
         let (f, tau) = ([0.5592085352723886, -0.3474059126262784], -0.01914181903575152);
-        let (got, want) = (min_psi(r, w, f, tau, 1.0), grid_min(r, w, f, tau, 1.0, 50.0 * square.radius));
+        let (got, want) = (
+            min_psi(r, w, &Kinks::new(r, w), f, tau, 1.0),
+            grid_min(r, w, f, tau, 1.0, 50.0 * square.radius),
+        );
         assert!((got - want).abs() < 1e-9 * square.radius, "{got} vs grid {want}");
         // Both kinds of minimum were exercised.
         assert!(at_contact > 20 && between > 20, "{at_contact} at contacts, {between} between");
