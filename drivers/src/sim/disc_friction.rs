@@ -1,5 +1,6 @@
-//! Kinetic friction of a uniform disc: uniform pressure over the whole face,
-//! integrated exactly once per process and tabulated.
+//! Friction of a uniform disc: uniform pressure over the whole face,
+//! integrated exactly once per process and tabulated, kinetic friction and
+//! the static limit curve (the same integrals at μ_s, by load direction).
 //!
 //! For a relative twist (v, ω) of plate over part, the friction on a disc of
 //! radius R depends only on the direction of (v, ωR). With n = |(v, ωR)| and

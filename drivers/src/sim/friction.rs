@@ -9,8 +9,9 @@
 //! along its current straight path (event location), so a reversal inside a
 //! step is placed exactly rather than smeared over the step; at relative rest
 //! the part sticks if the force it needs is inside the static limit surface
-//! (exact for every shape: |F| ≤ μ_s·m·g for a point, the tabulated curve
-//! of its face for a disc, the contact points' limit for a polygon).
+//! (|F| ≤ μ_s·m·g for a point; for a disc, the curve of its face, to the
+//! table's interpolation; for a polygon, its contact points' limit, to
+//! Newton's tolerance, erring towards sticking).
 //! Kinetic friction sums over a part's contact points, except for a disc,
 //! whose uniform pressure over the face is integrated exactly
 //! ([`super::disc_friction`]).
@@ -89,7 +90,8 @@ fn sticks(b: &Body, rot: (f64, f64), a: [f64; 3], cs: f64) -> bool {
     let (sn, cn) = rot;
     let f = [(cn * a[0] + sn * a[1]) / cs, (cn * a[1] - sn * a[0]) / cs];
     let n = b.n_contacts;
-    polygon_limit::holds(&b.contacts[..n], &b.weights[..n], b.torsion_lever, f, b.rho2 * a[2] / cs)
+    let (r, w) = (&b.contacts[..n], &b.weights[..n]);
+    polygon_limit::holds(r, w, b.torsion_lever, b.spin_limit, f, b.rho2 * a[2] / cs)
 }
 
 /// Part twist velocity and displacement over a piece of length `s` with

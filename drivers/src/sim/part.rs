@@ -50,8 +50,12 @@ pub(crate) struct Body {
     pub contacts: [[f64; 2]; MAX_CONTACTS],
     pub weights: [f64; MAX_CONTACTS],
     pub n_contacts: usize,
-    /// Σ w_c |ρ_c|: lever of the maximum spin-friction torque.
+    /// Σ w_c |ρ_c|: the most torque friction gives (per μ m g) about the
+    /// centre, with any force (a polygon's static bound).
     pub torsion_lever: f64,
+    /// The most torque friction gives with no force (per μ m g): a
+    /// polygon's pure-torque limit, at or below `torsion_lever`.
+    pub spin_limit: f64,
     /// Bounding radius (fence, collisions); a disc's own radius.
     pub radius: f64,
     pub extended: bool,
@@ -85,6 +89,7 @@ impl Body {
             weights: [0.0; MAX_CONTACTS],
             n_contacts: 1,
             torsion_lever: 0.0,
+            spin_limit: 0.0,
             radius: 0.0,
             extended: false,
             disc: false,
@@ -107,6 +112,7 @@ impl Body {
                 b.rho2 = 0.5 * radius * radius;
                 // ∫ |ρ| dA / A over a uniform disc.
                 b.torsion_lever = 2.0 * radius / 3.0;
+                b.spin_limit = b.torsion_lever;
                 b.radius = radius;
                 b.extended = true;
                 b.disc = true;
@@ -165,6 +171,7 @@ fn polygon(
     b.rho2 = j;
     b.torsion_lever =
         (0..b.n_contacts).map(|c| b.weights[c] * b.contacts[c][0].hypot(b.contacts[c][1])).sum();
+    b.spin_limit = super::polygon_limit::spin_limit(&b.contacts[..b.n_contacts], &b.weights[..b.n_contacts]);
     b.radius = rmax;
     b.extended = true;
     Ok((b, cen))

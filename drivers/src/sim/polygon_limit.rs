@@ -12,8 +12,8 @@
 //! Each ψ is convex in c, so its minimum is found exactly: at a contact
 //! point, where ψ has a kink (checked by its subgradient), or else by
 //! damped Newton steps where ψ is smooth. Cheap tests settle most loads
-//! first: outside if |F| > 1 or |τ| > Σ w_i |r_i|, inside the cone spanned
-//! by the pure forces and the two pure torques.
+//! first: outside if |F| > 1 or |τ| > Σ w_i |r_i|, inside the hull of the
+//! pure forces and the two pure torques (±[`spin_limit`]).
 
 use super::part::MAX_CONTACTS;
 
@@ -26,20 +26,37 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     ((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1])).sqrt()
 }
 
-/// Can friction at `contacts` (body frame, weights summing to 1, spin lever
-/// `lever` = Σ w_i |r_i|) hold the load: force `f` (body frame) and torque
-/// `tau` (length units), both per μ_s m g?
-pub(crate) fn holds(contacts: &[[f64; 2]], weights: &[f64], lever: f64, f: [f64; 2], tau: f64) -> bool {
+/// Can friction at `contacts` (body frame, weights summing to 1) hold the
+/// load: force `f` (body frame) and torque `tau` (length units), both per
+/// μ_s m g? `lever` = Σ w_i |r_i| bounds |τ| over every load; `spin` =
+/// [`spin_limit`] is the most torque with no force.
+pub(crate) fn holds(
+    contacts: &[[f64; 2]],
+    weights: &[f64],
+    lever: f64,
+    spin: f64,
+    f: [f64; 2],
+    tau: f64,
+) -> bool {
     let ff = f[0] * f[0] + f[1] * f[1];
-    if ff > 1.0 || tau.abs() > lever {
+    // NaN loads are refused here too.
+    if !(ff <= 1.0 && tau.abs() <= lever) {
         return false;
     }
-    if ff.sqrt() + tau.abs() / lever <= 1.0 {
+    // Inside the hull of the pure forces and the two pure torques.
+    if ff.sqrt() + tau.abs() / spin <= 1.0 {
         return true;
     }
     let kinks = Kinks::new(contacts, weights);
     min_psi(contacts, weights, &kinks, f, tau, 1.0) >= 0.0
         && min_psi(contacts, weights, &kinks, f, tau, -1.0) >= 0.0
+}
+
+/// The most torque friction at `contacts` gives with no force: min over the
+/// centre of spin c of Σ w_i |r_i − c| (c at the weighted geometric median,
+/// which is the centroid only for symmetric patches).
+pub(crate) fn spin_limit(contacts: &[[f64; 2]], weights: &[f64]) -> f64 {
+    min_psi(contacts, weights, &Kinks::new(contacts, weights), [0.0; 2], 0.0, 1.0)
 }
 
 /// What both senses share at the contact points: Σ_i w_i |r_j − r_i| and
@@ -182,7 +199,9 @@ mod tests {
     fn limit_agrees_with_maximum_dissipation() {
         let square = polygon(&[[-0.03, -0.03], [0.03, -0.03], [0.03, 0.03], [-0.03, 0.03]]);
         let pentagon = polygon(&[[0.0, 0.0], [0.05, -0.01], [0.07, 0.03], [0.03, 0.06], [-0.01, 0.03]]);
-        for (name, b) in [("square", square), ("pentagon", pentagon)] {
+        // A thin triangle: its geometric median is far from its centroid.
+        let sliver = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.0, 0.01]]);
+        for (name, b) in [("square", square), ("pentagon", pentagon), ("sliver", sliver)] {
             let (r, w) = (&b.contacts[..b.n_contacts], &b.weights[..b.n_contacts]);
             assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
             let mut worst_vs_ellipse = 1.0f64;
@@ -194,11 +213,11 @@ mod tests {
                     [(1.0 - z * z).sqrt() * th.cos(), (1.0 - z * z).sqrt() * th.sin(), z * b.torsion_lever];
                 let at = |k: f64| ([k * e[0], k * e[1]], k * e[2]);
                 let (mut lo, mut hi) = (0.0, 2.0);
-                assert!(!holds(r, w, b.torsion_lever, at(hi).0, at(hi).1));
+                assert!(!holds(r, w, b.torsion_lever, b.spin_limit, at(hi).0, at(hi).1));
                 for _ in 0..50 {
                     let mid = 0.5 * (lo + hi);
                     let (f, tau) = at(mid);
-                    if holds(r, w, b.torsion_lever, f, tau) {
+                    if holds(r, w, b.torsion_lever, b.spin_limit, f, tau) {
                         lo = mid;
                     } else {
                         hi = mid;
@@ -307,7 +326,7 @@ mod tests {
             for _ in 0..50 {
                 let mid = 0.5 * (lo + hi);
                 let (f, tau) = unit(p, q);
-                if holds(r, w, b.torsion_lever, [mid * f[0], mid * f[1]], mid * tau) {
+                if holds(r, w, b.torsion_lever, b.spin_limit, [mid * f[0], mid * f[1]], mid * tau) {
                     lo = mid;
                 } else {
                     hi = mid;
@@ -338,5 +357,29 @@ mod tests {
             friction::step(&b, angle, [0.0; 3], &mut v, a, 1e-4, mu, &mut stuck);
             assert_eq!(stuck, should_stick, "{k} × the limit");
         }
+    }
+
+    /// With no force, a patch spins about its weighted geometric median,
+    /// not its centroid, so the pure-torque limit of a thin triangle is
+    /// below Σ w_i |r_i|: a torque between the two must break it loose.
+    #[test]
+    fn pure_torque_limit_is_at_the_geometric_median() {
+        let b = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.0, 0.01]]);
+        let (r, w) = (&b.contacts[..b.n_contacts], &b.weights[..b.n_contacts]);
+        assert!(b.spin_limit < 0.97 * b.torsion_lever, "{} vs {}", b.spin_limit, b.torsion_lever);
+        // Independent: Σ w_i |r_i − c| over a fine grid of centres c.
+        let grid = (-200..=200)
+            .flat_map(|i| (-200..=200).map(move |j| [i as f64 * 2e-4, j as f64 * 2e-4]))
+            .map(|c| r.iter().zip(w).map(|(p, wi)| wi * (p[0] - c[0]).hypot(p[1] - c[1])).sum::<f64>())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            b.spin_limit <= grid + 1e-12 && grid - b.spin_limit < 1e-6,
+            "{} vs grid {grid}",
+            b.spin_limit
+        );
+        let lim = b.spin_limit;
+        assert!(holds(r, w, b.torsion_lever, lim, [0.0; 2], 0.999 * lim));
+        assert!(!holds(r, w, b.torsion_lever, lim, [0.0; 2], 1.001 * lim));
+        assert!(!holds(r, w, b.torsion_lever, lim, [0.0; 2], -1.001 * lim));
     }
 }
