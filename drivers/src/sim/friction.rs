@@ -91,7 +91,7 @@ fn sticks(b: &Body, rot: (f64, f64), a: [f64; 3], cs: f64) -> bool {
     let f = [(cn * a[0] + sn * a[1]) / cs, (cn * a[1] - sn * a[0]) / cs];
     let n = b.n_contacts;
     let (r, w) = (&b.contacts[..n], &b.weights[..n]);
-    polygon_limit::holds(r, w, b.torsion_lever, b.spin_limit, f, b.rho2 * a[2] / cs)
+    polygon_limit::holds(r, w, &b.limit, b.torsion_lever, f, b.rho2 * a[2] / cs)
 }
 
 /// Part twist velocity and displacement over a piece of length `s` with
@@ -148,7 +148,8 @@ pub(crate) fn step(
             xi = [0.0; 3];
             if sticks(b, rot, a, mu.stat) {
                 *stuck = true;
-                continue;
+                advance(vp, &mut disp, a, rem);
+                return disp;
             }
         }
         let g = kinetic(b, rot, if at_rest { a } else { xi }, ck);

@@ -1,6 +1,8 @@
 //! Parts: shapes, their contact patches (points with pressure weights) and
 //! their dynamic state.
 
+use super::polygon_limit::PolygonLimit;
+
 /// Most vertices of a polygon part.
 pub const MAX_POLYGON_VERTICES: usize = 8;
 /// Most contact points of one part (a polygon uses 2 per vertex).
@@ -53,9 +55,9 @@ pub(crate) struct Body {
     /// Σ w_c |ρ_c|: the most torque friction gives (per μ m g) about the
     /// centre, with any force (a polygon's static bound).
     pub torsion_lever: f64,
-    /// The most torque friction gives with no force (per μ m g): a
-    /// polygon's pure-torque limit, at or below `torsion_lever`.
-    pub spin_limit: f64,
+    /// A polygon's static limit data, from its contacts (its pure-torque
+    /// limit `spin` is at or below `torsion_lever`).
+    pub limit: PolygonLimit,
     /// Bounding radius (fence, collisions); a disc's own radius.
     pub radius: f64,
     pub extended: bool,
@@ -89,7 +91,7 @@ impl Body {
             weights: [0.0; MAX_CONTACTS],
             n_contacts: 1,
             torsion_lever: 0.0,
-            spin_limit: 0.0,
+            limit: PolygonLimit::default(),
             radius: 0.0,
             extended: false,
             disc: false,
@@ -112,7 +114,6 @@ impl Body {
                 b.rho2 = 0.5 * radius * radius;
                 // ∫ |ρ| dA / A over a uniform disc.
                 b.torsion_lever = 2.0 * radius / 3.0;
-                b.spin_limit = b.torsion_lever;
                 b.radius = radius;
                 b.extended = true;
                 b.disc = true;
@@ -171,7 +172,7 @@ fn polygon(
     b.rho2 = j;
     b.torsion_lever =
         (0..b.n_contacts).map(|c| b.weights[c] * b.contacts[c][0].hypot(b.contacts[c][1])).sum();
-    b.spin_limit = super::polygon_limit::spin_limit(&b.contacts[..b.n_contacts], &b.weights[..b.n_contacts]);
+    b.limit = PolygonLimit::new(&b.contacts[..b.n_contacts], &b.weights[..b.n_contacts]);
     b.radius = rmax;
     b.extended = true;
     Ok((b, cen))

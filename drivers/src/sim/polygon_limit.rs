@@ -13,7 +13,7 @@
 //! point, where ψ has a kink (checked by its subgradient), or else by
 //! damped Newton steps where ψ is smooth. Cheap tests settle most loads
 //! first: outside if |F| > 1 or |τ| > Σ w_i |r_i|, inside the hull of the
-//! pure forces and the two pure torques (±[`spin_limit`]).
+//! pure forces and the two pure torques (±[`PolygonLimit::spin`]).
 
 use super::part::MAX_CONTACTS;
 
@@ -26,15 +26,15 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     ((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1])).sqrt()
 }
 
-/// Can friction at `contacts` (body frame, weights summing to 1) hold the
-/// load: force `f` (body frame) and torque `tau` (length units), both per
-/// μ_s m g? `lever` = Σ w_i |r_i| bounds |τ| over every load; `spin` =
-/// [`spin_limit`] is the most torque with no force.
+/// Can friction at `contacts` (body frame, weights summing to 1; `limit`
+/// built from them) hold the load: force `f` (body frame) and torque `tau`
+/// (length units), both per μ_s m g? `lever` = Σ w_i |r_i| bounds |τ| over
+/// every load.
 pub(crate) fn holds(
     contacts: &[[f64; 2]],
     weights: &[f64],
+    limit: &PolygonLimit,
     lever: f64,
-    spin: f64,
     f: [f64; 2],
     tau: f64,
 ) -> bool {
@@ -44,31 +44,29 @@ pub(crate) fn holds(
         return false;
     }
     // Inside the hull of the pure forces and the two pure torques.
-    if ff.sqrt() + tau.abs() / spin <= 1.0 {
+    if ff.sqrt() + tau.abs() / limit.spin <= 1.0 {
         return true;
     }
-    let kinks = Kinks::new(contacts, weights);
-    min_psi(contacts, weights, &kinks, f, tau, 1.0) >= 0.0
-        && min_psi(contacts, weights, &kinks, f, tau, -1.0) >= 0.0
+    min_psi(contacts, weights, limit, f, tau, 1.0) >= 0.0
+        && min_psi(contacts, weights, limit, f, tau, -1.0) >= 0.0
 }
 
-/// The most torque friction at `contacts` gives with no force: min over the
-/// centre of spin c of Σ w_i |r_i − c| (c at the weighted geometric median,
-/// which is the centroid only for symmetric patches).
-pub(crate) fn spin_limit(contacts: &[[f64; 2]], weights: &[f64]) -> f64 {
-    min_psi(contacts, weights, &Kinks::new(contacts, weights), [0.0; 2], 0.0, 1.0)
-}
-
-/// What both senses share at the contact points: Σ_i w_i |r_j − r_i| and
-/// the pull Σ_{i≠j} w_i (r_j − r_i)/|r_j − r_i| of the others.
-struct Kinks {
+/// What depends on the contact points alone, built once per part: at each
+/// contact, Σ_i w_i |r_j − r_i| and the pull Σ_{i≠j} w_i (r_j − r_i)/|r_j −
+/// r_i| of the others; and `spin`, the most torque friction gives with no
+/// force.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct PolygonLimit {
     spread: [f64; MAX_CONTACTS],
     pull: [[f64; 2]; MAX_CONTACTS],
+    /// min over the centre of spin c of Σ w_i |r_i − c| (c at the weighted
+    /// geometric median, which is the centroid only for symmetric patches).
+    pub spin: f64,
 }
 
-impl Kinks {
-    fn new(r: &[[f64; 2]], w: &[f64]) -> Self {
-        let mut k = Self { spread: [0.0; MAX_CONTACTS], pull: [[0.0; 2]; MAX_CONTACTS] };
+impl PolygonLimit {
+    pub fn new(r: &[[f64; 2]], w: &[f64]) -> Self {
+        let mut k = Self { spread: [0.0; MAX_CONTACTS], pull: [[0.0; 2]; MAX_CONTACTS], spin: 0.0 };
         for j in 0..r.len() {
             for i in j + 1..r.len() {
                 let n = dist(r[j], r[i]);
@@ -81,12 +79,13 @@ impl Kinks {
                 }
             }
         }
+        k.spin = min_psi(r, w, &k, [0.0; 2], 0.0, 1.0);
         k
     }
 }
 
 /// min over c of ψ(c) = Σ w_i |r_i − c| + sense·(c × F − τ).
-fn min_psi(r: &[[f64; 2]], w: &[f64], kinks: &Kinks, f: [f64; 2], tau: f64, sense: f64) -> f64 {
+fn min_psi(r: &[[f64; 2]], w: &[f64], kinks: &PolygonLimit, f: [f64; 2], tau: f64, sense: f64) -> f64 {
     // c × F = ℓ·c with ℓ = (F_y, −F_x).
     let l = [sense * f[1], -sense * f[0]];
     let psi = |c: [f64; 2]| {
@@ -213,11 +212,11 @@ mod tests {
                     [(1.0 - z * z).sqrt() * th.cos(), (1.0 - z * z).sqrt() * th.sin(), z * b.torsion_lever];
                 let at = |k: f64| ([k * e[0], k * e[1]], k * e[2]);
                 let (mut lo, mut hi) = (0.0, 2.0);
-                assert!(!holds(r, w, b.torsion_lever, b.spin_limit, at(hi).0, at(hi).1));
+                assert!(!holds(r, w, &b.limit, b.torsion_lever, at(hi).0, at(hi).1));
                 for _ in 0..50 {
                     let mid = 0.5 * (lo + hi);
                     let (f, tau) = at(mid);
-                    if holds(r, w, b.torsion_lever, b.spin_limit, f, tau) {
+                    if holds(r, w, &b.limit, b.torsion_lever, f, tau) {
                         lo = mid;
                     } else {
                         hi = mid;
@@ -280,7 +279,7 @@ mod tests {
                 let tau = u(&mut rng) * b.torsion_lever;
                 let sense = if u(&mut rng) > 0.0 { 1.0 } else { -1.0 };
                 let (got, want) = (
-                    min_psi(r, w, &Kinks::new(r, w), f, tau, sense),
+                    min_psi(r, w, &PolygonLimit::new(r, w), f, tau, sense),
                     grid_min(r, w, f, tau, sense, 50.0 * b.radius),
                 );
                 assert!((got - want).abs() < 1e-9 * b.radius, "{f:?} {tau} {sense}: {got} vs grid {want}");
@@ -300,7 +299,7 @@ mod tests {
         let (r, w) = (&square.contacts[..8], &square.weights[..8]);
         let (f, tau) = ([0.5592085352723886, -0.3474059126262784], -0.01914181903575152);
         let (got, want) = (
-            min_psi(r, w, &Kinks::new(r, w), f, tau, 1.0),
+            min_psi(r, w, &PolygonLimit::new(r, w), f, tau, 1.0),
             grid_min(r, w, f, tau, 1.0, 50.0 * square.radius),
         );
         assert!((got - want).abs() < 1e-9 * square.radius, "{got} vs grid {want}");
@@ -326,7 +325,7 @@ mod tests {
             for _ in 0..50 {
                 let mid = 0.5 * (lo + hi);
                 let (f, tau) = unit(p, q);
-                if holds(r, w, b.torsion_lever, b.spin_limit, [mid * f[0], mid * f[1]], mid * tau) {
+                if holds(r, w, &b.limit, b.torsion_lever, [mid * f[0], mid * f[1]], mid * tau) {
                     lo = mid;
                 } else {
                     hi = mid;
@@ -366,20 +365,20 @@ mod tests {
     fn pure_torque_limit_is_at_the_geometric_median() {
         let b = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.0, 0.01]]);
         let (r, w) = (&b.contacts[..b.n_contacts], &b.weights[..b.n_contacts]);
-        assert!(b.spin_limit < 0.97 * b.torsion_lever, "{} vs {}", b.spin_limit, b.torsion_lever);
+        assert!(b.limit.spin < 0.97 * b.torsion_lever, "{} vs {}", b.limit.spin, b.torsion_lever);
         // Independent: Σ w_i |r_i − c| over a fine grid of centres c.
         let grid = (-200..=200)
             .flat_map(|i| (-200..=200).map(move |j| [i as f64 * 2e-4, j as f64 * 2e-4]))
             .map(|c| r.iter().zip(w).map(|(p, wi)| wi * (p[0] - c[0]).hypot(p[1] - c[1])).sum::<f64>())
             .fold(f64::INFINITY, f64::min);
         assert!(
-            b.spin_limit <= grid + 1e-12 && grid - b.spin_limit < 1e-6,
+            b.limit.spin <= grid + 1e-12 && grid - b.limit.spin < 1e-6,
             "{} vs grid {grid}",
-            b.spin_limit
+            b.limit.spin
         );
-        let lim = b.spin_limit;
-        assert!(holds(r, w, b.torsion_lever, lim, [0.0; 2], 0.999 * lim));
-        assert!(!holds(r, w, b.torsion_lever, lim, [0.0; 2], 1.001 * lim));
-        assert!(!holds(r, w, b.torsion_lever, lim, [0.0; 2], -1.001 * lim));
+        let lim = b.limit.spin;
+        assert!(holds(r, w, &b.limit, b.torsion_lever, [0.0; 2], 0.999 * lim));
+        assert!(!holds(r, w, &b.limit, b.torsion_lever, [0.0; 2], 1.001 * lim));
+        assert!(!holds(r, w, &b.limit, b.torsion_lever, [0.0; 2], -1.001 * lim));
     }
 }
