@@ -81,12 +81,13 @@ pub enum Command {
         #[arg(long)]
         stress: bool,
     },
-    /// Snapshot of a running core's telemetry.
+    /// Snapshot of a running core's telemetry. Without --prefix or
+    /// --config it finds the running rig by itself (several: lists them).
     Status {
         /// Print JSON (DESIGN.md §7) instead of text.
         #[arg(long)]
         json: bool,
-        /// Service prefix of the rig (default: the config's, else "upm_").
+        /// Service prefix of the rig (default: the running rig's).
         #[arg(long)]
         prefix: Option<String>,
         /// Rig config to take the prefix from.
@@ -95,6 +96,32 @@ pub enum Command {
         /// How long to wait for telemetry (s).
         #[arg(long, default_value_t = 2.0)]
         timeout: f64,
+    },
+    /// The sort scenario over and over while clients and the core are
+    /// killed at random; reports holds, restarts, input ages, allocations,
+    /// overruns and failures (a benchmark, see BENCHMARKS.md).
+    Soak {
+        /// How long (minutes).
+        #[arg(long, default_value_t = 30.0)]
+        minutes: f64,
+        /// Seed of the kill schedule and of the runs.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory (one run-NNN/ per run, soak.json).
+        #[arg(long, default_value = "out/soak")]
+        out: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// End a driver-fault hold: the core plays again from its next cycle.
+    Resume {
+        /// Service prefix of the rig (default: the running rig's).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config to take the prefix from.
+        #[arg(long)]
+        config: Option<PathBuf>,
     },
     /// Solve, then play the schedule on the physics simulator and report the
     /// forces and curls the parts really feel.
@@ -124,6 +151,16 @@ pub enum BenchTarget {
     Ipc,
 }
 
+/// The rig a command talks to: `--prefix`, else the config's, else the
+/// one running rig.
+fn rig_prefix(prefix: Option<String>, config: Option<PathBuf>) -> anyhow::Result<String> {
+    match (prefix, config) {
+        (Some(p), _) => Ok(p),
+        (None, Some(c)) => Ok(crate::config::Config::load(&c)?.service.prefix),
+        (None, None) => crate::status::discover_prefix(),
+    }
+}
+
 /// Read a file, or stdin for `-`.
 pub fn read_input(path: &Path) -> anyhow::Result<String> {
     if path == Path::new("-") {
@@ -144,19 +181,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }
-        Command::Core(args) => {
-            let report = crate::core_process::run(args)?;
-            let t = &report.telemetry;
-            eprintln!(
-                "upm-core: stopped cleanly, plate home; {} ticks, {} cycles, {} overruns, {} hold events, {} rt allocations",
-                t.counters.ticks,
-                t.cycle,
-                t.counters.overruns,
-                t.counters.hold_events,
-                t.counters.rt_thread_allocations
-            );
-            Ok(())
-        }
+        Command::Core(args) => crate::core_process::report(&crate::core_process::run(args)?),
         Command::Vision(args) => {
             let frames = crate::vision::process::run_vision(args)?;
             eprintln!("upm-vision: stopped after {frames} frames");
@@ -178,6 +203,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             };
             let prefix = prefix.unwrap_or_else(|| format!("upm_run_{}_", std::process::id()));
             let config = sc.config(seed, &prefix)?;
+            eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");
             let plan = crate::launcher::RunPlan {
                 scenario: sc.name.clone(),
                 seed,
@@ -216,12 +242,35 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             Ok(())
         }
-        Command::Status { json, prefix, config, timeout } => {
-            let prefix = match (prefix, config) {
-                (Some(p), _) => p,
-                (None, Some(c)) => crate::config::Config::load(&c)?.service.prefix,
-                (None, None) => crate::config::Config::default().service.prefix,
+        Command::Soak { minutes, seed, out, json } => {
+            if !(minutes.is_finite() && minutes > 0.0) {
+                anyhow::bail!("--minutes must be a positive number, got {minutes}");
+            }
+            let plan = crate::soak::SoakPlan {
+                minutes,
+                seed,
+                out,
+                kill_every_s: (20.0, 60.0),
+                core_kill_every_s: 600.0,
             };
+            let v = crate::soak::run(&plan)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!("{}", crate::soak::to_text(&v));
+            }
+            Ok(())
+        }
+        Command::Resume { prefix, config } => {
+            let prefix = rig_prefix(prefix, config)?;
+            crate::status::send_resume(&prefix)?;
+            eprintln!(
+                "upm resume: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it"
+            );
+            Ok(())
+        }
+        Command::Status { json, prefix, config, timeout } => {
+            let prefix = rig_prefix(prefix, config)?;
             if !(timeout.is_finite() && timeout > 0.0 && timeout < 3600.0) {
                 anyhow::bail!("--timeout must be a positive number of seconds below 3600, got {timeout}");
             }

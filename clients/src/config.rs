@@ -128,6 +128,12 @@ pub struct SafetySection {
     pub parts_max_age_ms: f64,
     pub request_max_age_ms: f64,
     pub max_future_skew_ms: f64,
+    /// A driver-fault hold ends by itself after this many ms of healthy
+    /// driver reads; 0 = only `upm resume` ends it.
+    pub auto_resume_ms: f64,
+    /// After a core thread dies, how long the core reports it (plate held)
+    /// before it exits with an error.
+    pub fault_exit_ms: f64,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -232,6 +238,8 @@ impl Default for SafetySection {
             parts_max_age_ms: c.parts_max_age_ns as f64 / 1e6,
             request_max_age_ms: c.request_max_age_ns as f64 / 1e6,
             max_future_skew_ms: c.max_future_skew_ns as f64 / 1e6,
+            auto_resume_ms: c.auto_resume_ns as f64 / 1e6,
+            fault_exit_ms: c.fault_exit_ns as f64 / 1e6,
         }
     }
 }
@@ -272,6 +280,15 @@ fn ms_to_ns(ms: f64, field: &str) -> Result<u64, String> {
     } else {
         Err(format!("{field} must be a positive number of milliseconds, got {ms}"))
     }
+}
+
+/// Like [`ms_to_ns`], but 0 is allowed (it turns the feature off).
+fn ms_to_ns_or_zero(ms: f64, field: &str) -> Result<u64, String> {
+    if ms == 0.0 {
+        return Ok(0);
+    }
+    ms_to_ns(ms, field)
+        .map_err(|_| format!("{field} must be 0 or a positive number of milliseconds, got {ms}"))
 }
 
 /// A CPU to pin to: one this process may run on (its affinity mask), or -1.
@@ -352,6 +369,8 @@ impl Config {
             max_future_skew_ns: ms_to_ns(self.safety.max_future_skew_ms, "safety.max_future_skew_ms")?,
             solver_poll_ns: self.rt.solver_poll_us.saturating_mul(1000),
             telemetry_period_ns: ms_to_ns(self.telemetry.period_ms, "telemetry.period_ms")?,
+            auto_resume_ns: ms_to_ns_or_zero(self.safety.auto_resume_ms, "safety.auto_resume_ms")?,
+            fault_exit_ns: ms_to_ns_or_zero(self.safety.fault_exit_ms, "safety.fault_exit_ms")?,
             rt: RtParams {
                 motor_priority: self.rt.motor_priority,
                 solver_priority: self.rt.solver_priority,

@@ -49,6 +49,31 @@ pub fn truth_fill(ids: Vec<u32>, classes: Vec<u32>) -> TruthFill<Simulator> {
     })
 }
 
+/// Print the one-line summary of a finished run; a run whose thread died
+/// is an error naming the thread and what happened.
+pub fn report(report: &RunReport) -> anyhow::Result<()> {
+    let t = &report.telemetry;
+    if let Some(f) = &report.fault {
+        anyhow::bail!(
+            "{} {}: {}; the plate was held, {} ticks, {} rt allocations",
+            f.source,
+            f.cause,
+            f.detail_str(),
+            t.counters.ticks,
+            t.counters.rt_thread_allocations
+        );
+    }
+    eprintln!(
+        "upm-core: stopped cleanly, plate home; {} ticks, {} cycles, {} overruns, {} hold events, {} rt allocations",
+        t.counters.ticks,
+        t.cycle,
+        t.counters.overruns,
+        t.counters.hold_events,
+        t.counters.rt_thread_allocations
+    );
+    Ok(())
+}
+
 /// Run the core; prints one loud warning when it is not real-time.
 pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
     let (mut config, shown) = match &args.config {

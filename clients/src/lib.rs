@@ -15,6 +15,7 @@ pub mod feeder;
 pub mod launcher;
 pub mod planner;
 pub mod scenario;
+pub mod soak;
 pub mod solve_json;
 pub mod status;
 pub mod validate;

@@ -5,9 +5,13 @@ use std::time::{Duration, Instant};
 
 use anyhow::bail;
 use iceoryx2::prelude::*;
+use ipc_types::discovery::{NodePresence, running_rigs};
 use ipc_types::ports::{config_with_prefix, open_pub_sub};
 use ipc_types::rig_node::rig_node;
-use ipc_types::{LatencyPercentiles, Telemetry, ValidationLimits, monotonic_now_ns, service_names};
+use ipc_types::{
+    CoreCommand, LatencyPercentiles, RejectReason, Telemetry, ValidationLimits, monotonic_now_ns,
+    service_names,
+};
 use serde_json::{Value, json};
 
 /// Wait up to `timeout` for a telemetry sample of the core on `prefix`.
@@ -38,15 +42,58 @@ fn us(p: &LatencyPercentiles) -> Value {
     json!({ "p50": f(p.p50_ns), "p99": f(p.p99_ns), "p999": f(p.p999_ns), "max": f(p.max_ns), "samples": p.samples })
 }
 
+/// Seconds since a CLOCK_MONOTONIC stamp (null when 0 = absent).
+fn age_s(started_ns: u64) -> Value {
+    if started_ns == 0 {
+        Value::Null
+    } else {
+        json!(monotonic_now_ns().saturating_sub(started_ns) as f64 / 1e9)
+    }
+}
+
+/// Rejections by reason, only the reasons that occurred.
+fn rejected_by_reason(t: &Telemetry) -> serde_json::Map<String, Value> {
+    RejectReason::ALL
+        .iter()
+        .filter(|r| t.rejected_by_reason[r.index()] > 0)
+        .map(|r| (r.as_str().to_owned(), json!(t.rejected_by_reason[r.index()])))
+        .collect()
+}
+
+/// `ok`, or which thread or the driver, what happened and where.
+fn health_json(t: &Telemetry) -> Value {
+    let (source, cause) = t.health().map_or(("unknown", "unknown"), |(s, c)| (s.as_str(), c.as_str()));
+    json!({ "ok": t.health_source == 0, "source": source, "cause": cause, "detail": t.health_detail_str() })
+}
+
 /// The `upm status --json` document.
 pub fn to_json(t: &Telemetry) -> Value {
     let flag = |b: u32| t.realtime_flags & b != 0;
+    let c = &t.counters;
     json!({
         "state": t.core_state().map_or("unknown", |s| s.as_str()),
+        "health": health_json(t),
         "cycle": t.cycle,
         "ages_ms": { "parts": t.parts_age_ms, "request": t.request_age_ms },
-        "rejected": { "parts": t.counters.rejected_parts, "requests": t.counters.rejected_requests },
-        "processes": { "core": t.core_pid, "vision": t.vision_pid, "planner": t.planner_pid },
+        "rejected": {
+            "parts": c.rejected_parts,
+            "requests": c.rejected_requests,
+            "by_reason": rejected_by_reason(t),
+        },
+        "processes": {
+            "core": t.core_pid,
+            "vision": t.vision_pid,
+            "planner": t.planner_pid,
+            "vision_age_s": age_s(t.vision_started_ns),
+            "planner_age_s": age_s(t.planner_started_ns),
+        },
+        "driver": {
+            "faults": c.driver_faults,
+            "clamped": c.driver_clamped,
+            "rejected": c.driver_rejected,
+            "fault_holds": c.fault_holds,
+            "resumes": c.resumes,
+        },
         "latency_us": {
             "motor_wakeup": us(&t.latency.motor_wakeup),
             "solver": us(&t.latency.solver),
@@ -67,6 +114,7 @@ pub fn to_json(t: &Telemetry) -> Value {
             "solver_fifo": flag(Telemetry::RT_SOLVER_FIFO),
             "motor_pinned": flag(Telemetry::RT_MOTOR_PINNED),
             "receiver_fifo": flag(Telemetry::RT_RECEIVER_FIFO),
+            "pm_qos_held": flag(Telemetry::RT_PM_QOS_HELD),
             "allocations_counted": flag(Telemetry::RT_ALLOCATIONS_COUNTED),
         },
     })
@@ -78,28 +126,96 @@ pub fn to_text(t: &Telemetry) -> String {
         & (Telemetry::RT_MEMORY_LOCKED | Telemetry::RT_MOTOR_FIFO | Telemetry::RT_SOLVER_FIFO)
         == (Telemetry::RT_MEMORY_LOCKED | Telemetry::RT_MOTOR_FIFO | Telemetry::RT_SOLVER_FIFO);
     let w = &t.latency.motor_wakeup;
+    let c = &t.counters;
+    let health = match t.health() {
+        Some((s, _)) if s == ipc_types::HealthSource::Ok => "ok".to_owned(),
+        Some((s, c)) => format!("{s} {c}: {}", t.health_detail_str()),
+        None => "unknown".to_owned(),
+    };
+    let reasons: Vec<String> = rejected_by_reason(t).iter().map(|(k, v)| format!("{k} {v}")).collect();
+    let client = |pid: u32, started: u64| {
+        if pid == 0 {
+            "absent".to_owned()
+        } else {
+            format!("pid {pid}, up {:.0} s", age_s(started).as_f64().unwrap_or(0.0))
+        }
+    };
     format!(
-        "state {}  cycle {}  ticks {}  overruns {}  holds {}\n\
-         ages: parts {:.1} ms, request {:.1} ms;  rejected: parts {}, requests {}\n\
+        "state {}  health {}\n\
+         cycle {}  ticks {}  overruns {}  holds {}\n\
+         ages: parts {:.1} ms, request {:.1} ms;  rejected: parts {}, requests {}{}\n\
+         driver: faults {}, fault holds {}, resumes {}, clamped {}, rejected {}\n\
          motor wake-up µs: p50 {:.1}  p99 {:.1}  p99.9 {:.1}  max {:.1}\n\
-         real-time: {}  rt allocations: {}  core pid {}",
+         real-time: {}  rt allocations: {}\n\
+         processes: core pid {}; vision {}; planner {}",
         t.core_state().map_or("unknown", |s| s.as_str()),
+        health,
         t.cycle,
-        t.counters.ticks,
-        t.counters.overruns,
-        t.counters.hold_events,
+        c.ticks,
+        c.overruns,
+        c.hold_events,
         t.parts_age_ms,
         t.request_age_ms,
-        t.counters.rejected_parts,
-        t.counters.rejected_requests,
+        c.rejected_parts,
+        c.rejected_requests,
+        if reasons.is_empty() { String::new() } else { format!(" ({})", reasons.join(", ")) },
+        c.driver_faults,
+        c.fault_holds,
+        c.resumes,
+        c.driver_clamped,
+        c.driver_rejected,
         w.p50_ns as f64 / 1e3,
         w.p99_ns as f64 / 1e3,
         w.p999_ns as f64 / 1e3,
         w.max_ns as f64 / 1e3,
         if rt { "yes" } else { "NO (not real-time: no SCHED_FIFO or no locked memory)" },
-        t.counters.rt_thread_allocations,
+        c.rt_thread_allocations,
         t.core_pid,
+        client(t.vision_pid, t.vision_started_ns),
+        client(t.planner_pid, t.planner_started_ns),
     )
+}
+
+/// Which rig `upm status` / `upm resume` talk to when no prefix is given:
+/// the only running one. Several or none is an error listing what runs.
+pub fn discover_prefix() -> anyhow::Result<String> {
+    let rigs = running_rigs();
+    match rigs.as_slice() {
+        [one] => Ok(one.name.clone()),
+        [] => bail!("no running upm rig found on this machine (start one with `upm run`, or pass --prefix)"),
+        many => bail!("{} rigs are running, pass one with --prefix: {}", many.len(), rig_list(many)),
+    }
+}
+
+/// `prefix (pid P, up N s)` for each rig.
+pub fn rig_list(rigs: &[NodePresence]) -> String {
+    let now = monotonic_now_ns();
+    rigs.iter()
+        .map(|r| {
+            format!("{} (pid {}, up {:.0} s)", r.name, r.pid, now.saturating_sub(r.started_ns) as f64 / 1e9)
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Ask the core on `prefix` to leave a driver-fault hold.
+pub fn send_resume(prefix: &str) -> anyhow::Result<()> {
+    if !rt_core::runtime::core_running(prefix).map_err(|e| anyhow::anyhow!("{e}"))? {
+        bail!("no upm-core is running on service prefix {prefix:?}");
+    }
+    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
+    let publisher = open_pub_sub::<CoreCommand>(&node, service_names::CORE_COMMAND)?
+        .publisher_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("core command publisher: {e:?}"))?;
+    let mut notifier = ipc_types::inbox_event::InboxNotifier::new(&node)?;
+    // The core's subscriber connects to a new publisher on its next look.
+    std::thread::sleep(Duration::from_millis(100));
+    publisher
+        .send_copy(CoreCommand::new(CoreCommand::RESUME, 1, monotonic_now_ns()))
+        .map_err(|e| anyhow::anyhow!("sending resume: {e:?}"))?;
+    notifier.notify();
+    Ok(())
 }
 
 /// Remove the per-prefix segment iceoryx2 keeps in /dev/shm after every

@@ -7,13 +7,14 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_SLOTS};
+use crate::reject_reason::RejectReason;
 use crate::validation::{ValidationLimits, clamped_len, count_fits};
 
 /// One slot: a rotation about configured center `center_index` with signed
 /// intensity `k` (k > 0 = CCW), |k| ≤ 1.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ExplicitSlot.v1")]
+#[type_name("upm::ExplicitSlot.v2")]
 pub struct ExplicitSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -35,7 +36,7 @@ impl ExplicitSlot {
 /// Planner → core: the slots of one closed cycle, in play order.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ExplicitSchedule.v1")]
+#[type_name("upm::ExplicitSchedule.v2")]
 pub struct ExplicitSchedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`; at least 1.
@@ -60,6 +61,10 @@ pub enum ExplicitScheduleError {
     /// A cycle needs at least one slot (its duration is divided among them).
     Empty,
     StampFromFuture {
+        stamp_ns: u64,
+        now_ns: u64,
+    },
+    Stale {
         stamp_ns: u64,
         now_ns: u64,
     },
@@ -90,6 +95,12 @@ impl fmt::Display for ExplicitScheduleError {
             Self::StampFromFuture { stamp_ns, now_ns } => {
                 write!(f, "explicit_schedule.stamp_ns {stamp_ns} is in the future (now {now_ns})")
             }
+            Self::Stale { stamp_ns, now_ns } => {
+                write!(
+                    f,
+                    "explicit_schedule.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})"
+                )
+            }
             Self::UnknownCenter { index, center_index } => write!(
                 f,
                 "explicit_schedule.slots[{index}].center_index {center_index} is not a configured center"
@@ -103,6 +114,22 @@ impl fmt::Display for ExplicitScheduleError {
 }
 
 impl core::error::Error for ExplicitScheduleError {}
+
+impl ExplicitScheduleError {
+    /// The counter this rejection is counted under.
+    pub const fn reason(&self) -> RejectReason {
+        match self {
+            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
+            Self::CountExceedsCapacity { .. } => RejectReason::CountExceedsCapacity,
+            Self::Empty => RejectReason::Empty,
+            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
+            Self::Stale { .. } => RejectReason::Stale,
+            Self::UnknownCenter { .. } => RejectReason::UnknownCenter,
+            Self::NonFinite { .. } => RejectReason::NonFinite,
+            Self::KOutOfRange { .. } => RejectReason::KOutOfRange,
+        }
+    }
+}
 
 impl ExplicitSchedule {
     pub const CAPACITY: usize = MAX_SLOTS;
@@ -167,6 +194,9 @@ impl ExplicitSchedule {
                 stamp_ns: self.stamp_ns,
                 now_ns: limits.now_ns,
             });
+        }
+        if limits.is_stale(self.stamp_ns) {
+            return Err(ExplicitScheduleError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
         }
         for (index, s) in self.slots().iter().enumerate() {
             if s.center_index >= limits.center_count {

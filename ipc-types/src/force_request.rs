@@ -7,6 +7,7 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_CURLS, MAX_PARTS};
+use crate::reject_reason::RejectReason;
 use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite, is_flag};
 
 /// What one part should feel. A curl is optional per entry (`curl_flag`),
@@ -15,7 +16,7 @@ use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_fin
 /// its curl is constrained), as in `upm solve`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ForceEntry.v1")]
+#[type_name("upm::ForceEntry.v2")]
 pub struct ForceEntry {
     /// Id of a part in the core's latest [`crate::PartStates`].
     pub part_id: u32,
@@ -67,7 +68,7 @@ impl ForceEntry {
 /// Planner → core: desired forces for up to [`MAX_PARTS`] parts.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ForceRequest.v1")]
+#[type_name("upm::ForceRequest.v2")]
 pub struct ForceRequest {
     pub protocol_version: u32,
     /// Number of used entries of `entries`.
@@ -95,6 +96,10 @@ pub enum ForceRequestError {
         count: u32,
     },
     StampFromFuture {
+        stamp_ns: u64,
+        now_ns: u64,
+    },
+    Stale {
         stamp_ns: u64,
         now_ns: u64,
     },
@@ -138,6 +143,9 @@ impl fmt::Display for ForceRequestError {
             Self::StampFromFuture { stamp_ns, now_ns } => {
                 write!(f, "force_request.stamp_ns {stamp_ns} is in the future (now {now_ns})")
             }
+            Self::Stale { stamp_ns, now_ns } => {
+                write!(f, "force_request.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})")
+            }
             Self::DeadlineBeforeStamp { deadline_ns, stamp_ns } => {
                 write!(f, "force_request.deadline_ns {deadline_ns} is before stamp_ns {stamp_ns}")
             }
@@ -164,6 +172,24 @@ impl fmt::Display for ForceRequestError {
 }
 
 impl core::error::Error for ForceRequestError {}
+
+impl ForceRequestError {
+    /// The counter this rejection is counted under.
+    pub const fn reason(&self) -> RejectReason {
+        match self {
+            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
+            Self::CountExceedsCapacity { .. } => RejectReason::CountExceedsCapacity,
+            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
+            Self::Stale { .. } => RejectReason::Stale,
+            Self::DeadlineBeforeStamp { .. } => RejectReason::DeadlineBeforeStamp,
+            Self::NotAFlag { .. } => RejectReason::NotAFlag,
+            Self::NonFinite { .. } => RejectReason::NonFinite,
+            Self::ConstrainsNothing { .. } => RejectReason::ConstrainsNothing,
+            Self::TooManyCurls { .. } => RejectReason::TooManyCurls,
+            Self::DuplicatePartId { .. } => RejectReason::DuplicateId,
+        }
+    }
+}
 
 impl ForceRequest {
     pub const CAPACITY: usize = MAX_PARTS;
@@ -236,6 +262,9 @@ impl ForceRequest {
                 stamp_ns: self.stamp_ns,
                 now_ns: limits.now_ns,
             });
+        }
+        if limits.is_stale(self.stamp_ns) {
+            return Err(ForceRequestError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
         }
         if self.deadline_ns < self.stamp_ns {
             return Err(ForceRequestError::DeadlineBeforeStamp {

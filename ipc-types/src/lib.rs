@@ -21,13 +21,17 @@
 
 mod capacity;
 mod clock;
+mod core_command;
 mod core_state;
+pub mod discovery;
 mod explicit_schedule;
 mod force_request;
+mod health;
 pub mod inbox_event;
 mod latency_percentiles;
 mod part_states;
 pub mod ports;
+mod reject_reason;
 pub mod rig_node;
 mod schedule;
 pub mod service_names;
@@ -36,11 +40,14 @@ mod validation;
 
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;
+pub use core_command::{CoreCommand, CoreCommandError};
 pub use core_state::CoreState;
 pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};
 pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
+pub use health::{DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};
 pub use latency_percentiles::LatencyPercentiles;
 pub use part_states::{PartState, PartStates, PartStatesError};
+pub use reject_reason::{REJECT_REASONS, RejectReason};
 pub use schedule::{Schedule, ScheduleError, ScheduleSlot};
 pub use telemetry::{CoreCounters, CoreLatencies, Telemetry, TelemetryError};
 pub use validation::ValidationLimits;
@@ -48,4 +55,4 @@ pub use validation::ValidationLimits;
 /// Version of the wire format. Bump it on any layout or meaning change; it is
 /// also part of every payload's iceoryx2 `type_name`, so mismatched builds
 /// fail when opening a service instead of misreading each other.
-pub const PROTOCOL_VERSION: u32 = 1;
+pub const PROTOCOL_VERSION: u32 = 2;

@@ -6,13 +6,14 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_PARTS};
+use crate::reject_reason::RejectReason;
 use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite};
 
 /// One part as seen by vision. Pose in plate coordinates (m, rad),
 /// velocity in m/s and rad/s.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartState.v1")]
+#[type_name("upm::PartState.v2")]
 pub struct PartState {
     /// Tracking id, unique within one message.
     pub id: u32,
@@ -57,7 +58,7 @@ impl PartState {
 /// Vision → core: every part seen in one camera frame.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartStates.v1")]
+#[type_name("upm::PartStates.v2")]
 pub struct PartStates {
     pub protocol_version: u32,
     /// Number of used entries of `parts`.
@@ -76,6 +77,7 @@ pub enum PartStatesError {
     WrongProtocolVersion { found: u32 },
     CountExceedsCapacity { count: u32 },
     StampFromFuture { stamp_ns: u64, now_ns: u64 },
+    Stale { stamp_ns: u64, now_ns: u64 },
     NonFinite { index: usize, field: &'static str },
     OffPlate { index: usize, field: &'static str },
     UnknownClass { index: usize, class: u32 },
@@ -94,6 +96,9 @@ impl fmt::Display for PartStatesError {
             }
             Self::StampFromFuture { stamp_ns, now_ns } => {
                 write!(f, "part_states.stamp_ns {stamp_ns} is in the future (now {now_ns})")
+            }
+            Self::Stale { stamp_ns, now_ns } => {
+                write!(f, "part_states.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})")
             }
             Self::NonFinite { index, field } => write!(f, "part_states.parts[{index}].{field} is not finite"),
             Self::OffPlate { index, field } => {
@@ -114,6 +119,22 @@ impl fmt::Display for PartStatesError {
 }
 
 impl core::error::Error for PartStatesError {}
+
+impl PartStatesError {
+    /// The counter this rejection is counted under.
+    pub const fn reason(&self) -> RejectReason {
+        match self {
+            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
+            Self::CountExceedsCapacity { .. } => RejectReason::CountExceedsCapacity,
+            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
+            Self::Stale { .. } => RejectReason::Stale,
+            Self::NonFinite { .. } => RejectReason::NonFinite,
+            Self::OffPlate { .. } => RejectReason::OffPlate,
+            Self::UnknownClass { .. } | Self::UnknownFrictionClass { .. } => RejectReason::UnknownClass,
+            Self::DuplicateId { .. } => RejectReason::DuplicateId,
+        }
+    }
+}
 
 impl PartStates {
     pub const CAPACITY: usize = MAX_PARTS;
@@ -173,6 +194,9 @@ impl PartStates {
         }
         if limits.is_from_future(self.stamp_ns) {
             return Err(PartStatesError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
+        }
+        if limits.is_stale(self.stamp_ns) {
+            return Err(PartStatesError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
         }
         let parts = self.parts();
         for (index, p) in parts.iter().enumerate() {

@@ -12,6 +12,8 @@ pub const PART_STATES: &str = "upm/part_states";
 pub const FORCE_REQUEST: &str = "upm/force_request";
 /// [`crate::ExplicitSchedule`], planner → core.
 pub const EXPLICIT_SCHEDULE: &str = "upm/explicit_schedule";
+/// [`crate::CoreCommand`], operator → core (`upm resume`).
+pub const CORE_COMMAND: &str = "upm/core_command";
 /// [`crate::Schedule`], core → all.
 pub const SCHEDULE: &str = "upm/schedule";
 /// [`crate::Telemetry`], core → all.
@@ -25,5 +27,5 @@ pub const INBOX_EVENT: &str = "upm/inbox";
 pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 
 /// Every name above, e.g. for tools that list or clean up a rig.
-pub const ALL: [&str; 6] =
-    [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, SCHEDULE, TELEMETRY, SIM_GROUND_TRUTH];
+pub const ALL: [&str; 7] =
+    [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, CORE_COMMAND, SCHEDULE, TELEMETRY, SIM_GROUND_TRUTH];

@@ -6,13 +6,15 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 use crate::core_state::CoreState;
+use crate::health::{HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};
 use crate::latency_percentiles::LatencyPercentiles;
+use crate::reject_reason::REJECT_REASONS;
 use crate::validation::{ValidationLimits, first_non_finite};
 
 /// Monotonic counters since core start.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreCounters.v1")]
+#[type_name("upm::CoreCounters.v2")]
 pub struct CoreCounters {
     /// Motor-loop ticks.
     pub ticks: u64,
@@ -28,14 +30,24 @@ pub struct CoreCounters {
     pub rejected_requests: u64,
     /// Heap allocations seen on RT threads after start-up (should stay 0).
     pub rt_thread_allocations: u64,
+    /// Driver reads or writes that reported a hardware fault.
+    pub driver_faults: u64,
+    /// Command entries the driver clamped to a limit (driver's own count).
+    pub driver_clamped: u64,
+    /// Commands the driver rejected as non-finite (driver's own count).
+    pub driver_rejected: u64,
+    /// Transitions into hold because of a driver fault.
+    pub fault_holds: u64,
+    /// Fault holds left, by `upm resume` or by auto-resume.
+    pub resumes: u64,
 }
 
-const _: () = assert!(size_of::<CoreCounters>() == 7 * 8);
+const _: () = assert!(size_of::<CoreCounters>() == 12 * 8);
 
 /// Latency of each measured path (ns, see [`LatencyPercentiles`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreLatencies.v1")]
+#[type_name("upm::CoreLatencies.v2")]
 pub struct CoreLatencies {
     /// Motor-thread wake-up lateness against its period.
     pub motor_wakeup: LatencyPercentiles,
@@ -52,7 +64,7 @@ const _: () = assert!(size_of::<CoreLatencies>() == 4 * size_of::<LatencyPercent
 /// Core → all: a snapshot of the core, published periodically.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Telemetry.v1")]
+#[type_name("upm::Telemetry.v2")]
 pub struct Telemetry {
     pub protocol_version: u32,
     /// [`CoreState`] code: idle 0, running 1, hold 2, fault 3.
@@ -80,11 +92,33 @@ pub struct Telemetry {
     /// Real-time status bits: [`Telemetry::RT_MEMORY_LOCKED`] and friends.
     /// A core without privileges runs with some bits clear and says so.
     pub realtime_flags: u32,
+    /// CLOCK_MONOTONIC ns when the vision / planner client started (its
+    /// iceoryx2 node was created); 0 when absent.
+    pub vision_started_ns: u64,
+    pub planner_started_ns: u64,
+    /// Rejected inbound messages by [`crate::RejectReason`] code.
+    pub rejected_by_reason: [u64; REJECT_REASONS],
+    /// [`HealthSource`] code: 0 = healthy.
+    pub health_source: u32,
+    /// [`HealthCause`] code.
+    pub health_cause: u32,
+    /// What happened, UTF-8, NUL-padded (e.g. where a thread panicked).
+    pub health_detail: [u8; HEALTH_DETAIL_BYTES],
 }
 
 const _: () = assert!(
     size_of::<Telemetry>()
-        == 4 + 4 + 3 * 8 + 3 * 8 + size_of::<CoreCounters>() + 2 * 8 + size_of::<CoreLatencies>() + 4 * 4
+        == 4 + 4
+            + 3 * 8
+            + 3 * 8
+            + size_of::<CoreCounters>()
+            + 2 * 8
+            + size_of::<CoreLatencies>()
+            + 4 * 4
+            + 2 * 8
+            + REJECT_REASONS * 8
+            + 2 * 4
+            + HEALTH_DETAIL_BYTES
 );
 
 /// Why a [`Telemetry`] was rejected.
@@ -99,6 +133,10 @@ pub enum TelemetryError {
     },
     UnknownState {
         code: u32,
+    },
+    UnknownHealth {
+        source: u32,
+        cause: u32,
     },
     NonFinite {
         field: &'static str,
@@ -122,6 +160,9 @@ impl fmt::Display for TelemetryError {
                 write!(f, "telemetry.stamp_ns {stamp_ns} is in the future (now {now_ns})")
             }
             Self::UnknownState { code } => write!(f, "telemetry.state {code} is not a known state code"),
+            Self::UnknownHealth { source, cause } => {
+                write!(f, "telemetry.health_source {source} / health_cause {cause} is not a known code")
+            }
             Self::NonFinite { field } => write!(f, "telemetry.{field} is not finite"),
             Self::NegativeAge { field } => write!(f, "telemetry.{field} is negative"),
             Self::UnorderedPercentiles { field } => {
@@ -146,6 +187,8 @@ impl Telemetry {
     pub const RT_MOTOR_PINNED: u32 = 16;
     /// The iceoryx2 receiver thread runs SCHED_FIFO on the motor's CPU.
     pub const RT_RECEIVER_FIFO: u32 = 32;
+    /// The core holds a PM QoS request on /dev/cpu_dma_latency.
+    pub const RT_PM_QOS_HELD: u32 = 64;
 
     /// Current protocol version, state idle, everything else 0.
     pub const fn new() -> Self {
@@ -166,6 +209,11 @@ impl Telemetry {
                 rejected_parts: 0,
                 rejected_requests: 0,
                 rt_thread_allocations: 0,
+                driver_faults: 0,
+                driver_clamped: 0,
+                driver_rejected: 0,
+                fault_holds: 0,
+                resumes: 0,
             },
             parts_age_ms: 0.0,
             request_age_ms: 0.0,
@@ -179,7 +227,26 @@ impl Telemetry {
             vision_pid: 0,
             planner_pid: 0,
             realtime_flags: 0,
+            vision_started_ns: 0,
+            planner_started_ns: 0,
+            rejected_by_reason: [0; REJECT_REASONS],
+            health_source: 0,
+            health_cause: 0,
+            health_detail: [0; HEALTH_DETAIL_BYTES],
         }
+    }
+
+    /// Health source and cause, `None` for unknown codes.
+    pub const fn health(&self) -> Option<(HealthSource, HealthCause)> {
+        match (HealthSource::from_code(self.health_source), HealthCause::from_code(self.health_cause)) {
+            (Some(s), Some(c)) => Some((s, c)),
+            _ => None,
+        }
+    }
+
+    /// The health detail as text (up to the first NUL or invalid byte).
+    pub fn health_detail_str(&self) -> &str {
+        detail_str(&self.health_detail)
     }
 
     /// The state, `None` if the code is unknown.
@@ -202,6 +269,12 @@ impl Telemetry {
         }
         if self.core_state().is_none() {
             return Err(TelemetryError::UnknownState { code: self.state });
+        }
+        if self.health().is_none() {
+            return Err(TelemetryError::UnknownHealth {
+                source: self.health_source,
+                cause: self.health_cause,
+            });
         }
         let floats = [
             ("plate_x", self.plate_x),

@@ -17,6 +17,9 @@ pub struct ValidationLimits {
     /// How far (ns) a stamp may lie ahead of `now_ns` before it is rejected
     /// as coming from the future (clock reads race between processes).
     pub max_future_skew_ns: u64,
+    /// How old (ns before `now_ns`) a stamp may be before the message is
+    /// rejected as stale; `u64::MAX` (the default) accepts any age.
+    pub max_age_ns: u64,
     /// Number of configured rotation centers: valid indices are below it.
     pub center_count: u32,
     /// Bound on |k| of schedule slots; values above 1 are treated as 1.
@@ -32,13 +35,14 @@ impl ValidationLimits {
     pub const DEFAULT_MAX_FUTURE_SKEW_NS: u64 = 1_000_000;
 
     /// Limits for a plate of the given half-extents, checked at `now_ns`.
-    /// Other fields: 1 ms skew, [`MAX_CENTERS`] centers, k_max = 1 and any
+    /// Other fields: 1 ms skew, any age, [`MAX_CENTERS`] centers, k_max = 1 and any
     /// class code; set the fields to the rig's configuration.
     pub const fn new(plate_half_extent_m: [f64; 2], now_ns: u64) -> Self {
         Self {
             plate_half_extent_m,
             now_ns,
             max_future_skew_ns: Self::DEFAULT_MAX_FUTURE_SKEW_NS,
+            max_age_ns: u64::MAX,
             center_count: MAX_CENTERS as u32,
             k_max: 1.0,
             part_class_count: u32::MAX,
@@ -49,6 +53,11 @@ impl ValidationLimits {
     /// True if `stamp_ns` is later than `now_ns` plus the allowed skew.
     pub const fn is_from_future(&self, stamp_ns: u64) -> bool {
         stamp_ns > self.now_ns.saturating_add(self.max_future_skew_ns)
+    }
+
+    /// True if `stamp_ns` is more than `max_age_ns` before `now_ns`.
+    pub const fn is_stale(&self, stamp_ns: u64) -> bool {
+        self.now_ns.saturating_sub(stamp_ns) > self.max_age_ns
     }
 
     /// True if x lies on the plate (false for NaN input or bounds).

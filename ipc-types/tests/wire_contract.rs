@@ -3,7 +3,8 @@
 
 use iceoryx2::prelude::{ServiceName, ZeroCopySend};
 use ipc_types::{
-    ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, Schedule, Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, Schedule, Telemetry,
+    service_names,
 };
 
 fn type_name<T: ZeroCopySend>() -> &'static str {
@@ -20,6 +21,7 @@ fn payload_type_names_carry_the_protocol_version() {
         type_name::<ExplicitSchedule>(),
         type_name::<Schedule>(),
         type_name::<Telemetry>(),
+        type_name::<CoreCommand>(),
     ];
     for name in names {
         assert!(name.starts_with("upm::") && name.ends_with(&suffix), "{name} lacks upm::…{suffix}");

@@ -1,6 +1,9 @@
 //! Shared settings of the workspace integration tests (the tests are in
 //! `tests/`).
 
+use core::mem::{MaybeUninit, size_of};
+
+use ipc_types::PROTOCOL_VERSION;
 use proptest::test_runner::{Config, FileFailurePersistence};
 
 /// Environment variable that sets the number of cases of every fuzz
@@ -29,4 +32,27 @@ pub fn fuzz_config(ci_default: u32, weight: u32) -> Config {
         failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("regressions"))),
         ..Config::default()
     }
+}
+
+/// The payload whose bytes are `bytes` (repeated if shorter than the type).
+/// Every payload is plain integers/floats without padding, so every byte
+/// pattern is a valid value: that is exactly the property under test.
+pub fn from_bytes<T: Copy>(bytes: &[u8]) -> T {
+    let mut out = MaybeUninit::<T>::uninit();
+    let n = size_of::<T>();
+    let filled: Vec<u8> = bytes.iter().copied().cycle().take(n).collect();
+    assert_eq!(filled.len(), n);
+    // SAFETY: `filled` holds exactly size_of::<T>() bytes and every bit
+    // pattern is a valid T (only u32/u64/f64 fields, no padding).
+    unsafe {
+        core::ptr::copy_nonoverlapping(filled.as_ptr(), out.as_mut_ptr().cast::<u8>(), n);
+        out.assume_init()
+    }
+}
+
+/// Overwrite the leading `protocol_version` and `count` words so that the
+/// random body is actually walked by validate() instead of failing early.
+pub fn patch_header(bytes: &mut [u8], count: u32) {
+    bytes[0..4].copy_from_slice(&PROTOCOL_VERSION.to_ne_bytes());
+    bytes[4..8].copy_from_slice(&count.to_ne_bytes());
 }

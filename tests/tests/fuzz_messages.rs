@@ -2,36 +2,12 @@
 //! neither panic in validate() or the accessors nor pass validation while
 //! breaking an invariant the core relies on.
 
-use core::mem::{MaybeUninit, size_of};
-
 use ipc_types::{
     ExplicitSchedule, ForceRequest, MAX_CURLS, PROTOCOL_VERSION, PartStates, Schedule, Telemetry,
     ValidationLimits,
 };
 use proptest::prelude::*;
-
-/// The payload whose bytes are `bytes` (repeated if shorter than the type).
-/// Every payload is plain integers/floats without padding, so every byte
-/// pattern is a valid value: that is exactly the property under test.
-fn from_bytes<T: Copy>(bytes: &[u8]) -> T {
-    let mut out = MaybeUninit::<T>::uninit();
-    let n = size_of::<T>();
-    let filled: Vec<u8> = bytes.iter().copied().cycle().take(n).collect();
-    assert_eq!(filled.len(), n);
-    // SAFETY: `filled` holds exactly size_of::<T>() bytes and every bit
-    // pattern is a valid T (only u32/u64/f64 fields, no padding).
-    unsafe {
-        core::ptr::copy_nonoverlapping(filled.as_ptr(), out.as_mut_ptr().cast::<u8>(), n);
-        out.assume_init()
-    }
-}
-
-/// Overwrite the leading `protocol_version` and `count` words so that the
-/// random body is actually walked by validate() instead of failing early.
-fn patch_header(bytes: &mut [u8], count: u32) {
-    bytes[0..4].copy_from_slice(&PROTOCOL_VERSION.to_ne_bytes());
-    bytes[4..8].copy_from_slice(&count.to_ne_bytes());
-}
+use upm_tests::{from_bytes, patch_header};
 
 fn limits_strategy() -> impl Strategy<Value = ValidationLimits> {
     (

@@ -6,8 +6,9 @@ use super::params::{MotionParams, ParamsError};
 use super::pose::{PlateSample, Pose, Twist};
 use super::profile::Profile;
 
-/// Most slots one motion holds (fixed so that building allocates nothing).
-pub const MAX_SLOTS: usize = 64;
+/// Most slots one motion holds (fixed so that building allocates nothing):
+/// the protocol's, so every explicit schedule that validates fits.
+pub const MAX_SLOTS: usize = ipc_types::MAX_SLOTS;
 
 /// One entry of a schedule: a rotation center and its intensity k (k > 0:
 /// slow phase counter-clockwise, so the average push is along +R90(P − C)).

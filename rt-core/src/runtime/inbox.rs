@@ -4,7 +4,7 @@
 
 use std::collections::VecDeque;
 
-use ipc_types::{ExplicitSchedule, ForceRequest, PartStates};
+use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates};
 
 use super::clock::Clock;
 use super::solve_stage::SolveStage;
@@ -15,6 +15,7 @@ pub enum Inbound {
     PartStates,
     Request,
     Explicit,
+    Command,
 }
 
 /// One buffer per message kind, allocated once.
@@ -23,6 +24,7 @@ pub struct InboxBuffers {
     pub parts: Box<PartStates>,
     pub request: Box<ForceRequest>,
     pub explicit: Box<ExplicitSchedule>,
+    pub command: CoreCommand,
     /// When the message reached the core (monotonic ns), if the inbox knows;
     /// 0: it arrived just now.
     pub received_ns: u64,
@@ -34,6 +36,7 @@ impl Default for InboxBuffers {
             parts: Box::new(PartStates::new()),
             request: Box::new(ForceRequest::new()),
             explicit: Box::new(ExplicitSchedule::new()),
+            command: CoreCommand::new(0, 0, 0),
             received_ns: 0,
         }
     }
@@ -62,6 +65,7 @@ pub fn drain<I: Inbox, C: Clock>(
             Inbound::PartStates => stage.on_part_states(&buf.parts, received, now).map_err(|_| ()),
             Inbound::Request => stage.on_request(&buf.request, now, &|| clock.now_ns()).map_err(|_| ()),
             Inbound::Explicit => stage.on_explicit(&buf.explicit, now).map_err(|_| ()),
+            Inbound::Command => stage.on_command(&buf.command, now).map_err(|_| ()),
         };
         handled += 1;
     }
@@ -80,6 +84,7 @@ enum Message {
     Parts(Box<PartStates>),
     Request(Box<ForceRequest>),
     Explicit(Box<ExplicitSchedule>),
+    Command(CoreCommand),
 }
 
 impl QueueInbox {
@@ -91,6 +96,9 @@ impl QueueInbox {
     }
     pub fn push_explicit(&mut self, m: &ExplicitSchedule) {
         self.queue.push_back(Message::Explicit(Box::new(*m)));
+    }
+    pub fn push_command(&mut self, m: &CoreCommand) {
+        self.queue.push_back(Message::Command(*m));
     }
 }
 
@@ -112,6 +120,10 @@ impl Inbox for QueueInbox {
                 *buf.explicit = *m;
                 Inbound::Explicit
             }
+            Message::Command(m) => {
+                buf.command = m;
+                Inbound::Command
+            }
         })
     }
 }
@@ -131,6 +143,7 @@ pub enum InboundMessage {
     Parts(PartStates),
     Request(ForceRequest),
     Explicit(ExplicitSchedule),
+    Command(CoreCommand),
 }
 
 /// Ring capacity between the iceoryx2 receiver thread and the solver.
@@ -159,6 +172,10 @@ impl Inbox for RingInbox {
                 *buf.explicit = m;
                 Inbound::Explicit
             }
+            InboundMessage::Command(m) => {
+                buf.command = m;
+                Inbound::Command
+            }
         })
     }
 }
@@ -172,6 +189,7 @@ pub fn forward<I: Inbox>(source: &mut I, buf: &mut InboxBuffers, ring: &mut rtrb
             Inbound::PartStates => InboundMessage::Parts(*buf.parts),
             Inbound::Request => InboundMessage::Request(*buf.request),
             Inbound::Explicit => InboundMessage::Explicit(*buf.explicit),
+            Inbound::Command => InboundMessage::Command(buf.command),
         };
         if ring.push(Received { msg, at_ns: buf.received_ns }).is_err() {
             dropped += 1;

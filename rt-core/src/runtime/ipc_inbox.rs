@@ -11,7 +11,7 @@ use iceoryx2::prelude::*;
 use ipc_types::inbox_event::inbox_listener;
 use ipc_types::ports::{Sub, open_pub_sub};
 use ipc_types::rig_node::rig_node;
-use ipc_types::{ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
+use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
 
 use super::inbox::{Inbound, Inbox, InboxBuffers};
 use super::start_error::StartError;
@@ -22,6 +22,7 @@ pub struct IpcInbox {
     parts: Sub<PartStates>,
     requests: Sub<ForceRequest>,
     explicit: Sub<ExplicitSchedule>,
+    commands: Sub<CoreCommand>,
     /// Clients notify it after publishing (see `ipc_types::inbox_event`).
     wake: Listener<ipc::Service>,
     /// Receive errors (counted, never fatal).
@@ -32,7 +33,7 @@ impl IpcInbox {
     /// Create the node and the three subscribers (start-up only).
     pub fn new(prefix: &str) -> Result<Self, StartError> {
         // The io thread's node handles SIGINT/SIGTERM.
-        let node = rig_node(prefix, Some("upm-core-solver"), SignalHandlingMode::Disabled)
+        let node = rig_node(prefix, Some("upm-core-receiver"), SignalHandlingMode::Disabled)
             .map_err(StartError::Node)?;
         let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
             .map_err(|error| StartError::Service { service: service_names::PART_STATES, error })?
@@ -49,8 +50,13 @@ impl IpcInbox {
             .subscriber_builder()
             .create()
             .map_err(|_| StartError::Port { service: service_names::EXPLICIT_SCHEDULE })?;
+        let commands = open_pub_sub::<CoreCommand>(&node, service_names::CORE_COMMAND)
+            .map_err(|error| StartError::Service { service: service_names::CORE_COMMAND, error })?
+            .subscriber_builder()
+            .create()
+            .map_err(|_| StartError::Port { service: service_names::CORE_COMMAND })?;
         let wake = inbox_listener(&node).map_err(StartError::WakeEvent)?;
-        Ok(Self { _node: node, parts, requests, explicit, wake, receive_errors: 0 })
+        Ok(Self { _node: node, parts, requests, explicit, commands, wake, receive_errors: 0 })
     }
 
     /// Block until a client announces a message or `timeout` passes (the
@@ -63,39 +69,42 @@ impl IpcInbox {
     }
 }
 
+/// Copy the next sample of `sub` into `dst`, stamping when it arrived.
+fn take<T: Copy + core::fmt::Debug + ZeroCopySend>(
+    sub: &Sub<T>,
+    dst: &mut T,
+    received_ns: &mut u64,
+    errors: &mut u64,
+) -> bool {
+    match sub.receive() {
+        Ok(Some(s)) => {
+            *received_ns = monotonic_now_ns();
+            *dst = *s.payload();
+            true
+        }
+        Ok(None) => false,
+        Err(_) => {
+            *errors += 1;
+            false
+        }
+    }
+}
+
 impl Inbox for IpcInbox {
     fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound> {
         // Copy out of shared memory: the publisher may reuse the sample, and
         // validation must see one consistent copy.
-        match self.parts.receive() {
-            Ok(Some(s)) => {
-                buf.received_ns = monotonic_now_ns();
-                *buf.parts = *s.payload();
-                return Some(Inbound::PartStates);
-            }
-            Ok(None) => {}
-            Err(_) => self.receive_errors += 1,
-        }
-        match self.requests.receive() {
-            Ok(Some(s)) => {
-                buf.received_ns = monotonic_now_ns();
-                *buf.request = *s.payload();
-                return Some(Inbound::Request);
-            }
-            Ok(None) => {}
-            Err(_) => self.receive_errors += 1,
-        }
-        match self.explicit.receive() {
-            Ok(Some(s)) => {
-                buf.received_ns = monotonic_now_ns();
-                *buf.explicit = *s.payload();
-                Some(Inbound::Explicit)
-            }
-            Ok(None) => None,
-            Err(_) => {
-                self.receive_errors += 1;
-                None
-            }
+        let (at, errors) = (&mut buf.received_ns, &mut self.receive_errors);
+        if take(&self.parts, &mut *buf.parts, at, errors) {
+            Some(Inbound::PartStates)
+        } else if take(&self.requests, &mut *buf.request, at, errors) {
+            Some(Inbound::Request)
+        } else if take(&self.explicit, &mut *buf.explicit, at, errors) {
+            Some(Inbound::Explicit)
+        } else if take(&self.commands, &mut buf.command, at, errors) {
+            Some(Inbound::Command)
+        } else {
+            None
         }
     }
 }

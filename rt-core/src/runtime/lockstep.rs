@@ -11,7 +11,7 @@ use super::clock::{Clock, ManualClock};
 use super::handoff::{StagedMotion, motion_handoff};
 use super::inbox::{InboxBuffers, QueueInbox, drain};
 use super::latency::LatencyHistograms;
-use super::motor::MotorLoop;
+use super::motor::{MotorLoop, MotorPolicy};
 use super::params::{CoreParams, CoreParamsError};
 use super::process::fill_telemetry;
 use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
@@ -52,15 +52,8 @@ impl<D: PlateDriver> Lockstep<D> {
         let (solver_tx, solver_rx) = rtrb::RingBuffer::new(SOLVER_RING);
         let (schedule_tx, schedule_rx) = rtrb::RingBuffer::new(SCHEDULE_RING);
         let stage = SolveStage::new(params, rig.clone(), writer, shared.clone(), schedule_tx, solver_tx)?;
-        let motor = MotorLoop::new(
-            driver,
-            rig,
-            reader,
-            shared.clone(),
-            motor_tx,
-            params.parts_max_age_ns,
-            params.request_max_age_ns,
-        );
+        let motor =
+            MotorLoop::new(driver, rig, reader, shared.clone(), motor_tx, MotorPolicy::from_params(params));
         Ok(Self {
             clock: ManualClock::new(start_ns),
             start_ns,
@@ -91,6 +84,11 @@ impl<D: PlateDriver> Lockstep<D> {
 
     pub fn motor(&self) -> &MotorLoop<D> {
         &self.motor
+    }
+
+    /// The motor, e.g. to reach its driver in a test.
+    pub fn motor_mut(&mut self) -> &mut MotorLoop<D> {
+        &mut self.motor
     }
 
     pub fn shared(&self) -> &CoreShared {

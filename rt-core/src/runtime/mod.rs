@@ -9,6 +9,8 @@
 
 pub mod alloc_count;
 mod clock;
+#[cfg(feature = "fault-injection")]
+pub mod fault_injection;
 mod handoff;
 mod inbox;
 mod ipc_inbox;
@@ -22,6 +24,7 @@ mod samples;
 mod shared;
 mod solve_stage;
 mod start_error;
+mod thread_health;
 mod wake_budget;
 
 pub use alloc_count::RtAllocCounter;
@@ -33,13 +36,14 @@ pub use inbox::{
 };
 pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};
-pub use motor::{MotorLoop, TickOutcome, TruthFill, TruthTap};
+pub use motor::{MotorLoop, MotorPolicy, TickOutcome, TruthFill, TruthTap};
 pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, core_running, fill_telemetry, run_core,
     run_core_with_truth,
 };
 pub use samples::{MotorSample, SolverSample};
-pub use shared::CoreShared;
+pub use shared::{CoreShared, HealthReport};
 pub use solve_stage::{RequestError, SolveStage};
 pub use start_error::StartError;
+pub use thread_health::CoreThread;

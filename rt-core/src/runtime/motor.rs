@@ -5,13 +5,14 @@
 use core::sync::atomic::Ordering::Relaxed;
 use std::sync::Arc;
 
-use ipc_types::CoreState;
+use ipc_types::{CoreState, HealthCause};
 
 use super::clock::Clock;
 use super::handoff::MotionReader;
+use super::params::CoreParams;
 use super::samples::MotorSample;
 use super::shared::CoreShared;
-use crate::driver::{ActuatorCommand, PlateDriver, PlateState};
+use crate::driver::{ActuatorCommand, PlateDriver, PlateState, ReadError, WriteError};
 use crate::motion::{PlateSample, Pose, Rig};
 
 /// What the loop did in one tick.
@@ -41,6 +42,30 @@ impl<D> core::fmt::Debug for TruthTap<D> {
     }
 }
 
+/// When the motor holds the plate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MotorPolicy {
+    /// Part states older than this put the core in hold.
+    pub parts_max_age_ns: u64,
+    /// Requests older than this put the core in hold.
+    pub request_max_age_ns: u64,
+    /// Consecutive healthy driver reads that end a driver-fault hold by
+    /// themselves; 0 = only an operator's resume ends it.
+    pub auto_resume_ticks: u64,
+}
+
+impl MotorPolicy {
+    pub fn from_params(p: &CoreParams) -> Self {
+        let auto_resume_ticks =
+            if p.auto_resume_ns == 0 { 0 } else { p.auto_resume_ns.div_ceil(p.tick_ns()).max(1) };
+        Self {
+            parts_max_age_ns: p.parts_max_age_ns,
+            request_max_age_ns: p.request_max_age_ns,
+            auto_resume_ticks,
+        }
+    }
+}
+
 /// The motor thread's state. Built (allocating) at start-up; `tick` is the
 /// only call on the critical path.
 #[derive(Debug)]
@@ -50,8 +75,7 @@ pub struct MotorLoop<D: PlateDriver> {
     reader: MotionReader,
     shared: Arc<CoreShared>,
     samples: rtrb::Producer<MotorSample>,
-    parts_max_age_ns: u64,
-    request_max_age_ns: u64,
+    policy: MotorPolicy,
     tick_s: f64,
     /// Tick within the current cycle; 0 at a boundary (plate home).
     phase: u64,
@@ -63,6 +87,12 @@ pub struct MotorLoop<D: PlateDriver> {
     dropped_samples: u64,
     truth: Option<TruthTap<D>>,
     ticks: u64,
+    /// Holding because the driver reported a fault.
+    fault_hold: bool,
+    /// Healthy reads since the last driver fault.
+    healthy_reads: u64,
+    #[cfg(feature = "fault-injection")]
+    inject: super::fault_injection::FaultPlan,
 }
 
 impl<D: PlateDriver> MotorLoop<D> {
@@ -72,8 +102,7 @@ impl<D: PlateDriver> MotorLoop<D> {
         reader: MotionReader,
         shared: Arc<CoreShared>,
         samples: rtrb::Producer<MotorSample>,
-        parts_max_age_ns: u64,
-        request_max_age_ns: u64,
+        policy: MotorPolicy,
     ) -> Self {
         let tick_s = driver.tick_period();
         shared.set_state(CoreState::Idle);
@@ -83,8 +112,7 @@ impl<D: PlateDriver> MotorLoop<D> {
             reader,
             shared,
             samples,
-            parts_max_age_ns,
-            request_max_age_ns,
+            policy,
             tick_s,
             phase: 0,
             mode: CoreState::Idle,
@@ -95,6 +123,10 @@ impl<D: PlateDriver> MotorLoop<D> {
             dropped_samples: 0,
             truth: None,
             ticks: 0,
+            fault_hold: false,
+            healthy_reads: 0,
+            #[cfg(feature = "fault-injection")]
+            inject: super::fault_injection::FaultPlan::from_env(),
         }
     }
 
@@ -128,11 +160,16 @@ impl<D: PlateDriver> MotorLoop<D> {
     /// One tick at time `now_ns`.
     pub fn tick(&mut self, now_ns: u64) -> TickOutcome {
         // read
-        if self.driver.read(&mut self.state).is_err() {
-            self.shared.driver_faults.fetch_add(1, Relaxed);
+        let read = self.driver.read(&mut self.state);
+        #[cfg(feature = "fault-injection")]
+        let read = self.inject.driver_read(read, now_ns);
+        self.shared.driver_clamped.store(self.state.clamped, Relaxed);
+        self.shared.driver_rejected.store(self.state.rejected, Relaxed);
+        // update: a fault holds at once; otherwise decisions only at a cycle
+        // boundary, where the plate is home
+        if self.holds_for_fault(read) {
+            return self.hold_tick(now_ns);
         }
-        self.shared.driver_clamped.store(self.state.clamped + self.state.rejected, Relaxed);
-        // update: decisions only at a cycle boundary, where the plate is home
         if self.phase == 0 && self.at_boundary(now_ns) == TickOutcome::Stopped {
             self.driver.hold();
             self.driver.advance();
@@ -150,16 +187,22 @@ impl<D: PlateDriver> MotorLoop<D> {
             next.acceleration.y = (next.velocity.y - self.setpoint.velocity.y) / h;
             next.acceleration.theta = (next.velocity.theta - self.setpoint.velocity.theta) / h;
             self.rig.command(&next, &mut self.cmd);
-            if self.driver.write(&self.cmd).is_err() {
-                self.shared.driver_faults.fetch_add(1, Relaxed);
-            }
             self.setpoint = next;
             self.phase = (self.phase + 1) % motion.cycle_ticks().max(1);
             self.shared.set_pose(&next.pose);
+            if let Err(WriteError::Fault) = self.driver.write(&self.cmd) {
+                self.enter_fault_hold(HealthCause::DriverWriteFault);
+                self.driver.hold();
+            }
         } else {
             self.driver.hold();
         }
         self.driver.advance();
+        self.finish_tick(now_ns);
+        TickOutcome::Continue
+    }
+
+    fn finish_tick(&mut self, now_ns: u64) {
         self.shared.ticks.fetch_add(1, Relaxed);
         self.ticks += 1;
         if let Some(tap) = &mut self.truth
@@ -171,6 +214,75 @@ impl<D: PlateDriver> MotorLoop<D> {
             (tap.fill)(&self.driver, msg);
             tap.out.publish();
         }
+    }
+
+    /// True while the plate must be held whatever the schedule says: a core
+    /// thread died (permanent), or the driver reported a fault (until an
+    /// operator's resume or `auto_resume_ticks` healthy reads).
+    fn holds_for_fault(&mut self, read: Result<(), ReadError>) -> bool {
+        let sh = &*self.shared;
+        if sh.thread_died() {
+            if self.mode != CoreState::Fault {
+                self.stop_motion(CoreState::Fault);
+            }
+            return true;
+        }
+        if read == Err(ReadError::Fault) {
+            self.enter_fault_hold(HealthCause::DriverReadFault);
+            return true;
+        }
+        // A resume only ends a hold that exists when it arrives.
+        let resume = sh.resume_requested.swap(false, Relaxed);
+        if !self.fault_hold {
+            return false;
+        }
+        self.healthy_reads += 1;
+        let auto = self.policy.auto_resume_ticks;
+        if !(resume || (auto > 0 && self.healthy_reads >= auto)) {
+            return true;
+        }
+        self.fault_hold = false;
+        sh.resumes.fetch_add(1, Relaxed);
+        sh.set_driver_fault(None);
+        // The next tick is a cycle boundary again and decides as usual.
+        false
+    }
+
+    fn enter_fault_hold(&mut self, cause: HealthCause) {
+        let sh = &*self.shared;
+        sh.driver_faults.fetch_add(1, Relaxed);
+        self.healthy_reads = 0;
+        if !self.fault_hold {
+            self.fault_hold = true;
+            sh.fault_holds.fetch_add(1, Relaxed);
+            sh.set_driver_fault(Some(cause));
+            self.stop_motion(CoreState::Hold);
+        }
+    }
+
+    /// Abandon the cycle being played: the plate is commanded home and the
+    /// next motion starts at slot 0.
+    fn stop_motion(&mut self, mode: CoreState) {
+        if self.mode == CoreState::Running {
+            self.shared.hold_events.fetch_add(1, Relaxed);
+        }
+        self.mode = mode;
+        self.phase = 0;
+        self.setpoint = PlateSample::default();
+        self.shared.set_state(mode);
+        self.shared.set_pose(&Pose::HOME);
+    }
+
+    /// A tick that only holds the plate; a stop request ends the loop.
+    fn hold_tick(&mut self, now_ns: u64) -> TickOutcome {
+        self.driver.hold();
+        self.driver.advance();
+        if self.shared.stop.load(Relaxed) {
+            self.shared.ticks.fetch_add(1, Relaxed);
+            self.shared.motor_done.store(true, Relaxed);
+            return TickOutcome::Stopped;
+        }
+        self.finish_tick(now_ns);
         TickOutcome::Continue
     }
 
@@ -189,7 +301,7 @@ impl<D: PlateDriver> MotorLoop<D> {
         let playable = self.reader.current().motion.cycle_ticks() > 0;
         let next = if !playable {
             CoreState::Idle
-        } else if sh.inputs_stale(now_ns, self.parts_max_age_ns, self.request_max_age_ns) {
+        } else if sh.inputs_stale(now_ns, self.policy.parts_max_age_ns, self.policy.request_max_age_ns) {
             CoreState::Hold
         } else {
             CoreState::Running
@@ -228,6 +340,8 @@ impl<D: PlateDriver> MotorLoop<D> {
         loop {
             clock.sleep_until(deadline);
             let woke = clock.now_ns();
+            #[cfg(feature = "fault-injection")]
+            self.inject.panic_if_due(ipc_types::HealthSource::MotorThread, woke);
             let outcome = self.tick(woke);
             let done = clock.now_ns();
             self.record(woke.saturating_sub(deadline), done.saturating_sub(woke));

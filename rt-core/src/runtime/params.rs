@@ -72,6 +72,12 @@ pub struct CoreParams {
     pub solver_poll_ns: u64,
     /// Telemetry publish period (io thread).
     pub telemetry_period_ns: u64,
+    /// A driver-fault hold ends by itself after this long of healthy driver
+    /// reads; 0 = only `upm resume` ends it.
+    pub auto_resume_ns: u64,
+    /// After a core thread dies, how long the core keeps publishing its
+    /// health (plate held) before it exits with an error.
+    pub fault_exit_ns: u64,
     pub rt: RtParams,
 }
 
@@ -88,6 +94,8 @@ impl Default for CoreParams {
             max_future_skew_ns: 1_000_000,
             solver_poll_ns: 500_000,
             telemetry_period_ns: 50_000_000,
+            auto_resume_ns: 0,
+            fault_exit_ns: 2_000_000_000,
             rt: RtParams::default(),
         }
     }

@@ -5,17 +5,21 @@
 //! publishes Schedule and Telemetry and handles SIGINT/SIGTERM through
 //! iceoryx2's node.
 
+use core::sync::atomic::AtomicBool;
 use core::sync::atomic::Ordering::Relaxed;
 use core::time::Duration;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::mpsc;
+use std::thread::JoinHandle;
 
 use iceoryx2::node::{NodeView, NodeWaitFailure};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{config_with_prefix, open_pub_sub};
 use ipc_types::rig_node::rig_node;
-use ipc_types::{CoreState, PartStates, Schedule, Telemetry, monotonic_now_ns, service_names};
+use ipc_types::{
+    CoreState, HealthSource, PartStates, RejectReason, Schedule, Telemetry, monotonic_now_ns, service_names,
+};
 
 use super::alloc_count;
 use super::clock::{Clock, MonotonicClock};
@@ -23,23 +27,24 @@ use super::handoff::{StagedMotion, motion_handoff};
 use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, drain, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
-use super::motor::{MotorLoop, TruthFill, TruthTap};
-use super::params::{CoreParams, ReceiverWake};
+use super::motor::{MotorLoop, MotorPolicy, TruthFill, TruthTap};
+use super::params::{CoreParams, CoreParamsError, ReceiverWake};
 use super::rt_setup::{
     RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime,
     make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
 use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
-use super::shared::CoreShared;
+use super::shared::{CoreShared, HealthReport};
 use super::solve_stage::SolveStage;
 use super::start_error::StartError;
+use super::thread_health::CoreThread;
 use super::wake_budget::WakeBudget;
 use crate::driver::PlateDriver;
 use crate::motion::{PlateMotion, Rig};
 
 /// The iceoryx2 node name of the core's io thread; a second core on the
 /// same prefix finds it alive and refuses to start.
-pub const CORE_NODE_NAME: &str = "upm-core";
+pub const CORE_NODE_NAME: &str = ipc_types::discovery::CORE_NODE;
 
 /// How a run is set up besides [`CoreParams`].
 #[derive(Debug, Clone, Default)]
@@ -63,6 +68,8 @@ pub struct RunReport {
     pub realtime: RealtimeStatus,
     /// Samples the RT threads dropped because a ring was full.
     pub dropped_samples: u64,
+    /// Set when a core thread died: which, and why. The run then failed.
+    pub fault: Option<HealthReport>,
 }
 
 /// Which real-time measures took effect.
@@ -152,6 +159,10 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
 
 /// [`run_core`] that also publishes the driver's ground truth (a
 /// simulator's parts) through `truth` at `options.truth_hz`.
+///
+/// If a core thread dies (panic, or its body returns), the motor holds the
+/// plate at once, telemetry names the thread for `params.fault_exit_ns`,
+/// and the run ends with [`RunReport::fault`] set.
 pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     params: &CoreParams,
     driver: D,
@@ -163,25 +174,19 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     claim_prefix(&config)?;
     let node = rig_node(&options.prefix, Some(CORE_NODE_NAME), SignalHandlingMode::HandleTerminationRequests)
         .map_err(StartError::Node)?;
-    let schedule_pub = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)
-        .map_err(|error| StartError::Service { service: service_names::SCHEDULE, error })?
-        .publisher_builder()
-        .create()
-        .map_err(|_| StartError::Port { service: service_names::SCHEDULE })?;
-    let telemetry_pub = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)
-        .map_err(|error| StartError::Service { service: service_names::TELEMETRY, error })?
-        .publisher_builder()
-        .create()
-        .map_err(|_| StartError::Port { service: service_names::TELEMETRY })?;
+    // Seen by `upm status` without a prefix; best effort (a rig runs without).
+    let announcement = ipc_types::discovery::announce_rig(&options.prefix).ok();
+    let schedule_pub = publisher::<Schedule>(&node, service_names::SCHEDULE)?;
+    let telemetry_pub = publisher::<Telemetry>(&node, service_names::TELEMETRY)?;
 
     let mut realtime = RealtimeStatus {
         memory_locked: params.rt.lock_memory && lock_memory(),
         allocations_counted: alloc_count::counter_installed(),
         ..RealtimeStatus::default()
     };
-    let rig = Rig::new(params.rig).map_err(|e| StartError::Params(super::params::CoreParamsError::Rig(e)))?;
-    let empty = PlateMotion::new(params.motion)
-        .map_err(|e| StartError::Params(super::params::CoreParamsError::Motion(e)))?;
+    let rig = Rig::new(params.rig).map_err(|e| StartError::Params(CoreParamsError::Rig(e)))?;
+    let empty =
+        PlateMotion::new(params.motion).map_err(|e| StartError::Params(CoreParamsError::Motion(e)))?;
     let (writer, reader) = motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
     let shared = Arc::new(CoreShared::new());
     let (motor_tx, mut motor_rx) = rtrb::RingBuffer::<MotorSample>::new(MOTOR_RING);
@@ -195,193 +200,41 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let (truth_tap, mut truth_rx, truth_pub) = match truth {
         Some(fill) if truth_every > 0 => {
             let (input, output) = triple_buffer::triple_buffer(&PartStates::new());
-            let publisher = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
-                .map_err(|error| StartError::Service { service: service_names::SIM_GROUND_TRUTH, error })?
-                .publisher_builder()
-                .create()
-                .map_err(|_| StartError::Port { service: service_names::SIM_GROUND_TRUTH })?;
+            let publisher = publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
             (Some(TruthTap { every: truth_every, fill, out: input }), Some(output), Some(publisher))
         }
         _ => (None, None, None),
     };
 
-    // Receiver thread (not an RT hot path): iceoryx2 `receive()` allocates
-    // when a publisher connects, so it runs here and feeds the solver a ring.
     let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<Received>::new(INBOUND_RING);
-    let motor_fifo = Arc::new(core::sync::atomic::AtomicBool::new(false));
-    let (rx_ready_tx, rx_ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
-    let receiver_thread = {
-        let (shared, prefix, poll_ns, wake, motor_cpu, solver_cpu, motor_fifo) = (
-            shared.clone(),
-            options.prefix.clone(),
-            params.solver_poll_ns,
-            params.rt.receiver,
-            params.rt.motor_cpu,
-            params.rt.solver_cpu,
-            motor_fifo.clone(),
-        );
-        let rx_priority = params.rt.receiver_priority;
-        std::thread::Builder::new()
-            .name("upm-ipc-rx".into())
-            .spawn(move || {
-                // Woken at real-time priority it is not queued behind a
-                // solve; on the motor's CPU it never delays the solver, and the
-                // motor preempts it. Only there: if the motor is unpinned or
-                // shares the solver's CPU, or the pin or SCHED_FIFO is refused,
-                // it stays a normal thread.
-                let mut placement = ThreadPlacement::default();
-                if let (ReceiverWake::Event, Some(cpu)) = (wake, motor_cpu)
-                    && rx_priority > 0
-                    && solver_cpu != Some(cpu)
-                {
-                    placement = make_current_thread_realtime_on(rx_priority, cpu);
-                }
-                let mut inbox = match IpcInbox::new(&prefix) {
-                    Ok(i) => i,
-                    Err(e) => {
-                        let _ = rx_ready_tx.send(Err(e));
-                        return;
-                    }
-                };
-                let _ = rx_ready_tx.send(Ok(placement));
-                let mut ring = inbound_tx;
-                let mut buf = InboxBuffers::default();
-                // Without a wake-up, look twice per solver period.
-                let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
-                let mut placed = false;
-                let mut wakes = WakeBudget::new();
-                while !shared.stop.load(Relaxed) {
-                    // Spinning shares the motor's CPU, once the motor is known to
-                    // be SCHED_FIFO (it then preempts the spin at once; on the
-                    // solver's CPU a solve would stall it). A motor without
-                    // real-time rights keeps its CPU to itself.
-                    if wake == ReceiverWake::Spin && !placed && motor_fifo.load(Relaxed) {
-                        if let Some(cpu) = motor_cpu {
-                            pin_current_thread(cpu);
-                        }
-                        placed = true;
-                    }
-                    let dropped = forward(&mut inbox, &mut buf, &mut ring);
-                    shared.rejected_requests.fetch_add(dropped, Relaxed);
-                    match wake {
-                        ReceiverWake::Event => {
-                            wakes.pace();
-                            inbox.wait(poll);
-                        }
-                        ReceiverWake::Spin => core::hint::spin_loop(),
-                    }
-                }
-            })
-            .map_err(|_| StartError::Thread { thread: "ipc receiver" })?
-    };
-    match rx_ready_rx.recv() {
-        Ok(Ok(placement)) => realtime.receiver = placement,
-        Ok(Err(e)) => {
-            let _ = receiver_thread.join();
+    let motor_fifo = Arc::new(AtomicBool::new(false));
+    let mut threads = CoreThreads::default();
+    let (receiver_thread, placement) =
+        spawn_receiver(params, &options.prefix, shared.clone(), inbound_tx, motor_fifo.clone())?;
+    threads.receiver = Some(receiver_thread);
+    realtime.receiver = placement;
+    let solver =
+        spawn_solver(params, rig.clone(), writer, shared.clone(), inbound_rx, schedule_tx, solver_tx);
+    match solver {
+        Ok((t, placement)) => {
+            threads.solver = Some(t);
+            realtime.solver = placement;
+        }
+        Err(e) => {
+            threads.stop(&shared);
             return Err(e);
         }
-        Err(_) => return Err(StartError::ThreadStartup { thread: "ipc receiver" }),
     }
-
-    // Solver thread: the solver is built (and warmed up) on its own thread.
-    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
-    let solver_thread = {
-        let (params, shared, rig) = (params.clone(), shared.clone(), rig.clone());
-        std::thread::Builder::new()
-            .name("upm-solver".into())
-            .stack_size(RT_STACK_BYTES)
-            .spawn(move || {
-                let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
-                prefault_stack();
-                let mut stage =
-                    match SolveStage::new(&params, rig, writer, shared.clone(), schedule_tx, solver_tx) {
-                        Ok(s) => s,
-                        Err(e) => {
-                            let _ = ready_tx.send(Err(StartError::Params(e)));
-                            return;
-                        }
-                    };
-                let mut inbox = RingInbox(inbound_rx);
-                let mut buf = InboxBuffers::default();
-                let _ = ready_tx.send(Ok(placement));
-                let clock = MonotonicClock;
-                alloc_count::mark_rt_thread(true);
-                let mut deadline = clock.now_ns();
-                while !shared.stop.load(Relaxed) {
-                    drain(&mut inbox, &mut stage, &mut buf, &clock);
-                    deadline += params.solver_poll_ns;
-                    let now = clock.now_ns();
-                    if deadline < now {
-                        deadline = now;
-                    }
-                    clock.sleep_until(deadline);
-                }
-                alloc_count::mark_rt_thread(false);
-            })
-            .map_err(|_| StartError::Thread { thread: "solver" })?
-    };
-    realtime.solver = match ready_rx.recv() {
-        Ok(Ok(p)) => p,
-        Ok(Err(e)) => {
-            let _ = solver_thread.join();
-            shared.stop.store(true, Relaxed);
-            let _ = receiver_thread.join();
+    match spawn_motor(params, driver, rig, reader, shared.clone(), motor_tx, truth_tap) {
+        Ok((t, placement)) => {
+            threads.motor = Some(t);
+            realtime.motor = placement;
+        }
+        Err(e) => {
+            threads.stop(&shared);
             return Err(e);
         }
-        Err(_) => {
-            shared.stop.store(true, Relaxed);
-            let _ = receiver_thread.join();
-            return Err(StartError::ThreadStartup { thread: "solver" });
-        }
-    };
-
-    // Motor thread.
-    let (ready_tx, ready_rx) = mpsc::channel::<ThreadPlacement>();
-    let motor_thread = {
-        let (p, motor_shared) = (params.clone(), shared.clone());
-        let period = params.tick_ns();
-        let thread = std::thread::Builder::new()
-            .name("upm-motor".into())
-            .stack_size(RT_STACK_BYTES)
-            .spawn(move || {
-                let placement = make_current_thread_realtime(p.rt.motor_priority, p.rt.motor_cpu);
-                prefault_stack();
-                let mut motor = MotorLoop::new(
-                    driver,
-                    rig,
-                    reader,
-                    motor_shared,
-                    motor_tx,
-                    p.parts_max_age_ns,
-                    p.request_max_age_ns,
-                );
-                if let Some(tap) = truth_tap {
-                    motor.set_truth_tap(tap);
-                }
-                let _ = ready_tx.send(placement);
-                alloc_count::mark_rt_thread(true);
-                motor.run(&MonotonicClock, period);
-                alloc_count::mark_rt_thread(false);
-                motor.dropped_samples()
-            })
-            .map_err(|_| StartError::Thread { thread: "motor" });
-        match thread {
-            Ok(t) => t,
-            Err(e) => {
-                shared.stop.store(true, Relaxed);
-                let _ = (solver_thread.join(), receiver_thread.join());
-                return Err(e);
-            }
-        }
-    };
-    realtime.motor = match ready_rx.recv() {
-        Ok(p) => p,
-        Err(_) => {
-            shared.stop.store(true, Relaxed);
-            let _ = (motor_thread.join(), solver_thread.join(), receiver_thread.join());
-            return Err(StartError::ThreadStartup { thread: "motor" });
-        }
-    };
+    }
     motor_fifo.store(realtime.motor.fifo, Relaxed);
 
     // io loop on this thread.
@@ -392,6 +245,8 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     telemetry.core_pid = std::process::id();
     telemetry.realtime_flags = realtime.flags();
     let mut next_telemetry = start_ns;
+    let mut next_presence = start_ns;
+    let mut fault_since: Option<u64> = None;
     let io_period = Duration::from_millis(2);
     let mut publish = |hist: &mut LatencyHistograms, tel: &mut Telemetry, force: bool| {
         while let Ok(s) = motor_rx.pop() {
@@ -416,6 +271,20 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
     };
     loop {
+        let now = monotonic_now_ns();
+        if now >= next_presence {
+            // Walks iceoryx2's files: once a second, on this thread only.
+            next_presence = now + 1_000_000_000;
+            fill_clients(&mut telemetry, &options.prefix);
+        }
+        if shared.thread_died() {
+            // The motor (if it lives) holds; say so for a while, then exit.
+            shared.set_state(CoreState::Fault);
+            let since = *fault_since.get_or_insert(now);
+            if now.saturating_sub(since) >= params.fault_exit_ns {
+                break;
+            }
+        }
         publish(&mut histograms, &mut telemetry, false);
         if stop_at.is_some_and(|t| monotonic_now_ns() >= t) {
             break;
@@ -426,19 +295,250 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
     }
     // Stop: the motor ends at a cycle boundary with the plate home.
-    shared.stop.store(true, Relaxed);
-    let dropped_samples = motor_thread.join().unwrap_or(0);
-    let _ = solver_thread.join();
-    let _ = receiver_thread.join();
-    shared.set_state(CoreState::Idle);
+    let dropped_samples = threads.stop(&shared);
+    let fault = shared.thread_died().then(|| shared.health());
+    if fault.is_none() {
+        shared.set_state(CoreState::Idle);
+    }
     publish(&mut histograms, &mut telemetry, true);
+    drop(announcement);
     if let Some(dir) = &options.histogram_dir {
         // Reported, not fatal: the plate is already home.
         if let Err(e) = histograms.write_hgrm_dir(dir) {
             eprintln!("upm-core: cannot write histograms to {}: {e}", dir.display());
         }
     }
-    Ok(RunReport { telemetry, histograms, realtime, dropped_samples })
+    Ok(RunReport { telemetry, histograms, realtime, dropped_samples, fault })
+}
+
+fn publisher<T: core::fmt::Debug + iceoryx2::prelude::ZeroCopySend>(
+    node: &Node<ipc::Service>,
+    service: &'static str,
+) -> Result<iceoryx2::port::publisher::Publisher<ipc::Service, T, ()>, StartError> {
+    open_pub_sub::<T>(node, service)
+        .map_err(|error| StartError::Service { service, error })?
+        .publisher_builder()
+        .create()
+        .map_err(|_| StartError::Port { service })
+}
+
+/// The vision and planner clients on `prefix` (0 when absent).
+fn fill_clients(t: &mut Telemetry, prefix: &str) {
+    let found =
+        |name| ipc_types::discovery::newest_node(prefix, name).map_or((0, 0), |n| (n.pid, n.started_ns));
+    (t.vision_pid, t.vision_started_ns) = found(ipc_types::discovery::VISION_NODE);
+    (t.planner_pid, t.planner_started_ns) = found(ipc_types::discovery::PLANNER_NODE);
+}
+
+/// The core's three threads; a thread that died (parked in the panic hook)
+/// is left behind, never joined.
+#[derive(Default)]
+struct CoreThreads {
+    receiver: Option<JoinHandle<()>>,
+    solver: Option<JoinHandle<()>>,
+    motor: Option<JoinHandle<u64>>,
+}
+
+impl CoreThreads {
+    /// Ask every thread to stop and join those that end within a few
+    /// seconds (the motor finishes its cycle first). Returns the motor's
+    /// dropped samples.
+    fn stop(&mut self, shared: &CoreShared) -> u64 {
+        shared.stop.store(true, Relaxed);
+        let deadline = std::time::Instant::now() + Duration::from_secs(5);
+        let dropped = join_by(self.motor.take(), deadline).unwrap_or(0);
+        join_by(self.solver.take(), deadline);
+        join_by(self.receiver.take(), deadline);
+        dropped
+    }
+}
+
+fn join_by<T>(handle: Option<JoinHandle<T>>, deadline: std::time::Instant) -> Option<T> {
+    let handle = handle?;
+    while !handle.is_finished() {
+        if std::time::Instant::now() >= deadline {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    handle.join().ok()
+}
+
+/// The iceoryx2 receiver thread (not an RT hot path): `receive()` allocates
+/// when a publisher connects, so it runs here and feeds the solver a ring.
+fn spawn_receiver(
+    params: &CoreParams,
+    prefix: &str,
+    shared: Arc<CoreShared>,
+    mut ring: rtrb::Producer<Received>,
+    motor_fifo: Arc<AtomicBool>,
+) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
+    let (prefix, poll_ns, rt) = (prefix.to_owned(), params.solver_poll_ns, params.rt);
+    let thread = std::thread::Builder::new()
+        .name("upm-ipc-rx".into())
+        .spawn(move || {
+            let _guard = CoreThread::enter(HealthSource::ReceiverThread, shared.clone());
+            // Woken at real-time priority it is not queued behind a
+            // solve; on the motor's CPU it never delays the solver, and the
+            // motor preempts it. Only there: if the motor is unpinned or
+            // shares the solver's CPU, or the pin or SCHED_FIFO is refused,
+            // it stays a normal thread.
+            let mut placement = ThreadPlacement::default();
+            if let (ReceiverWake::Event, Some(cpu)) = (rt.receiver, rt.motor_cpu)
+                && rt.receiver_priority > 0
+                && rt.solver_cpu != Some(cpu)
+            {
+                placement = make_current_thread_realtime_on(rt.receiver_priority, cpu);
+            }
+            let mut inbox = match IpcInbox::new(&prefix) {
+                Ok(i) => i,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e));
+                    shared.stop.store(true, Relaxed);
+                    return;
+                }
+            };
+            let _ = ready_tx.send(Ok(placement));
+            #[cfg(feature = "fault-injection")]
+            let inject = super::fault_injection::FaultPlan::from_env();
+            let mut buf = InboxBuffers::default();
+            // Without a wake-up, look twice per solver period.
+            let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
+            let mut placed = false;
+            let mut wakes = WakeBudget::new();
+            let mut receive_errors = 0;
+            while !shared.stop.load(Relaxed) {
+                #[cfg(feature = "fault-injection")]
+                inject.panic_if_due(HealthSource::ReceiverThread, monotonic_now_ns());
+                // Spinning shares the motor's CPU, once the motor is known to
+                // be SCHED_FIFO (it then preempts the spin at once; on the
+                // solver's CPU a solve would stall it). A motor without
+                // real-time rights keeps its CPU to itself.
+                if rt.receiver == ReceiverWake::Spin && !placed && motor_fifo.load(Relaxed) {
+                    if let Some(cpu) = rt.motor_cpu {
+                        pin_current_thread(cpu);
+                    }
+                    placed = true;
+                }
+                let dropped = forward(&mut inbox, &mut buf, &mut ring);
+                shared.rejected_requests.fetch_add(dropped, Relaxed);
+                shared.count_rejects(RejectReason::Overflow, dropped);
+                shared.count_rejects(RejectReason::ReceiveError, inbox.receive_errors - receive_errors);
+                receive_errors = inbox.receive_errors;
+                match rt.receiver {
+                    ReceiverWake::Event => {
+                        wakes.pace();
+                        inbox.wait(poll);
+                    }
+                    ReceiverWake::Spin => core::hint::spin_loop(),
+                }
+            }
+        })
+        .map_err(|_| StartError::Thread { thread: "ipc receiver" })?;
+    match ready_rx.recv() {
+        Ok(Ok(placement)) => Ok((thread, placement)),
+        Ok(Err(e)) => {
+            let _ = thread.join();
+            Err(e)
+        }
+        Err(_) => Err(StartError::ThreadStartup { thread: "ipc receiver" }),
+    }
+}
+
+/// The solver thread: the stage is built (and warmed up) on it.
+fn spawn_solver(
+    params: &CoreParams,
+    rig: Rig,
+    writer: super::handoff::MotionWriter,
+    shared: Arc<CoreShared>,
+    inbound: rtrb::Consumer<Received>,
+    schedules: rtrb::Producer<Schedule>,
+    samples: rtrb::Producer<SolverSample>,
+) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
+    let params = params.clone();
+    let thread = std::thread::Builder::new()
+        .name("upm-solver".into())
+        .stack_size(RT_STACK_BYTES)
+        .spawn(move || {
+            let _guard = CoreThread::enter(HealthSource::SolverThread, shared.clone());
+            let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
+            prefault_stack();
+            let mut stage = match SolveStage::new(&params, rig, writer, shared.clone(), schedules, samples) {
+                Ok(s) => s,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(StartError::Params(e)));
+                    shared.stop.store(true, Relaxed);
+                    return;
+                }
+            };
+            let mut inbox = RingInbox(inbound);
+            let mut buf = InboxBuffers::default();
+            #[cfg(feature = "fault-injection")]
+            let inject = super::fault_injection::FaultPlan::from_env();
+            let _ = ready_tx.send(Ok(placement));
+            let clock = MonotonicClock;
+            alloc_count::mark_rt_thread(true);
+            let mut deadline = clock.now_ns();
+            while !shared.stop.load(Relaxed) {
+                #[cfg(feature = "fault-injection")]
+                inject.panic_if_due(HealthSource::SolverThread, clock.now_ns());
+                drain(&mut inbox, &mut stage, &mut buf, &clock);
+                deadline += params.solver_poll_ns;
+                let now = clock.now_ns();
+                if deadline < now {
+                    deadline = now;
+                }
+                clock.sleep_until(deadline);
+            }
+            alloc_count::mark_rt_thread(false);
+        })
+        .map_err(|_| StartError::Thread { thread: "solver" })?;
+    match ready_rx.recv() {
+        Ok(Ok(placement)) => Ok((thread, placement)),
+        Ok(Err(e)) => {
+            let _ = thread.join();
+            Err(e)
+        }
+        Err(_) => Err(StartError::ThreadStartup { thread: "solver" }),
+    }
+}
+
+/// The motor thread; returns the samples it had to drop.
+fn spawn_motor<D: PlateDriver + Send + 'static>(
+    params: &CoreParams,
+    driver: D,
+    rig: Rig,
+    reader: super::handoff::MotionReader,
+    shared: Arc<CoreShared>,
+    samples: rtrb::Producer<MotorSample>,
+    truth: Option<TruthTap<D>>,
+) -> Result<(JoinHandle<u64>, ThreadPlacement), StartError> {
+    let (ready_tx, ready_rx) = mpsc::channel::<ThreadPlacement>();
+    let (rt, period, policy) = (params.rt, params.tick_ns(), MotorPolicy::from_params(params));
+    let thread = std::thread::Builder::new()
+        .name("upm-motor".into())
+        .stack_size(RT_STACK_BYTES)
+        .spawn(move || {
+            let _guard = CoreThread::enter(HealthSource::MotorThread, shared.clone());
+            let placement = make_current_thread_realtime(rt.motor_priority, rt.motor_cpu);
+            prefault_stack();
+            let mut motor = MotorLoop::new(driver, rig, reader, shared, samples, policy);
+            if let Some(tap) = truth {
+                motor.set_truth_tap(tap);
+            }
+            let _ = ready_tx.send(placement);
+            alloc_count::mark_rt_thread(true);
+            motor.run(&MonotonicClock, period);
+            alloc_count::mark_rt_thread(false);
+            motor.dropped_samples()
+        })
+        .map_err(|_| StartError::Thread { thread: "motor" })?;
+    match ready_rx.recv() {
+        Ok(placement) => Ok((thread, placement)),
+        Err(_) => Err(StartError::ThreadStartup { thread: "motor" }),
+    }
 }
 
 /// Snapshot the shared state into a telemetry message.
@@ -465,4 +565,9 @@ pub fn fill_telemetry(
     t.parts_age_ms = age(shared.parts_stamp_ns.load(Relaxed));
     t.request_age_ms = age(shared.request_stamp_ns.load(Relaxed));
     t.latency = hist.core_latencies();
+    t.rejected_by_reason = shared.rejected_by_reason();
+    let health = shared.health();
+    t.health_source = health.source as u32;
+    t.health_cause = health.cause as u32;
+    t.health_detail = health.detail;
 }

@@ -1,10 +1,17 @@
 //! State the threads share through atomics only (no locks): counters,
-//! the operating state, the stamps staleness is judged on, and the
-//! commanded plate pose. Values are individually consistent, not a snapshot.
+//! the operating state, the stamps staleness is judged on, the commanded
+//! plate pose and the core's health. Values are individually consistent,
+//! not a snapshot.
 
-use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering::Relaxed};
+use core::fmt::Write;
+use core::sync::atomic::{
+    AtomicBool, AtomicU8, AtomicU32, AtomicU64, Ordering::Acquire, Ordering::Relaxed, Ordering::Release,
+};
 
-use ipc_types::{CoreCounters, CoreState};
+use ipc_types::{
+    CoreCounters, CoreState, DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, REJECT_REASONS,
+    RejectReason,
+};
 
 use crate::motion::Pose;
 
@@ -18,6 +25,7 @@ pub struct CoreShared {
     pub schedule_swaps: AtomicU64,
     pub rejected_parts: AtomicU64,
     pub rejected_requests: AtomicU64,
+    rejected_by_reason: [AtomicU64; REJECT_REASONS],
     /// Stamp (ns) of the newest accepted PartStates; 0 = none yet.
     pub parts_stamp_ns: AtomicU64,
     /// Stamp (ns) of the newest accepted request (or explicit schedule).
@@ -26,8 +34,16 @@ pub struct CoreShared {
     pub request_deadline_ns: AtomicU64,
     /// Driver faults seen by the motor thread.
     pub driver_faults: AtomicU64,
-    /// Commands the driver refused or clamped (from its own counters).
+    /// Command entries the driver clamped (its own running count).
     pub driver_clamped: AtomicU64,
+    /// Commands the driver rejected (its own running count).
+    pub driver_rejected: AtomicU64,
+    /// Transitions into hold because of a driver fault.
+    pub fault_holds: AtomicU64,
+    /// Fault holds left again.
+    pub resumes: AtomicU64,
+    /// Set by a valid resume command, taken by the motor.
+    pub resume_requested: AtomicBool,
     pose: [AtomicU64; 3],
     /// Set by the io thread to stop: the motor finishes its cycle, brings
     /// the plate home and exits.
@@ -37,6 +53,48 @@ pub struct CoreShared {
     /// RT-thread allocation count when this core started (the counter is
     /// process-wide; telemetry reports allocations since start).
     pub allocation_baseline: AtomicU64,
+    /// A thread of the core stopped (permanent; see [`Self::record_thread_death`]).
+    thread_fault: Health,
+    /// The driver reported a fault and the motor holds (cleared on resume).
+    driver_fault: AtomicU32,
+}
+
+/// The first death of a core thread: written once, then published by a
+/// release store of `source`.
+#[derive(Debug)]
+struct Health {
+    claimed: AtomicBool,
+    source: AtomicU32,
+    cause: AtomicU32,
+    detail: [AtomicU8; HEALTH_DETAIL_BYTES],
+}
+
+impl Default for Health {
+    fn default() -> Self {
+        Self {
+            claimed: AtomicBool::new(false),
+            source: AtomicU32::new(0),
+            cause: AtomicU32::new(0),
+            detail: [const { AtomicU8::new(0) }; HEALTH_DETAIL_BYTES],
+        }
+    }
+}
+
+/// What [`CoreShared::health`] reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HealthReport {
+    pub source: HealthSource,
+    pub cause: HealthCause,
+    pub detail: [u8; HEALTH_DETAIL_BYTES],
+}
+
+impl HealthReport {
+    pub const OK: Self =
+        Self { source: HealthSource::Ok, cause: HealthCause::None, detail: [0; HEALTH_DETAIL_BYTES] };
+
+    pub fn detail_str(&self) -> &str {
+        ipc_types::detail_str(&self.detail)
+    }
 }
 
 impl CoreShared {
@@ -65,6 +123,23 @@ impl CoreShared {
         [0, 1, 2].map(|i| f64::from_bits(self.pose[i].load(Relaxed)))
     }
 
+    /// Count one rejected message under `reason`.
+    pub fn count_reject(&self, reason: RejectReason) {
+        self.rejected_by_reason[reason.index()].fetch_add(1, Relaxed);
+    }
+
+    /// Count `n` rejected messages under `reason`.
+    pub fn count_rejects(&self, reason: RejectReason, n: u64) {
+        if n > 0 {
+            self.rejected_by_reason[reason.index()].fetch_add(n, Relaxed);
+        }
+    }
+
+    /// Rejections per [`RejectReason`] code.
+    pub fn rejected_by_reason(&self) -> [u64; REJECT_REASONS] {
+        core::array::from_fn(|i| self.rejected_by_reason[i].load(Relaxed))
+    }
+
     /// Counters as published in telemetry; `rt_thread_allocations` is
     /// filled in by the caller from the allocation counter.
     pub fn counters(&self) -> CoreCounters {
@@ -76,6 +151,11 @@ impl CoreShared {
             rejected_parts: self.rejected_parts.load(Relaxed),
             rejected_requests: self.rejected_requests.load(Relaxed),
             rt_thread_allocations: 0,
+            driver_faults: self.driver_faults.load(Relaxed),
+            driver_clamped: self.driver_clamped.load(Relaxed),
+            driver_rejected: self.driver_rejected.load(Relaxed),
+            fault_holds: self.fault_holds.load(Relaxed),
+            resumes: self.resumes.load(Relaxed),
         }
     }
 
@@ -89,5 +169,54 @@ impl CoreShared {
             || now_ns.saturating_sub(parts) > parts_max_age_ns
             || now_ns.saturating_sub(request) > request_max_age_ns
             || now_ns > deadline
+    }
+
+    /// Record that a core thread stopped. Only the first death is kept.
+    /// Allocation-free and lock-free: it runs inside a panic hook on an RT
+    /// thread.
+    pub fn record_thread_death(
+        &self,
+        source: HealthSource,
+        cause: HealthCause,
+        detail: core::fmt::Arguments<'_>,
+    ) {
+        if self.thread_fault.claimed.swap(true, Relaxed) {
+            return;
+        }
+        let mut text = DetailText::new();
+        let _ = text.write_fmt(detail);
+        for (dst, &b) in self.thread_fault.detail.iter().zip(&text.bytes) {
+            dst.store(b, Relaxed);
+        }
+        self.thread_fault.cause.store(cause as u32, Relaxed);
+        self.thread_fault.source.store(source as u32, Release);
+    }
+
+    /// True once a core thread has stopped unexpectedly.
+    pub fn thread_died(&self) -> bool {
+        self.thread_fault.source.load(Acquire) != HealthSource::Ok as u32
+    }
+
+    /// The motor holds because the driver reported `cause`.
+    pub fn set_driver_fault(&self, cause: Option<HealthCause>) {
+        self.driver_fault.store(cause.map_or(0, |c| c as u32), Relaxed);
+    }
+
+    /// Health as telemetry shows it: a dead thread first, else a driver
+    /// fault hold, else ok.
+    pub fn health(&self) -> HealthReport {
+        let source = self.thread_fault.source.load(Acquire);
+        if let Some(source) = HealthSource::from_code(source).filter(|&s| s != HealthSource::Ok) {
+            let cause =
+                HealthCause::from_code(self.thread_fault.cause.load(Relaxed)).unwrap_or(HealthCause::None);
+            let detail = core::array::from_fn(|i| self.thread_fault.detail[i].load(Relaxed));
+            return HealthReport { source, cause, detail };
+        }
+        match HealthCause::from_code(self.driver_fault.load(Relaxed)) {
+            Some(HealthCause::None) | None => HealthReport::OK,
+            Some(cause) => {
+                HealthReport { source: HealthSource::Driver, cause, detail: [0; HEALTH_DETAIL_BYTES] }
+            }
+        }
     }
 }

@@ -9,8 +9,9 @@ use core::sync::atomic::Ordering::Relaxed;
 use std::sync::Arc;
 
 use ipc_types::{
-    ExplicitSchedule, ExplicitScheduleError, ForceRequest, ForceRequestError, MAX_CURLS, MAX_PARTS,
-    PartStates, PartStatesError, Schedule, ScheduleSlot, ValidationLimits,
+    CoreCommand, CoreCommandError, ExplicitSchedule, ExplicitScheduleError, ForceRequest, ForceRequestError,
+    MAX_CURLS, MAX_PARTS, PartStates, PartStatesError, RejectReason, Schedule, ScheduleSlot,
+    ValidationLimits,
 };
 
 use super::handoff::MotionWriter;
@@ -22,12 +23,63 @@ use crate::solver::{
     CurlConstraint, ForceConstraint, Problem, Solution, SolveError, Solver, SolverCapacity, SolverParams,
 };
 
+// Every explicit schedule the protocol can carry fits the motion.
+const _: () = assert!(MAX_SLOTS >= ipc_types::MAX_SLOTS);
+
+/// Why part states were rejected (the newest accepted ones stay in force).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PartsError {
+    Invalid(PartStatesError),
+    /// Older than part states already accepted.
+    OutOfOrder {
+        stamp_ns: u64,
+        newest_ns: u64,
+    },
+    /// The same `seq` and stamp as the newest accepted part states.
+    Duplicate {
+        seq: u64,
+    },
+}
+
+impl fmt::Display for PartsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Invalid(e) => write!(f, "{e}"),
+            Self::OutOfOrder { stamp_ns, newest_ns } => {
+                write!(f, "part_states.stamp_ns {stamp_ns} is older than the newest accepted ({newest_ns})")
+            }
+            Self::Duplicate { seq } => write!(f, "part_states.seq {seq} repeats the newest accepted message"),
+        }
+    }
+}
+
+impl core::error::Error for PartsError {}
+
+impl PartsError {
+    pub const fn reason(&self) -> RejectReason {
+        match self {
+            Self::Invalid(e) => e.reason(),
+            Self::OutOfOrder { .. } => RejectReason::OutOfOrder,
+            Self::Duplicate { .. } => RejectReason::Duplicate,
+        }
+    }
+}
+
 /// Why a request or explicit schedule was rejected (the motor keeps playing
 /// the previous motion until it goes stale).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RequestError {
     Invalid(ForceRequestError),
     InvalidExplicit(ExplicitScheduleError),
+    /// Older than a request (or explicit schedule) already accepted.
+    OutOfOrder {
+        stamp_ns: u64,
+        newest_ns: u64,
+    },
+    /// The same `seq` and stamp as the newest accepted request.
+    Duplicate {
+        seq: u64,
+    },
     /// A request arrived before any valid PartStates.
     NoPartStates,
     /// The request names a part id the newest PartStates does not contain.
@@ -46,6 +98,10 @@ impl fmt::Display for RequestError {
         match self {
             Self::Invalid(e) => write!(f, "{e}"),
             Self::InvalidExplicit(e) => write!(f, "{e}"),
+            Self::OutOfOrder { stamp_ns, newest_ns } => {
+                write!(f, "request stamp_ns {stamp_ns} is older than the newest accepted ({newest_ns})")
+            }
+            Self::Duplicate { seq } => write!(f, "request seq {seq} repeats the newest accepted request"),
             Self::NoPartStates => f.write_str("force_request: no valid part states received yet"),
             Self::UnknownPart { id } => {
                 write!(f, "force_request: part id {id} is not in the newest part states")
@@ -59,6 +115,47 @@ impl fmt::Display for RequestError {
 
 impl core::error::Error for RequestError {}
 
+impl RequestError {
+    pub const fn reason(&self) -> RejectReason {
+        match self {
+            Self::Invalid(e) => e.reason(),
+            Self::InvalidExplicit(e) => e.reason(),
+            Self::OutOfOrder { .. } => RejectReason::OutOfOrder,
+            Self::Duplicate { .. } => RejectReason::Duplicate,
+            Self::NoPartStates => RejectReason::NoPartStates,
+            Self::UnknownPart { .. } => RejectReason::UnknownPart,
+            Self::Solve(_) => RejectReason::Unsolvable,
+            Self::Motion(_) => RejectReason::MotionLimits,
+            Self::Actuator(_) => RejectReason::ActuatorLimits,
+        }
+    }
+}
+
+/// `seq` and stamp of the newest accepted message of one kind.
+#[derive(Debug, Clone, Copy, Default)]
+struct Newest {
+    seq: u64,
+    stamp_ns: u64,
+    any: bool,
+}
+
+impl Newest {
+    /// `Err(newest stamp)` if older, `Ok(true)` if a repeat of the newest.
+    fn check(&self, seq: u64, stamp_ns: u64) -> Result<bool, u64> {
+        if !self.any {
+            return Ok(false);
+        }
+        if stamp_ns < self.stamp_ns {
+            return Err(self.stamp_ns);
+        }
+        Ok(stamp_ns == self.stamp_ns && seq == self.seq)
+    }
+
+    fn accept(&mut self, seq: u64, stamp_ns: u64) {
+        *self = Self { seq, stamp_ns, any: true };
+    }
+}
+
 /// The solver thread's state.
 #[derive(Debug)]
 pub struct SolveStage {
@@ -71,6 +168,10 @@ pub struct SolveStage {
     writer: MotionWriter,
     shared: Arc<CoreShared>,
     limits: ValidationLimits,
+    parts_max_age_ns: u64,
+    request_max_age_ns: u64,
+    newest_parts: Newest,
+    newest_request: Newest,
     parts: Box<PartStates>,
     have_parts: bool,
     forces: [ForceConstraint; MAX_PARTS],
@@ -115,6 +216,10 @@ impl SolveStage {
             writer,
             shared,
             limits,
+            parts_max_age_ns: params.parts_max_age_ns,
+            request_max_age_ns: params.request_max_age_ns,
+            newest_parts: Newest::default(),
+            newest_request: Newest::default(),
             parts: Box::new(PartStates::new()),
             have_parts: false,
             forces: [ForceConstraint { position: [0.0; 2], force: None }; MAX_PARTS],
@@ -132,18 +237,37 @@ impl SolveStage {
     }
 
     /// Validate and keep the newest part states. `received_ns` is when the
-    /// core received them, `now_ns` the core's clock now.
+    /// core received them, `now_ns` the core's clock now. A rejection is
+    /// counted by reason.
     pub fn on_part_states(
         &mut self,
         msg: &PartStates,
         received_ns: u64,
         now_ns: u64,
-    ) -> Result<(), PartStatesError> {
-        self.limits.now_ns = now_ns;
-        if let Err(e) = msg.validate(&self.limits) {
+    ) -> Result<(), PartsError> {
+        let r = self.take_part_states(msg, received_ns, now_ns);
+        if let Err(e) = r {
             self.shared.rejected_parts.fetch_add(1, Relaxed);
-            return Err(e);
+            self.shared.count_reject(e.reason());
         }
+        r
+    }
+
+    fn take_part_states(
+        &mut self,
+        msg: &PartStates,
+        received_ns: u64,
+        now_ns: u64,
+    ) -> Result<(), PartsError> {
+        self.limits.now_ns = now_ns;
+        self.limits.max_age_ns = self.parts_max_age_ns;
+        msg.validate(&self.limits).map_err(PartsError::Invalid)?;
+        match self.newest_parts.check(msg.seq, msg.stamp_ns) {
+            Err(newest_ns) => return Err(PartsError::OutOfOrder { stamp_ns: msg.stamp_ns, newest_ns }),
+            Ok(true) => return Err(PartsError::Duplicate { seq: msg.seq }),
+            Ok(false) => {}
+        }
+        self.newest_parts.accept(msg.seq, msg.stamp_ns);
         *self.parts = *msg;
         self.have_parts = true;
         self.shared.parts_stamp_ns.store(msg.stamp_ns.max(1), Relaxed);
@@ -164,23 +288,39 @@ impl SolveStage {
         clock_ns: &dyn Fn() -> u64,
     ) -> Result<(), RequestError> {
         let r = self.solve_request(msg, now_ns, clock_ns);
-        self.account(r, msg.stamp_ns, msg.deadline_ns)
+        self.account(r, msg.seq, msg.stamp_ns, msg.deadline_ns)
     }
 
     /// Validate an explicit schedule and hand it to the motor.
     pub fn on_explicit(&mut self, msg: &ExplicitSchedule, now_ns: u64) -> Result<(), RequestError> {
         let r = self.take_explicit(msg, now_ns);
-        self.account(r, msg.stamp_ns, u64::MAX)
+        self.account(r, msg.seq, msg.stamp_ns, u64::MAX)
+    }
+
+    /// Validate an operator's command and pass it to the motor.
+    pub fn on_command(&mut self, msg: &CoreCommand, now_ns: u64) -> Result<(), CoreCommandError> {
+        self.limits.now_ns = now_ns;
+        self.limits.max_age_ns = self.request_max_age_ns;
+        if let Err(e) = msg.validate(&self.limits) {
+            self.shared.rejected_requests.fetch_add(1, Relaxed);
+            self.shared.count_reject(e.reason());
+            return Err(e);
+        }
+        // RESUME is the only command validate() lets through.
+        self.shared.resume_requested.store(true, Relaxed);
+        Ok(())
     }
 
     fn account(
         &mut self,
         r: Result<(), RequestError>,
+        seq: u64,
         stamp_ns: u64,
         deadline_ns: u64,
     ) -> Result<(), RequestError> {
         match r {
             Ok(()) => {
+                self.newest_request.accept(seq, stamp_ns);
                 self.shared.request_stamp_ns.store(stamp_ns.max(1), Relaxed);
                 self.shared.request_deadline_ns.store(deadline_ns, Relaxed);
                 // Dropped (not blocked on) if the io thread is a full ring behind.
@@ -189,8 +329,18 @@ impl SolveStage {
             }
             Err(e) => {
                 self.shared.rejected_requests.fetch_add(1, Relaxed);
+                self.shared.count_reject(e.reason());
                 Err(e)
             }
+        }
+    }
+
+    /// Requests and explicit schedules share one order: the newest wins.
+    fn check_order(&self, seq: u64, stamp_ns: u64) -> Result<(), RequestError> {
+        match self.newest_request.check(seq, stamp_ns) {
+            Err(newest_ns) => Err(RequestError::OutOfOrder { stamp_ns, newest_ns }),
+            Ok(true) => Err(RequestError::Duplicate { seq }),
+            Ok(false) => Ok(()),
         }
     }
 
@@ -201,7 +351,9 @@ impl SolveStage {
         clock_ns: &dyn Fn() -> u64,
     ) -> Result<(), RequestError> {
         self.limits.now_ns = now_ns;
+        self.limits.max_age_ns = self.request_max_age_ns;
         msg.validate(&self.limits).map_err(RequestError::Invalid)?;
+        self.check_order(msg.seq, msg.stamp_ns)?;
         if !self.have_parts {
             return Err(RequestError::NoPartStates);
         }
@@ -257,10 +409,21 @@ impl SolveStage {
 
     fn take_explicit(&mut self, msg: &ExplicitSchedule, now_ns: u64) -> Result<(), RequestError> {
         self.limits.now_ns = now_ns;
+        self.limits.max_age_ns = self.request_max_age_ns;
         msg.validate(&self.limits).map_err(RequestError::InvalidExplicit)?;
+        self.check_order(msg.seq, msg.stamp_ns)?;
         let n = msg.slots().len();
-        for (slot, e) in msg.slots().iter().enumerate() {
-            self.entries[slot] = ScheduleEntry { center: self.centers[e.center_index as usize], k: e.k };
+        // entries holds MAX_SLOTS = the protocol's capacity and validate()
+        // checked every center index; zip and get() keep it so if either
+        // ever changes.
+        for (entry, e) in self.entries.iter_mut().zip(msg.slots()) {
+            let center = *self.centers.get(e.center_index as usize).ok_or(RequestError::InvalidExplicit(
+                ExplicitScheduleError::UnknownCenter { index: 0, center_index: e.center_index },
+            ))?;
+            *entry = ScheduleEntry { center, k: e.k };
+        }
+        if n > self.entries.len() {
+            return Err(RequestError::Motion(MotionError::TooManySlots { given: n, capacity: MAX_SLOTS }));
         }
         self.stage_motion(n, msg.seq, 0)?;
         let m = &mut *self.schedule;
@@ -273,9 +436,8 @@ impl SolveStage {
         m.condition = 0.0;
         m.rank = 0;
         m.saturated = 0;
-        for e in msg.slots() {
-            let i = e.center_index as usize;
-            let _ = m.push(ScheduleSlot::new(e.center_index, self.centers[i], e.k));
+        for (e, entry) in msg.slots().iter().zip(&self.entries) {
+            let _ = m.push(ScheduleSlot::new(e.center_index, entry.center, e.k));
         }
         Ok(())
     }

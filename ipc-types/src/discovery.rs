@@ -1,0 +1,81 @@
+//! Who is on a rig, and which rigs run on this machine, read from
+//! iceoryx2's own node registry (no extra service):
+//!
+//! - a process announces its role by its node's name on the rig's prefix
+//!   ([`VISION_NODE`], [`PLANNER_NODE`], …); its pid and start time come
+//!   with the node;
+//! - a core announces its rig with a node named after the rig's prefix on
+//!   the machine-wide [`DISCOVERY_PREFIX`], so `upm status` finds rigs
+//!   without being told their prefix.
+//!
+//! Listing walks iceoryx2's files: for start-up and tools, not RT threads.
+
+use iceoryx2::node::NodeView;
+use iceoryx2::prelude::*;
+
+use crate::ports::config_with_prefix;
+use crate::rig_node::{RigNodeError, rig_node};
+
+/// Prefix on which running cores announce their rigs.
+pub const DISCOVERY_PREFIX: &str = "upmdiscovery_";
+/// Node name of a rig's core (one per prefix).
+pub const CORE_NODE: &str = "upm-core";
+/// Node names clients announce themselves with (a name that starts with
+/// one of these counts).
+pub const VISION_NODE: &str = "upm-vision";
+pub const PLANNER_NODE: &str = "upm-planner";
+
+/// A live node: its process and when it started.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NodePresence {
+    pub name: String,
+    pub pid: u32,
+    /// CLOCK_MONOTONIC ns when the node was created.
+    pub started_ns: u64,
+}
+
+/// Every live node on `prefix` whose name starts with `name_prefix`,
+/// oldest first. Dead nodes' files are cleaned up on the way.
+pub fn live_nodes(prefix: &str, name_prefix: &str) -> Vec<NodePresence> {
+    let Ok(config) = config_with_prefix(prefix) else { return Vec::new() };
+    let mut found = Vec::new();
+    let _ = Node::<ipc::Service>::list(&config, |state| {
+        match state {
+            NodeState::Alive(view) => {
+                if let Some(d) = view.details().as_ref()
+                    && d.name().as_str().starts_with(name_prefix)
+                {
+                    let pid = view.id().pid::<ipc::Service>().map_or(0, |p| p.value() as u32);
+                    let started_ns = view.id().creation_time::<ipc::Service>().map_or(0, |t| {
+                        t.seconds().saturating_mul(1_000_000_000).saturating_add(u64::from(t.nanoseconds()))
+                    });
+                    found.push(NodePresence { name: d.name().as_str().to_owned(), pid, started_ns });
+                }
+            }
+            NodeState::Dead(view) => {
+                // Best effort: a failure leaves files iceoryx2 retries later.
+                let _ = view.try_remove_stale_resources();
+            }
+            NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
+        }
+        CallbackProgression::Continue
+    });
+    found.sort_by_key(|n| n.started_ns);
+    found
+}
+
+/// The newest live node on `prefix` whose name starts with `name_prefix`.
+pub fn newest_node(prefix: &str, name_prefix: &str) -> Option<NodePresence> {
+    live_nodes(prefix, name_prefix).pop()
+}
+
+/// Announce the rig on `prefix` machine-wide; keep the node as long as the
+/// rig runs.
+pub fn announce_rig(prefix: &str) -> Result<Node<ipc::Service>, RigNodeError> {
+    rig_node(DISCOVERY_PREFIX, Some(prefix), SignalHandlingMode::Disabled)
+}
+
+/// Rigs announced by live cores: the node name is the rig's prefix.
+pub fn running_rigs() -> Vec<NodePresence> {
+    live_nodes(DISCOVERY_PREFIX, "")
+}

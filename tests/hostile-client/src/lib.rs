@@ -1,0 +1,1 @@
+//! See README.md: the crate is its integration test, `tests/hostile.rs`.
