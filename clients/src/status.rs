@@ -128,7 +128,7 @@ pub fn to_text(t: &Telemetry) -> String {
     let w = &t.latency.motor_wakeup;
     let c = &t.counters;
     let health = match t.health() {
-        Some((s, _)) if s == ipc_types::HealthSource::Ok => "ok".to_owned(),
+        Some((ipc_types::HealthSource::Ok, _)) => "ok".to_owned(),
         Some((s, c)) => format!("{s} {c}: {}", t.health_detail_str()),
         None => "unknown".to_owned(),
     };

@@ -3,8 +3,7 @@
 //! breaking an invariant the core relies on.
 
 use ipc_types::{
-    ExplicitSchedule, ForceRequest, MAX_CURLS, PROTOCOL_VERSION, PartStates, Schedule, Telemetry,
-    ValidationLimits,
+    ExplicitSchedule, ForceRequest, MAX_CURLS, PartStates, Schedule, Telemetry, ValidationLimits,
 };
 use proptest::prelude::*;
 use upm_tests::{from_bytes, patch_header};

@@ -68,7 +68,12 @@ fn install_panic_hook() {
             // guard holds an Arc to it, and the guard is not dropped: this
             // thread is inside its body and never leaves the hook.
             let shared = unsafe { &*shared };
-            let message = info.payload_as_str().unwrap_or("(non-text payload)");
+            let payload = info.payload();
+            let message = payload
+                .downcast_ref::<&str>()
+                .copied()
+                .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+                .unwrap_or("(non-text payload)");
             match info.location() {
                 Some(l) => shared.record_thread_death(
                     source,

@@ -305,6 +305,9 @@ fn unique_prefix(tag: &str) -> String {
     format!("upmh_{tag}_{}_{nanos}_", std::process::id())
 }
 
+/// A named way to spoil a good message, and the reason it must be rejected for.
+type Spoil<T> = (&'static str, RejectReason, fn(&mut T, u64));
+
 const FLOATS: [f64; 5] = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e308, -1e308];
 
 #[test]
@@ -349,7 +352,7 @@ fn every_value_the_types_allow_is_played_or_rejected_and_counted() {
             });
         }
     }
-    let cases: [(&str, RejectReason, fn(&mut PartStates, u64)); 5] = [
+    let cases: [Spoil<PartStates>; 5] = [
         ("part_states wrong version", RejectReason::WrongProtocolVersion, |m, _| m.protocol_version = 1),
         ("part_states zero stamp", RejectReason::Stale, |m, _| m.stamp_ns = 0),
         ("part_states stale stamp", RejectReason::Stale, |m, now| m.stamp_ns = now - 10_000_000_000),
@@ -413,7 +416,7 @@ fn every_value_the_types_allow_is_played_or_rejected_and_counted() {
             });
         }
     }
-    let cases: [(&str, RejectReason, fn(&mut ForceRequest, u64)); 10] = [
+    let cases: [Spoil<ForceRequest>; 10] = [
         ("request wrong version", RejectReason::WrongProtocolVersion, |r, _| r.protocol_version = u32::MAX),
         ("request zero stamp", RejectReason::Stale, |r, _| r.stamp_ns = 0),
         ("request stale stamp", RejectReason::Stale, |r, now| {
@@ -537,7 +540,7 @@ fn a_flood_of_ten_thousand_messages_a_second_leaves_the_core_answering() {
     while start.elapsed() < Duration::from_secs(10) {
         let seq = c.next_seq();
         let now = monotonic_now_ns();
-        if seq % 2 == 0 {
+        if seq.is_multiple_of(2) {
             c.send_parts(good_parts(seq, now));
         } else {
             c.send_request(good_request(seq, now));
@@ -547,7 +550,7 @@ fn a_flood_of_ten_thousand_messages_a_second_leaves_the_core_answering() {
         if let Some(wait) = next.checked_duration_since(Instant::now()) {
             std::thread::sleep(wait);
         }
-        if sent % 1000 == 0 {
+        if sent.is_multiple_of(1000) {
             c.poll();
         }
     }
