@@ -183,7 +183,10 @@ const WARM_UP: Duration = Duration::from_millis(500);
 /// The core's own measurement with a feeder publishing (and notifying) at
 /// 1 kHz: PartStates stamp → received by the core's receiver thread, and
 /// received → validated on the solver thread.
-fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogram<u64>, Histogram<u64>)> {
+fn upm_one_way(
+    seconds: f64,
+    receiver: ReceiverWake,
+) -> anyhow::Result<(Histogram<u64>, Histogram<u64>, bool)> {
     let prefix = format!("upm_bench_ipc_{}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
@@ -210,8 +213,9 @@ fn upm_one_way(seconds: f64, receiver: ReceiverWake) -> anyhow::Result<(Histogra
     stop.store(true, Ordering::Relaxed);
     let _ = feeder.join();
     crate::status::remove_prefix_segment(&prefix);
-    let h = report?.histograms;
-    Ok((h.ipc_vision_to_core, h.ipc_to_solver))
+    let report = report?;
+    let h = report.histograms;
+    Ok((h.ipc_vision_to_core, h.ipc_to_solver, report.realtime.pm_qos_held))
 }
 
 /// The raw event ping-pong while a core (fed at 1 kHz) runs on its own
@@ -250,6 +254,9 @@ fn raw_event_beside_core(echo: EchoScheduling) -> anyhow::Result<RawPingPong> {
 
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
     let rt = CoreParams::default().rt;
+    // The raw references run under the idle policy the core sets for itself.
+    let raw_qos = rt.cpu_dma_latency_us.map(rt_core::runtime::rt_setup::hold_cpu_dma_latency);
+    let raw_held = matches!(raw_qos, Some(Ok(_)));
     let raw_event = raw_ping_pong(3_000, true, FEED_PERIOD, EchoScheduling::Normal)?;
     // The echo thread scheduled as the core's receiver is (if this process
     // may use SCHED_FIFO): what iceoryx2 gives that thread by itself.
@@ -268,12 +275,15 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
     // this process may use SCHED_FIFO.
     let beside =
         raw_event_beside_core(if raw_event_rt.is_some() { like_receiver } else { EchoScheduling::Normal })?;
-    let (event, event_pickup) = upm_one_way(seconds, ReceiverWake::Event)?;
-    let (spin, spin_pickup) = upm_one_way(seconds, ReceiverWake::Spin)?;
+    let (event, event_pickup, upm_held) = upm_one_way(seconds, ReceiverWake::Event)?;
+    let (spin, spin_pickup, _) = upm_one_way(seconds, ReceiverWake::Spin)?;
+    drop(raw_qos);
     let (e, re, sp, rb) =
         (summary(&event), summary(&raw_event.one_way), summary(&spin), summary(&raw_busy.one_way));
     let (re_half, rb_half) = (summary(&raw_event.half_round_trip), summary(&raw_busy.half_round_trip));
     Ok(json!({
+        "host": crate::host_facts::read_all(),
+        "pm_qos": { "upm": upm_held, "raw_iceoryx2": raw_held, "same_policy": upm_held == raw_held },
         "payload_bytes": size_of::<PartStates>(),
         "upm_event": e,
         "raw_iceoryx2_event": re,
@@ -295,15 +305,17 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
         "ratio_p99_spin": sp.p99 / rb.p99,
         "solver_pickup_event": summary(&event_pickup),
         "solver_pickup_spin": summary(&spin_pickup),
-        "solver_poll_us": CoreParams::default().solver_poll_ns / 1000,
-        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (its clock-driven poll, rt.solver_poll_us). raw: ping-pong of the same payload with listeners+notify (event, paced at the feeder's 1 ms; also at 200 µs) or busy polling; the reference is the ping leg alone (stamp → echo thread's receive), *_half_round_trip the round trip / 2.",
+        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (woken by the receiver through a futex). raw: ping-pong of the same payload with listeners+notify (event, paced at the feeder's 1 ms; also at 200 µs) or busy polling; the reference is the ping leg alone (stamp → echo thread's receive), *_half_round_trip the round trip / 2.",
     }))
 }
 
 pub fn to_text(v: &Value) -> String {
     let row = summary_row;
     format!(
-        "one-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (poll {} µs):\n{}",
+        "{}\nPM QoS held: upm {}, raw {}\none-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (futex wake):\n{}",
+        crate::host_facts::to_text(&v["host"]),
+        v["pm_qos"]["upm"],
+        v["pm_qos"]["raw_iceoryx2"],
         v["payload_bytes"],
         "",
         "p50",
@@ -321,7 +333,6 @@ pub fn to_text(v: &Value) -> String {
         row("raw iceoryx2, busy", &v["raw_iceoryx2_busy_poll"]),
         row("  round trip / 2", &v["raw_iceoryx2_busy_poll_half_round_trip"]),
         v["ratio_p99_spin"].as_f64().unwrap_or(f64::NAN),
-        v["solver_poll_us"],
         row("pickup (event run)", &v["solver_pickup_event"]),
     )
 }

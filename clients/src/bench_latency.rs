@@ -40,8 +40,9 @@ fn new_histogram() -> anyhow::Result<Histogram<u64>> {
 }
 
 /// One run of the real core (motor + solver + io threads, simulator driver)
-/// fed with the §3.1 inputs; returns its motor wake-up histogram (ns).
-fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<Histogram<u64>> {
+/// fed with the §3.1 inputs; returns its motor wake-up histogram (ns) and
+/// whether it held its PM QoS request.
+fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<(Histogram<u64>, bool)> {
     let prefix = format!("upm_bench_lat_{}_{round}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
@@ -62,7 +63,7 @@ fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<Hi
     if !report.realtime.motor.fifo {
         eprintln!("upm bench latency: WARNING: the motor thread is not SCHED_FIFO; run as root");
     }
-    Ok(report.histograms.motor_wakeup)
+    Ok((report.histograms.motor_wakeup, report.realtime.pm_qos_held))
 }
 
 /// One cyclictest run with the same interval/priority/CPU; its per-µs
@@ -150,24 +151,31 @@ pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
     run_with_plot(seconds, rounds, None, false)
 }
 
+/// What [`ab_rounds`] measured.
+struct AbRounds {
+    upm: Histogram<u64>,
+    cyclictest: Histogram<u64>,
+    per_round: Vec<Value>,
+    /// The core held its PM QoS request in every round.
+    upm_pm_qos: bool,
+}
+
 /// Merged histograms of `rounds` A/B pairs, and each round's summaries.
-fn ab_rounds(
-    params: &CoreParams,
-    seconds: f64,
-    rounds: usize,
-) -> anyhow::Result<(Histogram<u64>, Histogram<u64>, Vec<Value>)> {
+fn ab_rounds(params: &CoreParams, seconds: f64, rounds: usize) -> anyhow::Result<AbRounds> {
     let interval_us = params.tick_ns() / 1000;
     let loops = (seconds * 1e6 / interval_us as f64) as u64;
     let (mut upm, mut ct) = (new_histogram()?, new_histogram()?);
     let mut per_round = Vec::new();
+    let mut held = true;
     for round in 0..rounds {
-        let a = run_upm(params, seconds, round)?;
+        let (a, qos) = run_upm(params, seconds, round)?;
+        held &= qos;
         let b = run_cyclictest(interval_us, params.rt.motor_priority, params.rt.motor_cpu, loops)?;
         per_round.push(json!({ "upm": summary_ns(&a), "cyclictest": summary_ns(&b) }));
         upm.add(&a).context("merging")?;
         ct.add(&b).context("merging")?;
     }
-    Ok((upm, ct, per_round))
+    Ok(AbRounds { upm, cyclictest: ct, per_round, upm_pm_qos: held })
 }
 
 /// Summaries and ratios of one A/B comparison.
@@ -204,23 +212,29 @@ pub fn run_with_plot(
         bail!("--seconds must be positive and --rounds at least 1");
     }
     let params = CoreParams::default();
-    let (upm, ct, per_round) = ab_rounds(&params, seconds, rounds)?;
-    let mut v = comparison(&upm, &ct, per_round);
-    let mut curves = vec![("upm motor loop".to_owned(), upm), ("cyclictest".to_owned(), ct)];
+    let ab = ab_rounds(&params, seconds, rounds)?;
+    let upm_qos = ab.upm_pm_qos;
+    let mut v = comparison(&ab.upm, &ab.cyclictest, ab.per_round);
+    let mut curves = vec![("upm motor loop".to_owned(), ab.upm), ("cyclictest".to_owned(), ab.cyclictest)];
     if stress {
         let load = crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(params.rt.motor_cpu))?;
-        let (su, sc, per_round) = ab_rounds(&params, seconds, rounds)?;
-        let mut stressed = comparison(&su, &sc, per_round);
+        let s = ab_rounds(&params, seconds, rounds)?;
+        let mut stressed = comparison(&s.upm, &s.cyclictest, s.per_round);
         stressed["stressor"] = json!(load.description());
         drop(load);
         v["stressed"] = stressed;
-        curves.push(("upm, CPU stress".to_owned(), su));
-        curves.push(("cyclictest, CPU stress".to_owned(), sc));
+        curves.push(("upm, CPU stress".to_owned(), s.upm));
+        curves.push(("cyclictest, CPU stress".to_owned(), s.cyclictest));
     }
     if let Some(p) = plot_path {
         let named: Vec<(&str, &Histogram<u64>)> = curves.iter().map(|(n, h)| (n.as_str(), h)).collect();
         plot(p, &named)?;
     }
+    // cyclictest holds /dev/cpu_dma_latency at 0 unless told --laptop, if
+    // it may open it: with the same rights as this process.
+    let ct_qos = crate::host_facts::may_hold_pm_qos();
+    v["host"] = crate::host_facts::read_all();
+    v["pm_qos"] = json!({ "upm": upm_qos, "cyclictest": ct_qos, "same_policy": upm_qos == ct_qos });
     v["interval_us"] = json!(params.tick_ns() / 1000);
     v["priority"] = json!(params.rt.motor_priority);
     v["cpu"] = json!(params.rt.motor_cpu);
@@ -246,7 +260,10 @@ pub fn summary_row(name: &str, s: &Value) -> String {
 /// Human-readable table.
 pub fn to_text(v: &Value) -> String {
     let mut text = format!(
-        "motor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+        "{}\nPM QoS held: upm {}, cyclictest {}\nmotor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+        crate::host_facts::to_text(&v["host"]),
+        v["pm_qos"]["upm"],
+        v["pm_qos"]["cyclictest"],
         v["interval_us"],
         v["rounds"],
         "",

@@ -111,6 +111,16 @@ pub struct RtSection {
     pub receiver: Receiver,
     /// SCHED_FIFO priority of the receiver in event mode; 0 = normal.
     pub receiver_priority: u8,
+    /// PM QoS request held on /dev/cpu_dma_latency (µs), or "leave".
+    pub cpu_dma_latency_us: DmaLatency,
+}
+
+/// `rt.cpu_dma_latency_us`: a bound in µs, or `"leave"` the host's policy.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(untagged)]
+pub enum DmaLatency {
+    Us(u32),
+    Keyword(String),
 }
 
 /// `rt.receiver`: sleep on the clients' wake-up event, or busy-poll.
@@ -227,6 +237,9 @@ impl Default for RtSection {
             solver_poll_us: CoreParams::default().solver_poll_ns / 1000,
             receiver: Receiver::Event,
             receiver_priority: r.receiver_priority,
+            cpu_dma_latency_us: r
+                .cpu_dma_latency_us
+                .map_or(DmaLatency::Keyword("leave".into()), DmaLatency::Us),
         }
     }
 }
@@ -382,6 +395,15 @@ impl Config {
                     Receiver::Spin => rt_core::runtime::ReceiverWake::Spin,
                 },
                 receiver_priority: self.rt.receiver_priority,
+                cpu_dma_latency_us: match &self.rt.cpu_dma_latency_us {
+                    DmaLatency::Us(us) => Some(*us),
+                    DmaLatency::Keyword(k) if k == "leave" => None,
+                    DmaLatency::Keyword(k) => {
+                        return Err(format!(
+                            "rt.cpu_dma_latency_us must be a number of µs or \"leave\", got {k:?}"
+                        ));
+                    }
+                },
             },
         };
         // Complete validation: the core would refuse an unplayable rig at start.

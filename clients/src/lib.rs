@@ -12,6 +12,7 @@ pub mod core_watch;
 pub mod cpu_load;
 pub mod die_with_parent;
 pub mod feeder;
+pub mod host_facts;
 pub mod launcher;
 pub mod planner;
 pub mod scenario;

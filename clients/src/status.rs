@@ -146,7 +146,7 @@ pub fn to_text(t: &Telemetry) -> String {
          ages: parts {:.1} ms, request {:.1} ms;  rejected: parts {}, requests {}{}\n\
          driver: faults {}, fault holds {}, resumes {}, clamped {}, rejected {}\n\
          motor wake-up µs: p50 {:.1}  p99 {:.1}  p99.9 {:.1}  max {:.1}\n\
-         real-time: {}  rt allocations: {}\n\
+         real-time: {}  PM QoS held: {}  rt allocations: {}\n\
          processes: core pid {}; vision {}; planner {}",
         t.core_state().map_or("unknown", |s| s.as_str()),
         health,
@@ -169,6 +169,7 @@ pub fn to_text(t: &Telemetry) -> String {
         w.p999_ns as f64 / 1e3,
         w.max_ns as f64 / 1e3,
         if rt { "yes" } else { "NO (not real-time: no SCHED_FIFO or no locked memory)" },
+        if t.realtime_flags & Telemetry::RT_PM_QOS_HELD != 0 { "yes" } else { "no" },
         c.rt_thread_allocations,
         t.core_pid,
         client(t.vision_pid, t.vision_started_ns),

@@ -180,10 +180,15 @@ impl Inbox for RingInbox {
     }
 }
 
-/// Move everything `source` has into `ring`; returns how many messages were
-/// dropped because the ring was full (the solver is a full ring behind).
-pub fn forward<I: Inbox>(source: &mut I, buf: &mut InboxBuffers, ring: &mut rtrb::Producer<Received>) -> u64 {
-    let mut dropped = 0;
+/// Move everything `source` has into `ring`; returns how many messages went
+/// into the ring and how many were dropped because it was full (the solver
+/// is a full ring behind).
+pub fn forward<I: Inbox>(
+    source: &mut I,
+    buf: &mut InboxBuffers,
+    ring: &mut rtrb::Producer<Received>,
+) -> (u64, u64) {
+    let (mut forwarded, mut dropped) = (0, 0);
     while let Some(kind) = source.next(buf) {
         let msg = match kind {
             Inbound::PartStates => InboundMessage::Parts(*buf.parts),
@@ -193,7 +198,9 @@ pub fn forward<I: Inbox>(source: &mut I, buf: &mut InboxBuffers, ring: &mut rtrb
         };
         if ring.push(Received { msg, at_ns: buf.received_ns }).is_err() {
             dropped += 1;
+        } else {
+            forwarded += 1;
         }
     }
-    dropped
+    (forwarded, dropped)
 }

@@ -9,6 +9,7 @@
 
 pub mod alloc_count;
 mod clock;
+mod doorbell;
 #[cfg(feature = "fault-injection")]
 pub mod fault_injection;
 mod handoff;
@@ -29,6 +30,7 @@ mod wake_budget;
 
 pub use alloc_count::RtAllocCounter;
 pub use clock::{Clock, ManualClock, MonotonicClock};
+pub use doorbell::Doorbell;
 pub use handoff::{MotionReader, MotionWriter, StagedMotion, motion_handoff};
 pub use inbox::{
     INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, Received, RingInbox, drain,

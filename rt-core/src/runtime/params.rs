@@ -26,6 +26,9 @@ pub struct RtParams {
     /// nor, on the other CPU, the solver. Not applied in `Spin` mode, where a
     /// real-time busy loop would starve its CPU.
     pub receiver_priority: u8,
+    /// PM QoS request held on /dev/cpu_dma_latency for the core's life (µs
+    /// an idle CPU may take to wake); `None` leaves the host's idle policy.
+    pub cpu_dma_latency_us: Option<u32>,
 }
 
 /// How the receiver thread learns of a client message.
@@ -49,6 +52,7 @@ impl Default for RtParams {
             lock_memory: true,
             receiver: ReceiverWake::Event,
             receiver_priority: 75,
+            cpu_dma_latency_us: Some(0),
         }
     }
 }

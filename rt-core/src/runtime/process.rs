@@ -30,7 +30,7 @@ use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, MotorPolicy, TruthFill, TruthTap};
 use super::params::{CoreParams, CoreParamsError, ReceiverWake};
 use super::rt_setup::{
-    RT_STACK_BYTES, ThreadPlacement, lock_memory, make_current_thread_realtime,
+    RT_STACK_BYTES, ThreadPlacement, hold_cpu_dma_latency, lock_memory, make_current_thread_realtime,
     make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
 use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
@@ -45,6 +45,10 @@ use crate::motion::{PlateMotion, Rig};
 /// The iceoryx2 node name of the core's io thread; a second core on the
 /// same prefix finds it alive and refuses to start.
 pub const CORE_NODE_NAME: &str = ipc_types::discovery::CORE_NODE;
+
+/// Longest the solver thread sleeps without a ring from the receiver (a
+/// safety net: every message and the stop request ring it).
+const SOLVER_IDLE_NS: u64 = 100_000_000;
 
 /// How a run is set up besides [`CoreParams`].
 #[derive(Debug, Clone, Default)]
@@ -82,6 +86,10 @@ pub struct RealtimeStatus {
     /// pinned to the motor's CPU).
     pub receiver: ThreadPlacement,
     pub allocations_counted: bool,
+    /// A PM QoS request was asked for (`rt.cpu_dma_latency_us`) …
+    pub pm_qos_requested: bool,
+    /// … and is held.
+    pub pm_qos_held: bool,
 }
 
 impl RealtimeStatus {
@@ -104,6 +112,9 @@ impl RealtimeStatus {
         }
         if self.receiver.fifo {
             f |= Telemetry::RT_RECEIVER_FIFO;
+        }
+        if self.pm_qos_held {
+            f |= Telemetry::RT_PM_QOS_HELD;
         }
         f
     }
@@ -179,11 +190,24 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let schedule_pub = publisher::<Schedule>(&node, service_names::SCHEDULE)?;
     let telemetry_pub = publisher::<Telemetry>(&node, service_names::TELEMETRY)?;
 
+    // Held until this function returns; the kernel drops it if the process dies.
+    let pm_qos = params.rt.cpu_dma_latency_us.map(hold_cpu_dma_latency);
     let mut realtime = RealtimeStatus {
         memory_locked: params.rt.lock_memory && lock_memory(),
         allocations_counted: alloc_count::counter_installed(),
+        pm_qos_requested: pm_qos.is_some(),
+        pm_qos_held: matches!(pm_qos, Some(Ok(_))),
         ..RealtimeStatus::default()
     };
+    if let Some(Err(e)) = &pm_qos {
+        // Start-up, once: the one place the core explains a missing right.
+        eprintln!(
+            "upm-core: WARNING: cannot hold a PM QoS request on {} ({e}): idle CPUs may wake late, \
+             and wake-up latency then measures the host's idle policy. Run as root or give the rig's \
+             user write access (docs/deploy.md); rt.cpu_dma_latency_us = \"leave\" silences this.",
+            super::rt_setup::CPU_DMA_LATENCY
+        );
+    }
     let rig = Rig::new(params.rig).map_err(|e| StartError::Params(CoreParamsError::Rig(e)))?;
     let empty =
         PlateMotion::new(params.motion).map_err(|e| StartError::Params(CoreParamsError::Motion(e)))?;
@@ -301,7 +325,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         shared.set_state(CoreState::Idle);
     }
     publish(&mut histograms, &mut telemetry, true);
-    drop(announcement);
+    drop((announcement, pm_qos));
     if let Some(dir) = &options.histogram_dir {
         // Reported, not fatal: the plate is already home.
         if let Err(e) = histograms.write_hgrm_dir(dir) {
@@ -345,6 +369,7 @@ impl CoreThreads {
     /// dropped samples.
     fn stop(&mut self, shared: &CoreShared) -> u64 {
         shared.stop.store(true, Relaxed);
+        shared.solver_doorbell.ring();
         let deadline = std::time::Instant::now() + Duration::from_secs(5);
         let dropped = join_by(self.motor.take(), deadline).unwrap_or(0);
         join_by(self.solver.take(), deadline);
@@ -421,7 +446,10 @@ fn spawn_receiver(
                     }
                     placed = true;
                 }
-                let dropped = forward(&mut inbox, &mut buf, &mut ring);
+                let (forwarded, dropped) = forward(&mut inbox, &mut buf, &mut ring);
+                if forwarded > 0 {
+                    shared.solver_doorbell.ring();
+                }
                 shared.rejected_requests.fetch_add(dropped, Relaxed);
                 shared.count_rejects(RejectReason::Overflow, dropped);
                 shared.count_rejects(RejectReason::ReceiveError, inbox.receive_errors - receive_errors);
@@ -480,17 +508,13 @@ fn spawn_solver(
             let _ = ready_tx.send(Ok(placement));
             let clock = MonotonicClock;
             alloc_count::mark_rt_thread(true);
-            let mut deadline = clock.now_ns();
             while !shared.stop.load(Relaxed) {
                 #[cfg(feature = "fault-injection")]
                 inject.panic_if_due(HealthSource::SolverThread, clock.now_ns());
+                let seen = shared.solver_doorbell.seen();
                 drain(&mut inbox, &mut stage, &mut buf, &clock);
-                deadline += params.solver_poll_ns;
-                let now = clock.now_ns();
-                if deadline < now {
-                    deadline = now;
-                }
-                clock.sleep_until(deadline);
+                // Woken by the receiver; the timeout is only a safety net.
+                shared.solver_doorbell.wait(seen, SOLVER_IDLE_NS);
             }
             alloc_count::mark_rt_thread(false);
         })

@@ -1,7 +1,8 @@
 //! Start-up steps that make a thread real-time: locked memory, a
-//! prefaulted stack, SCHED_FIFO (through thread-priority) and CPU affinity
-//! (through libc). Each step reports whether it worked; without privileges
-//! the core still runs and says so.
+//! prefaulted stack, SCHED_FIFO (through thread-priority), CPU affinity
+//! (through libc) and the CPU idle policy (a PM QoS request, as cyclictest
+//! makes). Each step reports whether it worked; without privileges the
+//! core still runs and says so.
 
 use thread_priority::{
     RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue, ThreadSchedulePolicy,
@@ -28,6 +29,26 @@ pub fn prefault_stack() {
         buf[i] = 1;
     }
     std::hint::black_box(&mut buf);
+}
+
+/// The kernel's PM QoS interface: while a process holds it open with a
+/// value written, no CPU enters an idle state whose exit latency exceeds
+/// that value (µs). Closing it (process exit included) drops the request.
+pub const CPU_DMA_LATENCY: &str = "/dev/cpu_dma_latency";
+
+/// A held PM QoS request; dropping it releases the request.
+#[derive(Debug)]
+pub struct PmQosRequest(#[allow(dead_code)] std::fs::File);
+
+/// Hold a request that idle CPUs wake within `latency_us` (0: stay out of
+/// deep idle states, as cyclictest does by default). Needs write access to
+/// [`CPU_DMA_LATENCY`] (root, or the udev rule in docs/deploy.md).
+pub fn hold_cpu_dma_latency(latency_us: u32) -> std::io::Result<PmQosRequest> {
+    use std::io::Write;
+    let mut f = std::fs::OpenOptions::new().write(true).open(CPU_DMA_LATENCY)?;
+    // The kernel takes a binary s32 (as cyclictest writes it).
+    f.write_all(&(latency_us.min(i32::MAX as u32) as i32).to_ne_bytes())?;
+    Ok(PmQosRequest(f))
 }
 
 /// What [`make_current_thread_realtime`] achieved.

@@ -44,6 +44,9 @@ pub struct CoreShared {
     pub resumes: AtomicU64,
     /// Set by a valid resume command, taken by the motor.
     pub resume_requested: AtomicBool,
+    /// Rung by the receiver when it hands the solver messages (and by the
+    /// io thread to stop); the solver thread sleeps on it.
+    pub solver_doorbell: super::doorbell::Doorbell,
     pose: [AtomicU64; 3],
     /// Set by the io thread to stop: the motor finishes its cycle, brings
     /// the plate home and exits.
