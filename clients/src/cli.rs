@@ -276,9 +276,11 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let t = crate::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&crate::status::to_json(&t))?);
+                let mut v = crate::status::to_json(&t);
+                v["prefix"] = serde_json::json!(prefix);
+                println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
-                println!("{}", crate::status::to_text(&t));
+                println!("rig {prefix}\n{}", crate::status::to_text(&t));
             }
             Ok(())
         }

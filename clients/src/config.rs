@@ -113,6 +113,9 @@ pub struct RtSection {
     pub receiver_priority: u8,
     /// PM QoS request held on /dev/cpu_dma_latency (µs), or "leave".
     pub cpu_dma_latency_us: DmaLatency,
+    /// Keep normal-priority work (the core's io thread, the clients `upm
+    /// run` starts) off the motor's CPU.
+    pub isolate_motor_cpu: bool,
 }
 
 /// `rt.cpu_dma_latency_us`: a bound in µs, or `"leave"` the host's policy.
@@ -240,6 +243,7 @@ impl Default for RtSection {
             cpu_dma_latency_us: r
                 .cpu_dma_latency_us
                 .map_or(DmaLatency::Keyword("leave".into()), DmaLatency::Us),
+            isolate_motor_cpu: r.isolate_motor_cpu,
         }
     }
 }
@@ -395,6 +399,7 @@ impl Config {
                     Receiver::Spin => rt_core::runtime::ReceiverWake::Spin,
                 },
                 receiver_priority: self.rt.receiver_priority,
+                isolate_motor_cpu: self.rt.isolate_motor_cpu,
                 cpu_dma_latency_us: match &self.rt.cpu_dma_latency_us {
                     DmaLatency::Us(us) => Some(*us),
                     DmaLatency::Keyword(k) if k == "leave" => None,
@@ -515,6 +520,11 @@ impl Config {
     }
 
     /// The motor thread's CPU, if it is pinned (and the number is valid).
+    /// The motor's CPU if normal-priority work should stay off it.
+    pub fn cpu_to_avoid(&self) -> Option<usize> {
+        self.rt.isolate_motor_cpu.then(|| self.rt_motor_cpu()).flatten()
+    }
+
     pub fn rt_motor_cpu(&self) -> Option<usize> {
         cpu(self.rt.motor_cpu, "rt.motor_cpu").ok().flatten()
     }

@@ -187,3 +187,19 @@ fn a_driver_fault_ends_after_auto_resume_ms_of_healthy_reads() {
     assert!(start.elapsed() >= Duration::from_millis(150), "resumed after {:?}", start.elapsed());
     assert_eq!((held.counters.fault_holds, t.counters.resumes, t.health_source), (1, 1, 0));
 }
+
+#[test]
+fn upm_status_finds_a_running_rig_without_being_told_its_prefix() {
+    let mut rig = Rig::start("discover", "none", None);
+    assert!(rig.until(Duration::from_secs(20), |t| t.core_state().is_some()).is_some());
+    let out =
+        Command::new(env!("CARGO_BIN_EXE_upm")).args(["status", "--json"]).output().expect("upm status");
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    // Other tests may run rigs at the same time: then it lists them all.
+    if out.status.success() {
+        assert!(stdout.contains(&format!("\"prefix\": \"{}\"", rig.prefix)), "{stdout}");
+    } else {
+        assert!(stderr.contains("rigs are running") && stderr.contains(&rig.prefix), "{stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    }
+}

@@ -101,16 +101,23 @@ pub fn run_plan(
         exe.clone(),
         vec!["vision".into(), "--config".into(), cfg.clone()],
         Some(logs.join("vision.log")),
-    );
+    )
+    .avoiding_cpu(plan.config.cpu_to_avoid());
     let mut planner_args =
         vec!["planner".into(), "--config".into(), cfg.clone(), "--planner".into(), plan.planner.clone()];
     if let Some(s) = &plan.scenario_file {
         planner_args.extend(["--scenario".into(), s.display().to_string()]);
     }
-    let mut planner = Supervised::new("upm-planner", exe, planner_args, Some(logs.join("planner.log")));
+    let mut planner = Supervised::new("upm-planner", exe, planner_args, Some(logs.join("planner.log")))
+        .avoiding_cpu(plan.config.cpu_to_avoid());
 
     let mut recorder = Recorder::new(&prefix, 20.0)?;
     core.start()?;
+    if let Some(cpu) = plan.config.cpu_to_avoid() {
+        // The recorder and progress bar need no RT CPU (the core, started
+        // above, has taken the full set with it).
+        rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+    }
     // Wait until the core is up before starting its clients.
     let up = Instant::now();
     while !rt_core::runtime::core_running(&prefix).unwrap_or(false) {

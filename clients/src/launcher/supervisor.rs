@@ -19,11 +19,29 @@ pub struct Supervised {
     pub restarts: u32,
     backoff: Duration,
     restart_at: Option<Instant>,
+    /// A CPU the process must not run on (the motor's).
+    avoid_cpu: Option<usize>,
 }
 
 impl Supervised {
     pub fn new(name: &'static str, program: PathBuf, args: Vec<String>, log: Option<PathBuf>) -> Self {
-        Self { name, program, args, log, child: None, restarts: 0, backoff: FIRST_BACKOFF, restart_at: None }
+        Self {
+            name,
+            program,
+            args,
+            log,
+            child: None,
+            restarts: 0,
+            backoff: FIRST_BACKOFF,
+            restart_at: None,
+            avoid_cpu: None,
+        }
+    }
+
+    /// Keep the process (each start) off `cpu`.
+    pub fn avoiding_cpu(mut self, cpu: Option<usize>) -> Self {
+        self.avoid_cpu = cpu;
+        self
     }
 
     pub fn start(&mut self) -> anyhow::Result<()> {
@@ -31,6 +49,16 @@ impl Supervised {
         cmd.args(&self.args).stdin(Stdio::null());
         // Never orphaned: a launcher killed with SIGKILL still stops its rig.
         crate::die_with_parent::die_with_parent(&mut cmd, libc::SIGTERM);
+        if let Some(cpu) = self.avoid_cpu {
+            // SAFETY: between fork and exec the hook only makes two
+            // affinity syscalls on a stack cpu_set_t; it allocates nothing.
+            unsafe {
+                std::os::unix::process::CommandExt::pre_exec(&mut cmd, move || {
+                    rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+                    Ok(())
+                });
+            }
+        }
         if let Some(log) = &self.log {
             let f = std::fs::OpenOptions::new().create(true).append(true).open(log)?;
             cmd.stdout(f.try_clone()?).stderr(f);

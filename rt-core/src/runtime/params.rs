@@ -29,6 +29,9 @@ pub struct RtParams {
     /// PM QoS request held on /dev/cpu_dma_latency for the core's life (µs
     /// an idle CPU may take to wake); `None` leaves the host's idle policy.
     pub cpu_dma_latency_us: Option<u32>,
+    /// Keep the core's io thread off the motor's CPU (only the motor and
+    /// the receiver, which the motor preempts, run there).
+    pub isolate_motor_cpu: bool,
 }
 
 /// How the receiver thread learns of a client message.
@@ -53,6 +56,7 @@ impl Default for RtParams {
             receiver: ReceiverWake::Event,
             receiver_priority: 75,
             cpu_dma_latency_us: Some(0),
+            isolate_motor_cpu: true,
         }
     }
 }

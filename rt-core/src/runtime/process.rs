@@ -30,8 +30,8 @@ use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, MotorPolicy, TruthFill, TruthTap};
 use super::params::{CoreParams, CoreParamsError, ReceiverWake};
 use super::rt_setup::{
-    RT_STACK_BYTES, ThreadPlacement, hold_cpu_dma_latency, lock_memory, make_current_thread_realtime,
-    make_current_thread_realtime_on, pin_current_thread, prefault_stack,
+    RT_STACK_BYTES, ThreadPlacement, hold_cpu_dma_latency, keep_current_thread_off, lock_memory,
+    make_current_thread_realtime, make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
 use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
 use super::shared::{CoreShared, HealthReport};
@@ -260,6 +260,11 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
     }
     motor_fifo.store(realtime.motor.fifo, Relaxed);
+    if let (true, true, Some(cpu)) = (params.rt.isolate_motor_cpu, realtime.motor.pinned, params.rt.motor_cpu)
+    {
+        // This (io) thread publishes, lists nodes and writes files: elsewhere.
+        keep_current_thread_off(cpu);
+    }
 
     // io loop on this thread.
     let start_ns = monotonic_now_ns();

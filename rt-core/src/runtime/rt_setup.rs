@@ -107,6 +107,25 @@ pub fn pin_current_thread(cpu: usize) -> bool {
     }
 }
 
+/// Take `cpu` out of the calling thread's CPU set, if another CPU remains
+/// (keeps normal-priority work off the motor's CPU). True if it did.
+/// Allocation-free, so a child may call it between fork and exec.
+pub fn keep_current_thread_off(cpu: usize) -> bool {
+    if cpu >= libc::CPU_SETSIZE as usize {
+        return false;
+    }
+    // SAFETY: a zeroed cpu_set_t is valid; the kernel fills it for the
+    // calling thread (pid 0); CPU_CLR stays in bounds (checked above).
+    unsafe {
+        let mut set: libc::cpu_set_t = core::mem::zeroed();
+        if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
+            return false;
+        }
+        libc::CPU_CLR(cpu, &mut set);
+        libc::CPU_COUNT(&set) > 0 && libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
+    }
+}
+
 /// CPU ids this process may run on (its affinity mask; a cpuset need not
 /// start at 0 or be contiguous). Start-up only: it allocates.
 pub fn allowed_cpus() -> Vec<usize> {
