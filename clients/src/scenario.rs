@@ -152,7 +152,7 @@ impl Scenario {
                 }
                 "track" => match p.track_rects.get(*id as usize - 1) {
                     Some(&rect) => {
-                        // After one lap's worth of settling time? No: after 20 % of the run.
+                        // Settling: judged over the last 80 % of the run.
                         let settle = 0.2 * trails.duration();
                         for q in trail.points.iter().filter(|q| q[0] >= settle) {
                             let d = distance_to_rectangle(rect, [q[1], q[2]]);
