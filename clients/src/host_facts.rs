@@ -29,12 +29,8 @@ fn preemption() -> String {
 pub fn read_all() -> Value {
     let cpu0 = "/sys/devices/system/cpu/cpu0/cpuidle";
     let states: Vec<String> = (0..16).map_while(|i| read(&format!("{cpu0}/state{i}/name"))).collect();
-    let model = read("/proc/cpuinfo").and_then(|c| {
-        c.lines()
-            .find(|l| l.starts_with("model name"))
-            .and_then(|l| l.split(':').nth(1))
-            .map(|m| m.trim().to_owned())
-    });
+    let cpuinfo = read("/proc/cpuinfo").unwrap_or_default();
+    let model = cpuinfo.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(str::trim);
     json!({
         "kernel": read("/proc/sys/kernel/osrelease"),
         "preemption": preemption(),
@@ -43,7 +39,8 @@ pub fn read_all() -> Value {
             .or_else(|| read("/sys/devices/system/cpu/cpuidle/current_governor")),
         "cpuidle_states": states,
         "cpu_model": model,
-        "cpus": std::thread::available_parallelism().map_or(0, |n| n.get()),
+        // Online CPUs, not this thread's affinity.
+        "cpus": cpuinfo.lines().filter(|l| l.starts_with("processor")).count(),
     })
 }
 

@@ -116,7 +116,7 @@ pub fn run_plan(
     if let Some(cpu) = plan.config.cpu_to_avoid() {
         // The recorder and progress bar need no RT CPU (the core, started
         // above, has taken the full set with it).
-        rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+        let _ = rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
     }
     // Wait until the core is up before starting its clients.
     let up = Instant::now();

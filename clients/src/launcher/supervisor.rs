@@ -5,9 +5,12 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Backoff after a crash: doubles from `FIRST_BACKOFF` up to `MAX_BACKOFF`.
+/// Backoff after a crash: doubles from `FIRST_BACKOFF` up to `MAX_BACKOFF`,
+/// and starts over for a process that ran `HEALTHY_RUN` before it died
+/// (a client killed once an hour is restarted as fast as the first time).
 const FIRST_BACKOFF: Duration = Duration::from_millis(100);
 const MAX_BACKOFF: Duration = Duration::from_secs(2);
+const HEALTHY_RUN: Duration = Duration::from_secs(10);
 
 #[derive(Debug)]
 pub struct Supervised {
@@ -21,6 +24,7 @@ pub struct Supervised {
     restart_at: Option<Instant>,
     /// A CPU the process must not run on (the motor's).
     avoid_cpu: Option<usize>,
+    started_at: Option<Instant>,
 }
 
 impl Supervised {
@@ -35,6 +39,7 @@ impl Supervised {
             backoff: FIRST_BACKOFF,
             restart_at: None,
             avoid_cpu: None,
+            started_at: None,
         }
     }
 
@@ -54,7 +59,7 @@ impl Supervised {
             // affinity syscalls on a stack cpu_set_t; it allocates nothing.
             unsafe {
                 std::os::unix::process::CommandExt::pre_exec(&mut cmd, move || {
-                    rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+                    let _ = rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
                     Ok(())
                 });
             }
@@ -67,6 +72,7 @@ impl Supervised {
             .spawn()
             .map_err(|e| anyhow::anyhow!("starting {} ({}): {e}", self.name, self.program.display()))?;
         self.child = Some(child);
+        self.started_at = Some(Instant::now());
         Ok(())
     }
 
@@ -93,6 +99,9 @@ impl Supervised {
         }
         if self.exited().is_some() {
             self.child = None;
+            if self.started_at.is_some_and(|t| t.elapsed() >= HEALTHY_RUN) {
+                self.backoff = FIRST_BACKOFF;
+            }
             self.restart_at = Some(Instant::now() + self.backoff);
             self.backoff = (self.backoff * 2).min(MAX_BACKOFF);
         }
@@ -122,5 +131,34 @@ impl Supervised {
 impl Drop for Supervised {
     fn drop(&mut self) {
         self.stop(Duration::from_secs(2));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wait_exit(s: &mut Supervised) {
+        while s.child.as_mut().is_some_and(|c| c.try_wait().ok().flatten().is_none()) {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn backoff_doubles_for_crash_loops_and_starts_over_after_a_healthy_run() {
+        let mut s = Supervised::new("true", "true".into(), Vec::new(), None);
+        for expected_ms in [100, 200, 400] {
+            s.start().expect("start");
+            wait_exit(&mut s);
+            assert!(!s.restart_if_dead().expect("restart"));
+            assert_eq!(s.restart_at.map(|_| ()), Some(()));
+            s.restart_at = None;
+            assert_eq!(s.backoff, Duration::from_millis(expected_ms * 2), "after a crash at {expected_ms} ms");
+        }
+        (s.program, s.args) = ("sleep".into(), vec!["10.1".into()]);
+        s.start().expect("start");
+        wait_exit(&mut s);
+        s.restart_if_dead().expect("restart");
+        assert_eq!(s.backoff, FIRST_BACKOFF * 2, "a 10 s run did not reset the backoff");
     }
 }

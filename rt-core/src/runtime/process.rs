@@ -22,7 +22,7 @@ use ipc_types::{
 };
 
 use super::alloc_count;
-use super::clock::{Clock, MonotonicClock};
+use super::clock::MonotonicClock;
 use super::handoff::{StagedMotion, motion_handoff};
 use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, drain, forward};
 use super::ipc_inbox::IpcInbox;
@@ -260,11 +260,12 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
     }
     motor_fifo.store(realtime.motor.fifo, Relaxed);
-    if let (true, true, Some(cpu)) = (params.rt.isolate_motor_cpu, realtime.motor.pinned, params.rt.motor_cpu)
-    {
-        // This (io) thread publishes, lists nodes and writes files: elsewhere.
-        keep_current_thread_off(cpu);
-    }
+    // This (io) thread publishes, lists nodes and writes files: elsewhere,
+    // until it returns to its caller.
+    let io_cpus = match (params.rt.isolate_motor_cpu, realtime.motor.pinned, params.rt.motor_cpu) {
+        (true, true, Some(cpu)) => keep_current_thread_off(cpu),
+        _ => None,
+    };
 
     // io loop on this thread.
     let start_ns = monotonic_now_ns();
@@ -331,6 +332,9 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     }
     publish(&mut histograms, &mut telemetry, true);
     drop((announcement, pm_qos));
+    if let Some(set) = &io_cpus {
+        super::rt_setup::restore_current_thread_cpus(set);
+    }
     if let Some(dir) = &options.histogram_dir {
         // Reported, not fatal: the plate is already home.
         if let Err(e) = histograms.write_hgrm_dir(dir) {
@@ -515,7 +519,7 @@ fn spawn_solver(
             alloc_count::mark_rt_thread(true);
             while !shared.stop.load(Relaxed) {
                 #[cfg(feature = "fault-injection")]
-                inject.panic_if_due(HealthSource::SolverThread, clock.now_ns());
+                inject.panic_if_due(HealthSource::SolverThread, monotonic_now_ns());
                 let seen = shared.solver_doorbell.seen();
                 drain(&mut inbox, &mut stage, &mut buf, &clock);
                 // Woken by the receiver; the timeout is only a safety net.

@@ -108,22 +108,32 @@ pub fn pin_current_thread(cpu: usize) -> bool {
 }
 
 /// Take `cpu` out of the calling thread's CPU set, if another CPU remains
-/// (keeps normal-priority work off the motor's CPU). True if it did.
-/// Allocation-free, so a child may call it between fork and exec.
-pub fn keep_current_thread_off(cpu: usize) -> bool {
+/// (keeps normal-priority work off the motor's CPU). Returns the set it
+/// replaced, for [`restore_current_thread_cpus`]; `None` if it changed
+/// nothing. Allocation-free, so a child may call it between fork and exec.
+pub fn keep_current_thread_off(cpu: usize) -> Option<libc::cpu_set_t> {
     if cpu >= libc::CPU_SETSIZE as usize {
-        return false;
+        return None;
     }
     // SAFETY: a zeroed cpu_set_t is valid; the kernel fills it for the
     // calling thread (pid 0); CPU_CLR stays in bounds (checked above).
     unsafe {
         let mut set: libc::cpu_set_t = core::mem::zeroed();
         if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
-            return false;
+            return None;
         }
+        let original = set;
         libc::CPU_CLR(cpu, &mut set);
-        libc::CPU_COUNT(&set) > 0 && libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
+        let moved =
+            libc::CPU_COUNT(&set) > 0 && libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0;
+        moved.then_some(original)
     }
+}
+
+/// Give the calling thread back a set [`keep_current_thread_off`] replaced.
+pub fn restore_current_thread_cpus(set: &libc::cpu_set_t) {
+    // SAFETY: a set the kernel gave this thread before; pid 0 is the caller.
+    unsafe { libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), set) };
 }
 
 /// CPU ids this process may run on (its affinity mask; a cpuset need not
