@@ -30,7 +30,11 @@ pub fn read_all() -> Value {
     let cpu0 = "/sys/devices/system/cpu/cpu0/cpuidle";
     let states: Vec<String> = (0..16).map_while(|i| read(&format!("{cpu0}/state{i}/name"))).collect();
     let cpuinfo = read("/proc/cpuinfo").unwrap_or_default();
-    let model = cpuinfo.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(str::trim);
+    let model = cpuinfo
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map(str::trim);
     json!({
         "kernel": read("/proc/sys/kernel/osrelease"),
         "preemption": preemption(),

@@ -153,7 +153,11 @@ mod tests {
             assert!(!s.restart_if_dead().expect("restart"));
             assert_eq!(s.restart_at.map(|_| ()), Some(()));
             s.restart_at = None;
-            assert_eq!(s.backoff, Duration::from_millis(expected_ms * 2), "after a crash at {expected_ms} ms");
+            assert_eq!(
+                s.backoff,
+                Duration::from_millis(expected_ms * 2),
+                "after a crash at {expected_ms} ms"
+            );
         }
         (s.program, s.args) = ("sleep".into(), vec!["10.1".into()]);
         s.start().expect("start");
