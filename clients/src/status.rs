@@ -180,7 +180,7 @@ pub fn to_text(t: &Telemetry) -> String {
 /// Which rig `upm status` / `upm resume` talk to when no prefix is given:
 /// the only running one. Several or none is an error listing what runs.
 pub fn discover_prefix() -> anyhow::Result<String> {
-    let rigs = running_rigs();
+    let rigs = running_rigs().map_err(|e| anyhow::anyhow!("reading the running rigs: {e:?}"))?;
     match rigs.as_slice() {
         [one] => Ok(one.name.clone()),
         [] => bail!("no running upm rig found on this machine (start one with `upm run`, or pass --prefix)"),

@@ -10,7 +10,7 @@
 //!
 //! Listing walks iceoryx2's files: for start-up and tools, not RT threads.
 
-use iceoryx2::node::NodeView;
+use iceoryx2::node::{NodeListFailure, NodeView};
 use iceoryx2::prelude::*;
 
 use crate::ports::config_with_prefix;
@@ -35,11 +35,12 @@ pub struct NodePresence {
 }
 
 /// Every live node on `prefix` whose name starts with `name_prefix`,
-/// oldest first. Dead nodes' files are cleaned up on the way.
-pub fn live_nodes(prefix: &str, name_prefix: &str) -> Vec<NodePresence> {
-    let Ok(config) = config_with_prefix(prefix) else { return Vec::new() };
+/// oldest first. Dead nodes' files are cleaned up on the way. An invalid
+/// prefix has no nodes.
+pub fn live_nodes(prefix: &str, name_prefix: &str) -> Result<Vec<NodePresence>, NodeListFailure> {
+    let Ok(config) = config_with_prefix(prefix) else { return Ok(Vec::new()) };
     let mut found = Vec::new();
-    let _ = Node::<ipc::Service>::list(&config, |state| {
+    Node::<ipc::Service>::list(&config, |state| {
         match state {
             NodeState::Alive(view) => {
                 if let Some(d) = view.details().as_ref()
@@ -59,14 +60,9 @@ pub fn live_nodes(prefix: &str, name_prefix: &str) -> Vec<NodePresence> {
             NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
         }
         CallbackProgression::Continue
-    });
+    })?;
     found.sort_by_key(|n| n.started_ns);
-    found
-}
-
-/// The newest live node on `prefix` whose name starts with `name_prefix`.
-pub fn newest_node(prefix: &str, name_prefix: &str) -> Option<NodePresence> {
-    live_nodes(prefix, name_prefix).pop()
+    Ok(found)
 }
 
 /// Announce the rig on `prefix` machine-wide; keep the node as long as the
@@ -76,6 +72,6 @@ pub fn announce_rig(prefix: &str) -> Result<Node<ipc::Service>, RigNodeError> {
 }
 
 /// Rigs announced by live cores: the node name is the rig's prefix.
-pub fn running_rigs() -> Vec<NodePresence> {
+pub fn running_rigs() -> Result<Vec<NodePresence>, NodeListFailure> {
     live_nodes(DISCOVERY_PREFIX, "")
 }

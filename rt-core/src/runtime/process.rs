@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 
-use iceoryx2::node::{NodeView, NodeWaitFailure};
+use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::ports::{config_with_prefix, open_pub_sub};
 use ipc_types::rig_node::rig_node;
@@ -128,33 +128,16 @@ impl RealtimeStatus {
 /// True if a live upm-core owns `prefix` (dead cores' resources are
 /// cleaned up on the way).
 pub fn core_running(prefix: &str) -> Result<bool, StartError> {
-    let config = config_with_prefix(prefix).map_err(|_| StartError::Prefix)?;
-    Ok(claim_prefix(&config) == Err(StartError::AlreadyRunning))
+    config_with_prefix(prefix).map_err(|_| StartError::Prefix)?;
+    Ok(claim_prefix(prefix) == Err(StartError::AlreadyRunning))
 }
 
 /// Refuse to start if a live core owns `config`'s prefix; clean up the
 /// resources of dead ones (a core killed with SIGKILL).
-fn claim_prefix(config: &Config) -> Result<(), StartError> {
-    let mut alive = false;
-    let listed = Node::<ipc::Service>::list(config, |state| {
-        match state {
-            NodeState::Alive(view) => {
-                if view.details().as_ref().is_some_and(|d| d.name().as_str() == CORE_NODE_NAME) {
-                    alive = true;
-                }
-            }
-            NodeState::Dead(view) => {
-                // Best effort: a failure leaves files iceoryx2 retries later.
-                let _ = view.try_remove_stale_resources();
-            }
-            NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
-        }
-        CallbackProgression::Continue
-    });
-    if let Err(e) = listed {
-        return Err(StartError::NodeList(e));
-    }
-    if alive { Err(StartError::AlreadyRunning) } else { Ok(()) }
+fn claim_prefix(prefix: &str) -> Result<(), StartError> {
+    let cores = ipc_types::discovery::live_nodes(prefix, CORE_NODE_NAME).map_err(StartError::NodeList)?;
+    // Exact name: the core's receiver node shares the name's start.
+    if cores.iter().any(|n| n.name == CORE_NODE_NAME) { Err(StartError::AlreadyRunning) } else { Ok(()) }
 }
 
 /// Run the core with `driver` until SIGINT/SIGTERM (or `options.duration`).
@@ -181,8 +164,8 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     options: &RunOptions,
 ) -> Result<RunReport, StartError> {
     params.validate().map_err(StartError::Params)?;
-    let config = config_with_prefix(&options.prefix).map_err(|_| StartError::Prefix)?;
-    claim_prefix(&config)?;
+    config_with_prefix(&options.prefix).map_err(|_| StartError::Prefix)?;
+    claim_prefix(&options.prefix)?;
     let node = rig_node(&options.prefix, Some(CORE_NODE_NAME), SignalHandlingMode::HandleTerminationRequests)
         .map_err(StartError::Node)?;
     // Seen by `upm status` without a prefix; best effort (a rig runs without).
@@ -357,10 +340,14 @@ fn publisher<T: core::fmt::Debug + iceoryx2::prelude::ZeroCopySend>(
 
 /// The vision and planner clients on `prefix` (0 when absent).
 fn fill_clients(t: &mut Telemetry, prefix: &str) {
-    let found =
-        |name| ipc_types::discovery::newest_node(prefix, name).map_or((0, 0), |n| (n.pid, n.started_ns));
-    (t.vision_pid, t.vision_started_ns) = found(ipc_types::discovery::VISION_NODE);
-    (t.planner_pid, t.planner_started_ns) = found(ipc_types::discovery::PLANNER_NODE);
+    use ipc_types::discovery::{PLANNER_NODE, VISION_NODE, live_nodes};
+    // One walk of the registry; a failed one reads as "no clients".
+    let nodes = live_nodes(prefix, "").unwrap_or_default();
+    let newest = |role: &str| {
+        nodes.iter().rev().find(|n| n.name.starts_with(role)).map_or((0, 0), |n| (n.pid, n.started_ns))
+    };
+    (t.vision_pid, t.vision_started_ns) = newest(VISION_NODE);
+    (t.planner_pid, t.planner_started_ns) = newest(PLANNER_NODE);
 }
 
 /// The core's three threads; a thread that died (parked in the panic hook)

@@ -413,17 +413,14 @@ impl SolveStage {
         msg.validate(&self.limits).map_err(RequestError::InvalidExplicit)?;
         self.check_order(msg.seq, msg.stamp_ns)?;
         let n = msg.slots().len();
-        // entries holds MAX_SLOTS = the protocol's capacity and validate()
-        // checked every center index; zip and get() keep it so if either
-        // ever changes.
-        for (entry, e) in self.entries.iter_mut().zip(msg.slots()) {
+        // entries has room for every slot (asserted at compile time) and
+        // validate() checked every center index; get() keeps a future gap
+        // between the two a rejection, not a panic.
+        for (index, (entry, e)) in self.entries.iter_mut().zip(msg.slots()).enumerate() {
             let center = *self.centers.get(e.center_index as usize).ok_or(RequestError::InvalidExplicit(
-                ExplicitScheduleError::UnknownCenter { index: 0, center_index: e.center_index },
+                ExplicitScheduleError::UnknownCenter { index, center_index: e.center_index },
             ))?;
             *entry = ScheduleEntry { center, k: e.k };
-        }
-        if n > self.entries.len() {
-            return Err(RequestError::Motion(MotionError::TooManySlots { given: n, capacity: MAX_SLOTS }));
         }
         self.stage_motion(n, msg.seq, 0)?;
         let m = &mut *self.schedule;
