@@ -48,10 +48,9 @@ fn thousands_of_solves_allocate_nothing() {
     // Build every input first: only the solves are counted.
     let mut cases = Vec::new();
     for seed in 0..3000u64 {
-        // Exact path up to full capacity; bounded cases kept moderate so
-        // the test stays fast (each bounded step refactors the free block).
+        // Both paths up to full capacity.
         let bounded = seed % 3 == 0;
-        let parts = if bounded { 1 + (seed as usize * 7) % 16 } else { 1 + (seed as usize * 7) % 64 };
+        let parts = 1 + (seed as usize * 7) % 64;
         let curls = (seed as usize) % 17;
         let rows = 2 * parts + curls;
         let centers = (rows + (seed as usize % 40)).clamp(3, 192);
@@ -62,14 +61,22 @@ fn thousands_of_solves_allocate_nothing() {
             p.force = p.force.map(|f| [f[0] * gain, f[1] * gain]);
         });
         case.curls.iter_mut().for_each(|q| q.curl *= gain);
+        // A bounded case comes back as the next frame (every part 1 mm
+        // further): the warm-started path.
+        let next = bounded.then(|| {
+            let mut next = case.clone();
+            next.parts.iter_mut().for_each(|p| p.position[0] += 0.001);
+            next
+        });
         cases.push(case);
+        cases.extend(next);
     }
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut out = solver.new_solution();
-    // Start-up: faer's gemm allocates a thread-local buffer on first use.
+    // Start-up, as an RT thread does it (every buffer touched once).
     assert!(solver.warm_up());
     let mut methods = [0usize; 3];
-    let mut unconverged = 0;
+    let (mut unconverged, mut warm) = (0, 0);
 
     ALLOCATIONS.store(0, Ordering::SeqCst);
     COUNTING.with(|c| c.set(true));
@@ -88,16 +95,18 @@ fn thousands_of_solves_allocate_nothing() {
             SolveMethod::Trivial => 2,
         }] += usize::from(result.is_ok());
         unconverged += usize::from(!out.converged);
+        warm += usize::from(out.warm_started);
     }
     COUNTING.with(|c| c.set(false));
     let allocations = ALLOCATIONS.load(Ordering::SeqCst);
 
     println!(
-        "exact {}, bounded {}, trivial {}, bounded not converged {unconverged}",
+        "exact {}, bounded {} ({warm} warm-started), trivial {}, bounded not converged {unconverged}",
         methods[0], methods[1], methods[2]
     );
     assert_eq!(allocations, 0, "solves allocated {allocations} times");
     assert!(methods[0] > 100 && methods[1] > 100, "both paths must be exercised: {methods:?}");
+    assert!(warm > 100, "the warm-started path must be exercised: {warm}");
     assert_eq!(methods.iter().sum::<usize>(), cases.len(), "every solve succeeded");
 }
 

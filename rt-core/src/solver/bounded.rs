@@ -1,68 +1,80 @@
 //! Bounded least squares: min ½‖A k − b‖² + ½ε‖k‖² subject to |k_j| ≤ k_max.
 //!
-//! A feasible active-set method (Lawson & Hanson's NNLS, extended to a box
-//! as in Stark & Parker's BVLS): start at k = 0, step toward the optimum of
-//! the free block until a variable hits its bound (fix it), and when the
-//! free block is optimal release the bound variable whose gradient pulls it
-//! inward the most. Every step keeps k feasible and never increases the
-//! objective, so stopping at the cap still returns the best point so far;
-//! at convergence the KKT conditions hold (to a 1e-10 relative tolerance).
+//! **Block principal pivoting** (Júdice & Pires 1994; Kim & Park's NNLS,
+//! here on a box). Every variable is either free or fixed at ±k_max. Each
+//! iteration solves the free block with the fixed ones at their bounds and
+//! collects what breaks the KKT conditions: free variables outside the box,
+//! fixed ones whose gradient pulls them inside. None: optimal. Otherwise
+//! all of them change side at once, which reaches a heavily saturated
+//! optimum (in `sort` nearly every k_j is at a bound) in a handful of
+//! iterations where a one-bound-at-a-time method needs one per bound. When
+//! the count of violations stops falling for `BACKUP_TRIES` iterations,
+//! only the violating variable of largest index changes side (Murty's rule),
+//! which guarantees termination; the optimum is unique (ε > 0).
 //!
-//! The free block is solved as the least-squares problem [A_F; √ε·I] k_F =
-//! [r; 0] by Householder QR, never through AᵀA: the normal equations square
-//! κ (≈1e12 for close parts) and their KKT tests turn into noise. Work is
-//! bounded: at most `bounded_max_iterations` least-squares solves of
-//! 2·n_F²·(m + n_F) flops each, plus 4·m·n per release. The small ε picks
-//! the smallest K among equally good ones.
-
-use faer::dyn_stack::{MemStack, StackReq};
+//! The iteration starts from the caller's guess (the last frame's active
+//! set, the unbounded K clipped, or all free); a good guess is an answer
+//! in one iteration, a bad one costs iterations, never correctness.
+//!
+//! **The free block** is solved by Householder QR in whichever form is
+//! smaller, never through AᵀA (whose κ² is ~1e20 for close parts). With F
+//! the free set and r = b − A_B k_B what the bound variables leave:
+//! - |F| < m: least squares [A_F; √ε·I] k_F ≈ [r; 0], R is |F| × |F|;
+//! - else: minimum norm [A_F √ε·I] v = r, k_F = v[..|F|], from the QR of
+//!   [A_Fᵀ; √ε·I], R is m × m.
+//!
+//! Both are backward stable, so the answer depends only on the final active
+//! set, not on the path to it (a warm start gives the cold answer bit for
+//! bit when both end on the same set). A saturated frame has |F| ≪ m, so
+//! its QR is small: 2·d²·(m + |F|) flops with d = min(m, |F|).
+//!
+//! Work is bounded: at most `max_iterations` iterations of one such QR,
+//! one A·k and one Aᵀ·r (4·m·n flops). The small ε picks the smallest K
+//! among equally good ones.
 
 use super::dense::{axpy, dot};
-use faer::linalg::qr::no_pivoting::{factor as qr, solve as qr_solve};
-use faer::reborrow::*;
-use faer::{MatMut, Par};
-
-use faer::linalg::qr::no_pivoting::factor::recommended_block_size;
-
-/// Householder block size for a `rows × cols` QR: unblocked below 64
-/// columns, where blocking only adds set-up.
-fn block_size(rows: usize, cols: usize) -> usize {
-    if cols <= 64 { 1 } else { recommended_block_size::<f64>(rows, cols) }
-}
-
-pub(crate) fn bounded_scratch(max_m: usize, max_n: usize) -> StackReq {
-    let rows = max_m + max_n;
-    let bs = block_size(rows, max_n);
-    StackReq::any_of(&[
-        qr::qr_in_place_scratch::<f64>(rows, max_n, bs, Par::Seq, Default::default()),
-        qr_solve::solve_lstsq_in_place_scratch::<f64>(rows, max_n, bs, 1, Par::Seq),
-    ])
-}
+use super::pivoted_qr::PivotedQr;
 
 #[derive(Debug)]
 pub(crate) struct BoundedBuffers {
-    aug: Vec<f64>,
-    householder: Vec<f64>,
+    /// A by columns: column j at `[j·m, (j+1)·m)`.
+    cols: Vec<f64>,
+    /// The free block's matrix in its smaller form, column-major, factored
+    /// in place.
+    factor: Vec<f64>,
+    tau: Vec<f64>,
+    perm: Vec<usize>,
+    norms: Vec<f64>,
+    norms_ref: Vec<f64>,
+    work: Vec<f64>,
     rhs: Vec<f64>,
     residual: Vec<f64>,
-    grad: Vec<f64>,
     target: Vec<f64>,
+    trial: Vec<f64>,
     free: Vec<usize>,
-    state: Vec<i8>,
+    /// Per variable: 0 free, ±1 fixed at ±k_max. The caller writes the
+    /// starting guess here; after a solve it holds the final active set.
+    pub state: Vec<i8>,
 }
 
 impl BoundedBuffers {
     pub fn new(max_m: usize, max_n: usize) -> Self {
-        let rows = max_m + max_n;
+        let (m, n) = (max_m.max(1), max_n.max(1));
+        let d = m.max(n);
         Self {
-            aug: vec![0.0; rows * max_n],
-            householder: vec![0.0; block_size(rows, max_n) * max_n],
-            rhs: vec![0.0; rows],
-            residual: vec![0.0; max_m],
-            grad: vec![0.0; max_n],
-            target: vec![0.0; max_n],
-            free: vec![0; max_n],
-            state: vec![0; max_n],
+            cols: vec![0.0; m * n],
+            factor: vec![0.0; (n + m) * d],
+            tau: vec![0.0; d],
+            perm: vec![0; d],
+            norms: vec![0.0; d],
+            norms_ref: vec![0.0; d],
+            work: vec![0.0; n + m],
+            rhs: vec![0.0; m],
+            residual: vec![0.0; m],
+            target: vec![0.0; n],
+            trial: vec![0.0; n],
+            free: vec![0; n],
+            state: vec![0; n],
         }
     }
 }
@@ -80,172 +92,286 @@ pub(crate) struct BoundedInput<'a> {
 
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct BoundedReport {
+    /// Free-block solves.
     pub iterations: usize,
     pub converged: bool,
+    /// Bounds active at the answer.
+    pub active: usize,
 }
 
-/// Writes the bounded solution into `k[..n]`.
+/// Solves from the guess in `buf.state[..n]` and writes the bounded
+/// solution into `k[..n]`; `buf.state` then holds its active set.
 pub(crate) fn bounded_solve(
     inp: &BoundedInput<'_>,
     buf: &mut BoundedBuffers,
     k: &mut [f64],
-    stack: &mut MemStack,
 ) -> BoundedReport {
     let (m, n, k_max) = (inp.m, inp.n, inp.k_max);
     let rows = &inp.rows[..m * n];
-    let fro2: f64 = rows.iter().map(|a| a * a).sum();
-    // Floor: a degenerate A (parts absurdly far away) still gets a unique K.
-    let eps = (inp.tikhonov * fro2 / n as f64).max(1e-300);
-    let sys = System { rows, b: &inp.b[..m], m, n, eps };
+    let cols = &mut buf.cols[..m * n];
+    for i in 0..m {
+        for j in 0..n {
+            cols[j * m + i] = rows[i * n + j];
+        }
+    }
+    let block = FreeBlock {
+        cols: &buf.cols[..m * n],
+        b: &inp.b[..m],
+        m,
+        n,
+        eps: super::system::tikhonov_eps(rows, n, inp.tikhonov),
+        k_max,
+    };
+    let mut qr = QrBuffers {
+        factor: &mut buf.factor,
+        tau: &mut buf.tau,
+        perm: &mut buf.perm,
+        norms: &mut buf.norms,
+        norms_ref: &mut buf.norms_ref,
+        work: &mut buf.work,
+        free: &mut buf.free,
+    };
+    let mut it = Iterate { state: &mut buf.state[..n], k: &mut k[..n], rhs: &mut buf.rhs[..m] };
+    let z = &mut buf.target[..n];
+    let trial = &mut buf.trial[..n];
+    let residual = &mut buf.residual[..m];
+    // Release threshold: relative to the gradient at k = 0, γ = −Aᵀb.
+    let tol =
+        (0..n).map(|j| dot(block.col(j), block.b).abs()).fold(0.0f64, f64::max) * 1e-10 + f64::MIN_POSITIVE;
 
-    // Start feasible at k = 0 with every variable free.
-    let k = &mut k[..n];
-    k.fill(0.0);
-    let state = &mut buf.state[..n];
-    state.fill(0);
-    let grad = &mut buf.grad[..n];
-    sys.gradient(k, &mut buf.residual, grad);
-    let tol = grad.iter().fold(0.0f64, |a, g| a.max(g.abs())) * 1e-10 + f64::MIN_POSITIVE;
-
-    let mut report = BoundedReport { iterations: 0, converged: false };
-    while report.iterations < inp.max_iterations {
-        // Move toward the free block's optimum, stopping at the first bound
-        // hit; each pass that stops short fixes at least one variable.
-        loop {
-            report.iterations += 1;
-            let z = &mut buf.target[..n];
-            z.copy_from_slice(k);
-            let parts = PartitionBuffers {
-                aug: &mut buf.aug,
-                householder: &mut buf.householder,
-                rhs: &mut buf.rhs,
-                free: &mut buf.free,
-            };
-            sys.solve_partition(state, k_max, z, parts, &mut *stack);
-            let mut alpha = 1.0f64;
+    // Start: the guessed free block's optimum, clipped into the box.
+    let mut report = BoundedReport { iterations: 1, converged: false, active: 0 };
+    block.refresh_rhs(it.state, it.rhs);
+    block.solve(it.state, z, it.rhs, &mut qr);
+    let mut at_optimum = true;
+    for j in 0..n {
+        if it.state[j] != 0 {
+            it.k[j] = f64::from(it.state[j]) * k_max;
+        } else if z[j].abs() > k_max {
+            block.fix(&mut it, j, z[j]);
+            at_optimum = false;
+        } else {
+            it.k[j] = z[j];
+        }
+    }
+    let mut f_k = block.objective(it.state, it.k, it.rhs, residual);
+    // Each pass steps toward the free block's optimum or, there, releases
+    // one bound or stops.
+    loop {
+        if at_optimum {
+            // γ_j = a_jᵀ(A k − b) + ε k_j on the fixed variables; release the
+            // one that most wants inside (it is then sure to move inward).
+            block.residual(it.state, it.k, it.rhs, residual);
+            let mut worst = None;
+            let mut worst_pull = tol;
             for j in 0..n {
-                if state[j] == 0 && z[j].abs() > k_max {
-                    let bound = k_max.copysign(z[j]);
-                    alpha = alpha.min(((bound - k[j]) / (z[j] - k[j])).max(0.0));
-                }
-            }
-            for j in 0..n {
-                if state[j] == 0 {
-                    k[j] += alpha * (z[j] - k[j]);
-                    if k[j].abs() >= k_max * (1.0 - 1e-12) {
-                        state[j] = if k[j] > 0.0 { 1 } else { -1 };
-                        k[j] = k_max.copysign(k[j]);
+                if it.state[j] != 0 {
+                    let pull = f64::from(it.state[j]) * (dot(block.col(j), residual) + block.eps * it.k[j]);
+                    if pull > worst_pull {
+                        (worst, worst_pull) = (Some(j), pull);
                     }
                 }
             }
-            if alpha >= 1.0 || report.iterations >= inp.max_iterations {
-                break;
+            match worst {
+                Some(j) => block.release(&mut it, j),
+                None if report.converged => break,
+                // Optimal on the incrementally kept r: confirm once on an r
+                // recomputed from scratch, so that the answer depends on the
+                // final active set only, not on the path to it.
+                None => {
+                    report.converged = true;
+                    block.refresh_rhs(it.state, it.rhs);
+                }
             }
         }
-        sys.gradient(k, &mut buf.residual, grad);
-        // Release the bound variable whose gradient most wants it inside.
-        let mut worst = None;
-        let mut worst_pull = tol;
+        if report.iterations >= inp.max_iterations {
+            report.converged = false;
+            break;
+        }
+        report.iterations += 1;
+        block.solve(it.state, z, it.rhs, &mut qr);
+        let free = |j: &usize| it.state[*j] == 0;
+        if (0..n).filter(free).all(|j| z[j].abs() <= k_max) {
+            // The free optimum is inside: take it whole.
+            (0..n).filter(|&j| it.state[j] == 0).for_each(|j| it.k[j] = z[j]);
+            f_k = block.objective(it.state, it.k, it.rhs, residual);
+            at_optimum = true;
+            continue;
+        }
+        at_optimum = false;
+        report.converged = false;
+        // Projected step: the free optimum clipped into the box, kept if it
+        // lowers the objective (it fixes every clipped variable at once).
+        trial.copy_from_slice(it.k);
+        (0..n).filter(|&j| it.state[j] == 0).for_each(|j| trial[j] = z[j].clamp(-k_max, k_max));
+        let f_trial = block.objective(it.state, trial, it.rhs, residual);
+        if f_trial < f_k {
+            for j in 0..n {
+                if it.state[j] == 0 && z[j].abs() > k_max {
+                    block.fix(&mut it, j, z[j]);
+                } else if it.state[j] == 0 {
+                    it.k[j] = trial[j];
+                }
+            }
+            f_k = f_trial;
+            continue;
+        }
+        // Otherwise step toward it until the first bound (never raises the
+        // objective; each such step fixes at least one variable).
+        let mut alpha = 1.0f64;
         for j in 0..n {
-            let pull = f64::from(state[j]) * grad[j];
-            if state[j] != 0 && pull > worst_pull {
-                worst_pull = pull;
-                worst = Some(j);
+            if it.state[j] == 0 && z[j].abs() > k_max {
+                alpha = alpha.min(((k_max.copysign(z[j]) - it.k[j]) / (z[j] - it.k[j])).max(0.0));
             }
         }
-        match worst {
-            None => {
-                report.converged = true;
-                break;
+        for j in 0..n {
+            if it.state[j] == 0 {
+                let next = it.k[j] + alpha * (z[j] - it.k[j]);
+                if next.abs() >= k_max * (1.0 - 1e-12) {
+                    block.fix(&mut it, j, next);
+                } else {
+                    it.k[j] = next;
+                }
             }
-            Some(j) => state[j] = 0,
         }
+        f_k = block.objective(it.state, it.k, it.rhs, residual);
     }
-    k.iter_mut().for_each(|v| *v = v.clamp(-k_max, k_max));
+    it.k.iter_mut().for_each(|v| *v = v.clamp(-k_max, k_max));
+    report.active = it.state.iter().filter(|s| **s != 0).count();
     report
 }
 
-struct PartitionBuffers<'a> {
-    aug: &'a mut [f64],
-    householder: &'a mut [f64],
+/// The iterate: which variables are fixed, k, and r = b − A_B k_B, kept
+/// up to date as variables change side (m flops each).
+struct Iterate<'a> {
+    state: &'a mut [i8],
+    k: &'a mut [f64],
     rhs: &'a mut [f64],
-    free: &'a mut [usize],
 }
 
-struct System<'a> {
-    rows: &'a [f64],
+/// The system and how to solve its free block.
+struct FreeBlock<'a> {
+    cols: &'a [f64],
     b: &'a [f64],
     m: usize,
     n: usize,
     eps: f64,
+    k_max: f64,
 }
 
-impl System<'_> {
-    /// γ = Aᵀ(Ak − b) + εk, straight from A (no AᵀA).
-    fn gradient(&self, k: &[f64], residual: &mut [f64], out: &mut [f64]) {
-        let r = &mut residual[..self.m];
-        mat_vec(self.rows, self.m, self.n, k, r);
-        r.iter_mut().zip(self.b).for_each(|(v, b)| *v -= b);
-        mat_t_vec(self.rows, self.m, self.n, r, out);
-        out.iter_mut().zip(k).for_each(|(g, k)| *g += self.eps * k);
+struct QrBuffers<'a> {
+    factor: &'a mut [f64],
+    tau: &'a mut [f64],
+    perm: &'a mut [usize],
+    norms: &'a mut [f64],
+    norms_ref: &'a mut [f64],
+    work: &'a mut [f64],
+    free: &'a mut [usize],
+}
+
+impl FreeBlock<'_> {
+    fn col(&self, j: usize) -> &[f64] {
+        &self.cols[j * self.m..(j + 1) * self.m]
     }
 
-    /// Fix the bound variables at ±k_max and solve the free block by QR of
-    /// [A_F; √ε·I].
-    fn solve_partition(
-        &self,
-        state: &[i8],
-        k_max: f64,
-        k: &mut [f64],
-        buf: PartitionBuffers<'_>,
-        stack: &mut MemStack,
-    ) {
-        let (m, n) = (self.m, self.n);
-        let mut nf = 0;
-        for j in 0..n {
+    /// Fix variable j at the bound on `toward`'s side.
+    fn fix(&self, it: &mut Iterate<'_>, j: usize, toward: f64) {
+        it.state[j] = if toward > 0.0 { 1 } else { -1 };
+        it.k[j] = self.k_max.copysign(toward);
+        axpy(-it.k[j], self.col(j), it.rhs);
+    }
+
+    fn release(&self, it: &mut Iterate<'_>, j: usize) {
+        axpy(it.k[j], self.col(j), it.rhs);
+        it.state[j] = 0;
+    }
+
+    /// r = b − A_B k_B from scratch.
+    fn refresh_rhs(&self, state: &[i8], rhs: &mut [f64]) {
+        rhs.copy_from_slice(self.b);
+        for j in 0..self.n {
+            if state[j] != 0 {
+                axpy(-f64::from(state[j]) * self.k_max, self.col(j), rhs);
+            }
+        }
+    }
+
+    /// out = A k − b = A_F k_F − r (m·|F| flops).
+    fn residual(&self, state: &[i8], k: &[f64], rhs: &[f64], out: &mut [f64]) {
+        out.iter_mut().zip(rhs).for_each(|(o, r)| *o = -r);
+        for j in 0..self.n {
             if state[j] == 0 {
-                buf.free[nf] = j;
+                axpy(k[j], self.col(j), out);
+            }
+        }
+    }
+
+    /// ½‖A k − b‖² + ½ε‖k‖² (`scratch` gets the residual).
+    fn objective(&self, state: &[i8], k: &[f64], rhs: &[f64], scratch: &mut [f64]) -> f64 {
+        self.residual(state, k, rhs, scratch);
+        0.5 * (dot(scratch, scratch) + self.eps * dot(k, k))
+    }
+
+    /// z_F ← the free block's optimum with the fixed variables at their
+    /// bounds, by a fresh QR in the smaller form (module doc).
+    fn solve(&self, state: &[i8], z: &mut [f64], rhs: &[f64], qr: &mut QrBuffers<'_>) {
+        let m = self.m;
+        let mut nf = 0;
+        for j in 0..self.n {
+            if state[j] == 0 {
+                qr.free[nf] = j;
                 nf += 1;
-            } else {
-                k[j] = f64::from(state[j]) * k_max;
             }
         }
         if nf == 0 {
             return;
         }
-        let free = &buf.free[..nf];
-        let rows_aug = m + nf;
-        // Right-hand side: b minus what the bound variables already give.
-        let rhs = &mut buf.rhs[..rows_aug];
-        for i in 0..m {
-            let row = &self.rows[i * n..(i + 1) * n];
-            rhs[i] = self.b[i] - (0..n).filter(|&j| state[j] != 0).map(|j| row[j] * k[j]).sum::<f64>();
-        }
-        rhs[m..].fill(0.0);
-        let aug = &mut buf.aug[..rows_aug * nf];
-        aug.fill(0.0);
         let sqrt_eps = self.eps.sqrt();
-        for (c, &j) in free.iter().enumerate() {
-            let col = &mut aug[c * rows_aug..(c + 1) * rows_aug];
-            for i in 0..m {
-                col[i] = self.rows[i * n + j];
+        let lead = nf + m;
+        let v = &mut qr.work[..lead];
+        if nf < m {
+            // [A_F; √ε·I] (m + |F|) × |F|, column c = [a_{F_c}; √ε·e_c].
+            let factor = &mut qr.factor[..lead * nf];
+            factor.fill(0.0);
+            for (c, &j) in qr.free[..nf].iter().enumerate() {
+                let col = &mut factor[c * lead..(c + 1) * lead];
+                col[..m].copy_from_slice(self.col(j));
+                col[m + c] = sqrt_eps;
             }
-            col[m + c] = sqrt_eps;
+            let mut f = PivotedQr {
+                a: factor,
+                rows: lead,
+                cols: nf,
+                tau: &mut qr.tau[..nf],
+                perm: &mut qr.perm[..nf],
+            };
+            f.factor(&mut qr.norms[..nf], &mut qr.norms_ref[..nf], false);
+            v[..m].copy_from_slice(rhs);
+            v[m..].fill(0.0);
+            f.apply_qt(v);
+            f.solve_r(v);
+        } else {
+            // [A_Fᵀ; √ε·I] (|F| + m) × m, column i = [row i of A_F; √ε·e_i].
+            let factor = &mut qr.factor[..lead * m];
+            factor.fill(0.0);
+            for (c, &j) in qr.free[..nf].iter().enumerate() {
+                for (i, a) in self.col(j).iter().enumerate() {
+                    factor[c + i * lead] = *a;
+                }
+            }
+            for i in 0..m {
+                factor[nf + i + i * lead] = sqrt_eps;
+            }
+            let mut f =
+                PivotedQr { a: factor, rows: lead, cols: m, tau: &mut qr.tau[..m], perm: &mut qr.perm[..m] };
+            f.factor(&mut qr.norms[..m], &mut qr.norms_ref[..m], false);
+            v[..m].copy_from_slice(rhs);
+            v[m..].fill(0.0);
+            f.solve_rt(v);
+            f.apply_q(v);
         }
-        let bs = block_size(rows_aug, nf);
-        let mut a = MatMut::from_column_major_slice_mut(aug, rows_aug, nf);
-        let mut h = MatMut::from_column_major_slice_mut(&mut buf.householder[..bs * nf], bs, nf);
-        qr::qr_in_place(a.rb_mut(), h.rb_mut(), Par::Seq, &mut *stack, Default::default());
-        qr_solve::solve_lstsq_in_place(
-            a.rb(),
-            h.rb(),
-            a.rb(),
-            MatMut::from_column_major_slice_mut(&mut *rhs, rows_aug, 1),
-            Par::Seq,
-            stack,
-        );
-        for (&j, &v) in free.iter().zip(rhs.iter()) {
-            k[j] = v;
+        for (c, &j) in qr.free[..nf].iter().enumerate() {
+            z[j] = v[c];
         }
     }
 }
@@ -254,13 +380,5 @@ impl System<'_> {
 pub(crate) fn mat_vec(rows: &[f64], m: usize, n: usize, v: &[f64], out: &mut [f64]) {
     for i in 0..m {
         out[i] = dot(&rows[i * n..(i + 1) * n], &v[..n]);
-    }
-}
-
-/// out = Aᵀ w (A row-major m × n).
-pub(crate) fn mat_t_vec(rows: &[f64], m: usize, n: usize, w: &[f64], out: &mut [f64]) {
-    out[..n].fill(0.0);
-    for i in 0..m {
-        axpy(w[i], &rows[i * n..(i + 1) * n], &mut out[..n]);
     }
 }

@@ -11,9 +11,21 @@
 //!    short or κ₂ exceeds `max_condition`;
 //! 3. if K is inside |k_j| ≤ k_max, full rank and κ₂ ≤ `max_condition`:
 //!    done (exact path);
-//! 4. otherwise bounded least squares by a feasible active-set method,
-//!    at most `bounded_max_iterations` iterations (flops in `bounded.rs`);
+//! 4. otherwise bounded least squares by block principal pivoting, started
+//!    from the exact K clipped into the box, at most
+//!    `bounded_max_iterations` iterations (flops in `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
+//!
+//! **Warm start.** Consecutive camera frames ask nearly the same question,
+//! and in a saturated frame the bounded path is the whole cost. When the
+//! last solve was bounded, converged with some bound active, and this one
+//! has the same centers and the same rows (`SolverParams::warm_start`),
+//! steps 2–3 are skipped and the bounded solve starts from the last
+//! active set. The answer is the same optimum (it depends only on the final
+//! active set, `bounded.rs`); such a solve does not factor A, so it reports
+//! `rank` and `condition` as 0 (not estimated). If it ends with no bound
+//! active, the solve is redone from step 2, so an unsaturated frame always
+//! gets the exact path.
 
 // Index loops mirror the matrix formulas; buffers are passed separately so
 // each routine borrows only what it needs.
@@ -31,14 +43,14 @@ mod params;
 mod pivoted_qr;
 mod problem;
 mod solution;
+mod system;
 mod validate;
-
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 
 pub use error::{InputField, MAX_INPUT_MAGNITUDE, SolveError};
 pub use params::{SolverCapacity, SolverParams};
 pub use problem::{CurlConstraint, ForceConstraint, Problem};
 pub use solution::{Solution, SolveMethod};
+pub use system::LeastSquaresSystem;
 
 use bounded::{BoundedBuffers, BoundedInput};
 use min_norm::QrBuffers;
@@ -60,7 +72,29 @@ pub struct Solver {
     center_x: Vec<f64>,
     center_y: Vec<f64>,
     cond_diag: Vec<f64>,
-    mem: MemBuffer,
+    warm: WarmStart,
+    /// Shape of the last assembled system (for [`Solver::last_system`]).
+    last_shape: (usize, usize),
+}
+
+/// What the last bounded solve leaves for the next frame.
+#[derive(Debug)]
+struct WarmStart {
+    valid: bool,
+    rows: usize,
+    force_rows: usize,
+    centers: Vec<[f64; 2]>,
+    state: Vec<i8>,
+}
+
+impl WarmStart {
+    fn matches(&self, problem: &Problem<'_>, m: usize) -> bool {
+        self.valid
+            && self.rows == m
+            && self.force_rows == problem.force_rows()
+            && self.centers.len() == problem.centers.len()
+            && self.centers.iter().zip(problem.centers).all(|(a, b)| a[0] == b[0] && a[1] == b[1])
+    }
 }
 
 impl core::fmt::Debug for Solver {
@@ -70,12 +104,6 @@ impl core::fmt::Debug for Solver {
 }
 
 impl Solver {
-    /// faer-style scratch requirement of one solve at this capacity.
-    pub fn scratch(cap: SolverCapacity) -> StackReq {
-        let (m, n) = (cap.max_rows(), cap.centers);
-        bounded::bounded_scratch(m, n)
-    }
-
     /// Allocates everything a solve of up to `cap` will need.
     pub fn new(cap: SolverCapacity, params: SolverParams) -> Self {
         let (m, n) = (cap.max_rows(), cap.centers);
@@ -95,7 +123,14 @@ impl Solver {
             center_x: vec![0.0; n],
             center_y: vec![0.0; n],
             cond_diag: vec![0.0; m.min(n)],
-            mem: MemBuffer::new(Self::scratch(cap)),
+            warm: WarmStart {
+                valid: false,
+                rows: 0,
+                force_rows: 0,
+                centers: Vec::with_capacity(n),
+                state: vec![0; n],
+            },
+            last_shape: (0, 0),
         }
     }
 
@@ -108,9 +143,10 @@ impl Solver {
     }
 
     /// Run two full-capacity solves (exact and bounded path) on the calling
-    /// thread. faer's gemm kernel allocates a 4 MiB thread-local buffer on a
-    /// thread's first use; a real-time thread calls this once at start-up so
-    /// that no later solve allocates. Returns false if a warm-up solve failed.
+    /// thread, so that every buffer page is touched and every SIMD dispatch
+    /// resolved before the first real frame. A real-time thread calls this
+    /// once at start-up. Returns false if a warm-up solve failed. Forgets
+    /// the warm start it leaves behind.
     pub fn warm_up(&mut self) -> bool {
         let cap = self.cap;
         let mut out = self.new_solution();
@@ -136,7 +172,26 @@ impl Solver {
                 Problem { mu_m_g: 1.0, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls };
             ok &= self.solve(&problem, &mut out).is_ok();
         }
+        self.forget_warm_start();
         ok
+    }
+
+    /// The system of the last successful assembly (the last solve, unless
+    /// its input was rejected first).
+    pub fn last_system(&self) -> LeastSquaresSystem<'_> {
+        let (m, n) = self.last_shape;
+        LeastSquaresSystem {
+            rows: &self.rows[..m * n],
+            b: &self.b[..m],
+            m,
+            n,
+            eps: system::tikhonov_eps(&self.rows[..m * n], n.max(1), self.params.tikhonov),
+        }
+    }
+
+    /// The next solve starts cold (benchmarks; a new scene).
+    pub fn forget_warm_start(&mut self) {
+        self.warm.valid = false;
     }
 
     /// A [`Solution`] with enough room for any problem this solver accepts.
@@ -175,6 +230,84 @@ impl Solver {
         (summary, condition)
     }
 
+    /// Steps 2–4 of the module doc.
+    fn cold_solve(&mut self, problem: &Problem<'_>, m: usize, n: usize, out: &mut Solution) {
+        // QR without pivoting first: it is cheaper and exact whenever A is
+        // well conditioned. Only a short rank or a κ over the gate pays for
+        // the rank-revealing, pivoted factorisation, which then reports the
+        // rank. Both κ estimates are lower bounds on the same κ₂ (and a tiny
+        // unpivoted |r_ii| bounds σ_min too), so the larger one stands: the
+        // redo can never reopen the exact path.
+        let (mut summary, mut condition) = self.factor_and_estimate(m, n, false);
+        if summary.rank < summary.dim || condition > self.params.max_condition {
+            let first = condition;
+            (summary, condition) = self.factor_and_estimate(m, n, true);
+            condition = condition.max(first);
+        }
+        out.rank = summary.rank;
+        out.condition = condition;
+        let full_rank = summary.rank == summary.dim;
+        let exact_ok = full_rank
+            && out.condition <= self.params.max_condition
+            && self.exact_k[..n].iter().all(|k| k.abs() <= problem.k_max);
+        if exact_ok {
+            out.k.copy_from_slice(&self.exact_k[..n]);
+            out.method = SolveMethod::Exact;
+            self.warm.valid = false;
+            return;
+        }
+        // Guess the active set from the exact K clipped into the box when
+        // it can be trusted; otherwise (short rank, κ over the gate) start
+        // all free: the first iteration is then the regularised optimum.
+        let trusted = full_rank && out.condition <= self.params.max_condition;
+        let state = &mut self.bounded.state[..n];
+        for (s, &k) in state.iter_mut().zip(&self.exact_k[..n]) {
+            *s = if trusted && k.abs() > problem.k_max { if k > 0.0 { 1 } else { -1 } } else { 0 };
+        }
+        self.run_bounded(problem, m, n, out);
+    }
+
+    /// The warm-started bounded solve; false (and nothing to use) when it
+    /// ended with no bound active or did not converge.
+    fn warm_solve(&mut self, problem: &Problem<'_>, m: usize, n: usize, out: &mut Solution) -> bool {
+        self.bounded.state[..n].copy_from_slice(&self.warm.state[..n]);
+        self.run_bounded(problem, m, n, out);
+        if !self.warm.valid {
+            return false;
+        }
+        out.rank = 0;
+        out.condition = 0.0;
+        out.warm_started = true;
+        true
+    }
+
+    /// Bounded solve from the guess in `self.bounded.state`; remembers the
+    /// active set for the next frame when it converged with a bound active.
+    fn run_bounded(&mut self, problem: &Problem<'_>, m: usize, n: usize, out: &mut Solution) {
+        let input = BoundedInput {
+            rows: &self.rows,
+            b: &self.b,
+            m,
+            n,
+            k_max: problem.k_max,
+            tikhonov: self.params.tikhonov,
+            max_iterations: self.params.bounded_max_iterations,
+        };
+        let report = bounded::bounded_solve(&input, &mut self.bounded, &mut out.k);
+        out.iterations += report.iterations;
+        out.converged = report.converged;
+        out.method = SolveMethod::BoundedLeastSquares;
+        let warm = &mut self.warm;
+        warm.valid = report.converged && report.active > 0;
+        if warm.valid {
+            warm.rows = m;
+            warm.force_rows = problem.force_rows();
+            warm.centers.clear();
+            warm.centers.extend_from_slice(problem.centers);
+            warm.state[..n].copy_from_slice(&self.bounded.state[..n]);
+        }
+    }
+
     /// Solve one problem into `out` (which must come from
     /// [`Solver::new_solution`] or have at least the same capacity).
     pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
@@ -188,52 +321,22 @@ impl Solver {
             &mut self.center_x,
             &mut self.center_y,
         )?;
+        self.last_shape = (m, n);
 
         out.k.clear();
         out.k.resize(n, 0.0);
         out.iterations = 0;
         out.converged = true;
+        out.warm_started = false;
         if m == 0 {
             out.method = SolveMethod::Trivial;
             out.rank = 0;
             out.condition = 1.0;
-        } else {
-            // QR without pivoting first: it is cheaper and exact whenever A is
-            // well conditioned. Only a short rank or a κ over the gate pays
-            // for the rank-revealing, pivoted factorisation, which then
-            // reports the rank. Both κ estimates are lower bounds on the same
-            // κ₂ (and a tiny unpivoted |r_ii| bounds σ_min too), so the larger
-            // one stands: the redo can never reopen the exact path.
-            let (mut summary, mut condition) = self.factor_and_estimate(m, n, false);
-            if summary.rank < summary.dim || condition > self.params.max_condition {
-                let first = condition;
-                (summary, condition) = self.factor_and_estimate(m, n, true);
-                condition = condition.max(first);
-            }
-            out.rank = summary.rank;
-            out.condition = condition;
-            let exact_ok = summary.rank == summary.dim
-                && out.condition <= self.params.max_condition
-                && self.exact_k[..n].iter().all(|k| k.abs() <= problem.k_max);
-            if exact_ok {
-                out.k.copy_from_slice(&self.exact_k[..n]);
-                out.method = SolveMethod::Exact;
-            } else {
-                let input = BoundedInput {
-                    rows: &self.rows,
-                    b: &self.b,
-                    m,
-                    n,
-                    k_max: problem.k_max,
-                    tikhonov: self.params.tikhonov,
-                    max_iterations: self.params.bounded_max_iterations,
-                };
-                let stack = MemStack::new(&mut self.mem);
-                let report = bounded::bounded_solve(&input, &mut self.bounded, &mut out.k, stack);
-                out.iterations = report.iterations;
-                out.converged = report.converged;
-                out.method = SolveMethod::BoundedLeastSquares;
-            }
+        } else if !(self.params.warm_start
+            && self.warm.matches(problem, m)
+            && self.warm_solve(problem, m, n, out))
+        {
+            self.cold_solve(problem, m, n, out);
         }
         // A bound counts as active within a relative 1e-9 of k_max.
         out.saturated = out.k.iter().any(|k| k.abs() >= problem.k_max * (1.0 - 1e-9));

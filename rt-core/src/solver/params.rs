@@ -45,6 +45,9 @@ pub struct SolverParams {
     /// Tikhonov weight (relative to ‖A‖²_F / N) that picks the smallest K
     /// among equally good bounded solutions.
     pub tikhonov: f64,
+    /// Start a saturated frame's bounded solve from the last frame's active
+    /// set when centers and rows match (module doc of `solver`).
+    pub warm_start: bool,
 }
 
 impl Default for SolverParams {
@@ -57,6 +60,7 @@ impl Default for SolverParams {
             condition_tolerance: 1e-2,
             bounded_max_iterations: 400,
             tikhonov: 1e-9,
+            warm_start: true,
         }
     }
 }

@@ -25,15 +25,20 @@ pub struct Solution {
     pub(crate) achieved_curls: Vec<f64>,
     /// ‖A·K − b‖ scaled back to force units (μmg/N).
     pub residual: f64,
-    /// Numerical rank of A (from the column-pivoted QR whenever it is short).
+    /// Numerical rank of A (from the column-pivoted QR whenever it is
+    /// short); 0 when not estimated (a warm-started solve).
     pub rank: usize,
-    /// Estimated 2-norm condition number of A (∞ when rank-deficient).
+    /// Estimated 2-norm condition number of A (∞ when rank-deficient, 0 when
+    /// not estimated: a warm-started solve).
     pub condition: f64,
     /// True when a bound |k_j| = k_max is active.
     pub saturated: bool,
     pub method: SolveMethod,
-    /// Active-set iterations spent (0 on the exact path).
+    /// Free-block solves of the bounded path (0 on the exact path).
     pub iterations: usize,
+    /// The bounded path started from the previous frame's active set and
+    /// skipped the factorization of A (`rank` and `condition` are then 0).
+    pub warm_started: bool,
     /// False only if the bounded path hit its iteration cap; `k` is then
     /// the best feasible iterate found.
     pub converged: bool,
@@ -53,6 +58,7 @@ impl Solution {
             saturated: false,
             method: SolveMethod::Trivial,
             iterations: 0,
+            warm_started: false,
             converged: true,
         }
     }

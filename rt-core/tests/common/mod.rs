@@ -7,6 +7,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rt_core::{CurlConstraint, ForceConstraint};
 
+#[derive(Clone)]
 pub struct RandomCase {
     pub centers: Vec<[f64; 2]>,
     pub parts: Vec<ForceConstraint>,
