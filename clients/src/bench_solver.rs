@@ -1,20 +1,22 @@
 //! `upm bench solver`: UPM's solver against nalgebra's SVD pseudo-inverse
-//! on the same systems, in the same run, batches alternating A B A B.
+//! (unbounded) and Clarabel (bounded) on the same systems, in the same run,
+//! batches alternating A B A B.
 
+use std::path::Path;
 use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rt_core::runtime::alloc_count;
-use rt_core::{ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
+use rt_core::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
 use serde_json::{Value, json};
 
 const MU_M_G: f64 = 0.1;
 
 /// One benchmark system: parts on the plate, centers around it, and forces
 /// `A·k0` with small k0, so the system is consistent and its minimum-norm
-/// solution lies inside the bounds (`saturated` = false) unless `bounded`.
+/// solution lies inside the bounds (`saturated` = false) for a small `k_scale`.
 #[derive(Debug, Clone)]
 pub struct BenchCase {
     pub centers: Vec<[f64; 2]>,
@@ -73,9 +75,8 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Time one size; returns the JSON row.
-fn bench_size(rows: usize, n: usize, bounded: bool, budget_s: f64) -> anyhow::Result<Value> {
-    let cases: Vec<BenchCase> =
-        (0..8).map(|s| bench_case(rows, n, 1000 + s, if bounded { 2.0 } else { 0.04 })).collect();
+fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
+    let cases: Vec<BenchCase> = (0..8).map(|s| bench_case(rows, n, 1000 + s, 0.04)).collect();
     let cap = SolverCapacity { parts: rows / 2, curls: 0, centers: n };
     let mut solver = Solver::new(cap, SolverParams::default());
     solver.warm_up();
@@ -107,7 +108,7 @@ fn bench_size(rows: usize, n: usize, bounded: bool, budget_s: f64) -> anyhow::Re
         saturated += usize::from(sol.saturated);
         max_condition = max_condition.max(sol.condition);
         method = format!("{:?}", sol.method);
-        if !bounded {
+        {
             let k_ref = a.clone().pseudo_inverse(1e-12).map_err(|e| anyhow::anyhow!("{e}"))? * b;
             let diff = sol.k().iter().zip(k_ref.iter()).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             max_rel = max_rel.max(diff / k_ref.amax().max(1e-300));
@@ -167,7 +168,7 @@ fn bench_size(rows: usize, n: usize, bounded: bool, budget_s: f64) -> anyhow::Re
     Ok(json!({
         "m": rows,
         "n": n,
-        "path": if bounded { "bounded" } else { "exact" },
+        "path": "exact",
         "method": method,
         "saturated_cases": saturated,
         "upm_p50_us": u50,
@@ -180,23 +181,222 @@ fn bench_size(rows: usize, n: usize, bounded: bool, budget_s: f64) -> anyhow::Re
         "allocations": if counted { json!(allocations) } else { Value::Null },
         "samples": upm.len(),
         "max_condition": max_condition,
-        "max_rel_diff": if bounded { Value::Null } else { json!(max_rel) },
+        "max_rel_diff": max_rel,
     }))
 }
 
-/// The headline sizes, a scaling curve to capacity, and bounded cases.
+/// A bounded benchmark problem, owned.
+#[derive(Debug, Clone)]
+pub struct BoundedCase {
+    pub name: String,
+    pub mu_m_g: f64,
+    pub k_max: f64,
+    pub centers: Vec<[f64; 2]>,
+    pub parts: Vec<ForceConstraint>,
+    pub curls: Vec<CurlConstraint>,
+}
+
+impl BoundedCase {
+    fn problem(&self) -> Problem<'_> {
+        Problem {
+            mu_m_g: self.mu_m_g,
+            k_max: self.k_max,
+            centers: &self.centers,
+            parts: &self.parts,
+            curls: &self.curls,
+        }
+    }
+}
+
+/// Consecutive camera frames: every part moved by 1 mm in a random
+/// direction from the frame before.
+fn frames(case: &BoundedCase, count: usize, seed: u64) -> Vec<Vec<ForceConstraint>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut parts = case.parts.clone();
+    (0..count)
+        .map(|_| {
+            for p in &mut parts {
+                let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+                p.position[0] += 0.001 * a.cos();
+                p.position[1] += 0.001 * a.sin();
+            }
+            parts.clone()
+        })
+        .collect()
+}
+
+/// Cold, warm, Clarabel and nalgebra on one bounded problem.
+fn bench_bounded(case: &BoundedCase, budget_s: f64) -> anyhow::Result<Value> {
+    let cap = SolverCapacity {
+        parts: case.parts.len().max(1),
+        curls: case.curls.len(),
+        centers: case.centers.len().max(1),
+    };
+    let mut solver = Solver::new(cap, SolverParams::default());
+    solver.warm_up();
+    let mut sol = solver.new_solution();
+    solver.solve(&case.problem(), &mut sol).map_err(|e| anyhow::anyhow!("{}: solve: {e}", case.name))?;
+    let (k_upm, saturated, iterations_cold) = (sol.k().to_vec(), sol.saturated, sol.iterations);
+    let sys = solver.last_system();
+    let (rows, b, m, n, eps) = (sys.rows.to_vec(), sys.b.to_vec(), sys.m, sys.n, sys.eps);
+    let sys = rt_core::LeastSquaresSystem { rows: &rows, b: &b, m, n, eps };
+    let objective = sys.objective(&k_upm);
+    let qp = crate::bounded_reference::BoxQp::new(&sys, case.k_max);
+    let k_ref = qp.solve();
+    let reference_objective = k_ref.as_ref().map(|k| sys.objective(k));
+    let a = DMatrix::from_row_slice(m, n, &rows);
+    let bv = DVector::from_column_slice(&b);
+    let walk = frames(case, 32, 7);
+
+    let counted = alloc_count::counter_installed();
+    let mut allocations = 0u64;
+    let (mut cold, mut warm, mut nal, mut clar) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut warm_started, mut warm_iterations) = (0usize, Vec::new());
+    let mut time_upm = |solver: &mut Solver, p: &Problem<'_>, sol: &mut rt_core::Solution| -> Option<f64> {
+        alloc_count::mark_rt_thread(true);
+        let before = alloc_count::rt_allocations();
+        let t = Instant::now();
+        let r = solver.solve(p, sol);
+        let dt = t.elapsed().as_secs_f64() * 1e6;
+        allocations += alloc_count::rt_allocations() - before;
+        alloc_count::mark_rt_thread(false);
+        std::hint::black_box(sol.k());
+        r.ok().map(|_| dt)
+    };
+    const REPEATS: usize = 8;
+    let started = Instant::now();
+    let mut round = 0usize;
+    while started.elapsed().as_secs_f64() < budget_s || round < 2 {
+        for _ in 0..REPEATS {
+            solver.forget_warm_start();
+            cold.extend(time_upm(&mut solver, &case.problem(), &mut sol));
+        }
+        // The last cold solve leaves the base frame's active set behind.
+        for parts in &walk {
+            let p = Problem { parts, ..case.problem() };
+            if let Some(dt) = time_upm(&mut solver, &p, &mut sol) {
+                warm.push(dt);
+                warm_started += usize::from(sol.warm_started);
+                warm_iterations.push(sol.iterations as f64);
+            }
+        }
+        for _ in 0..REPEATS {
+            let t = Instant::now();
+            let k = a.clone().pseudo_inverse(1e-12).map_err(|e| anyhow::anyhow!("{e}"))? * &bv;
+            nal.push(t.elapsed().as_secs_f64() * 1e6);
+            std::hint::black_box(k);
+        }
+        let t = Instant::now();
+        std::hint::black_box(qp.solve());
+        clar.push(t.elapsed().as_secs_f64() * 1e6);
+        round += 1;
+    }
+    for v in [&mut cold, &mut warm, &mut nal, &mut clar, &mut warm_iterations] {
+        v.sort_by(f64::total_cmp);
+    }
+    let (c50, w50, n50) = (percentile(&cold, 0.5), percentile(&warm, 0.5), percentile(&nal, 0.5));
+    Ok(json!({
+        "name": case.name,
+        "m": m,
+        "n": n,
+        "saturated": saturated,
+        "active": k_upm.iter().filter(|k| k.abs() >= case.k_max * (1.0 - 1e-9)).count(),
+        "iterations_cold": iterations_cold,
+        "iterations_warm_p50": percentile(&warm_iterations, 0.5),
+        "upm_cold_p50_us": c50,
+        "upm_cold_p99_us": percentile(&cold, 0.99),
+        "upm_warm_p50_us": w50,
+        "upm_warm_p99_us": percentile(&warm, 0.99),
+        "warm_started_fraction": warm_started as f64 / warm.len().max(1) as f64,
+        "reference_p50_us": percentile(&clar, 0.5),
+        "nalgebra_p50_us": n50,
+        "cold_over_nalgebra": c50 / n50,
+        "warm_over_nalgebra": w50 / n50,
+        "objective": objective,
+        "reference_objective": reference_objective,
+        "objective_rel_diff": reference_objective.map(|r| (objective - r) / r.abs().max(f64::MIN_POSITIVE)),
+        "allocations": if counted { json!(allocations) } else { Value::Null },
+        "samples": { "cold": cold.len(), "warm": warm.len(), "reference": clar.len() },
+    }))
+}
+
+/// The built-in bounded problems: each headline size heavily saturated
+/// (random k0 in ±2, k_max 0.95) and moderately (k0 in ±0.6).
+fn builtin_bounded() -> Vec<BoundedCase> {
+    let mut out = Vec::new();
+    for (rows, n) in [(4, 9), (20, 24), (64, 96), (128, 192)] {
+        for (label, scale) in [("heavy", 2.0), ("moderate", 0.6)] {
+            let c = bench_case(rows, n, 1000, scale);
+            out.push(BoundedCase {
+                name: format!("{rows}x{n} {label}"),
+                mu_m_g: MU_M_G,
+                k_max: 0.95,
+                centers: c.centers,
+                parts: c.parts,
+                curls: Vec::new(),
+            });
+        }
+    }
+    out
+}
+
+/// `--problems FILE`: one `upm solve` input per line. A malformed line is
+/// reported on stderr with its number and skipped; the count comes back.
+pub fn load_problems(path: &Path) -> anyhow::Result<(Vec<BoundedCase>, usize)> {
+    let text = crate::cli::read_input(path)?;
+    let (mut cases, mut bad) = (Vec::new(), 0);
+    for (i, line) in text.lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        match crate::solve_json::parse(line) {
+            Ok(input) => cases.push(BoundedCase {
+                name: format!("line {}", i + 1),
+                mu_m_g: input.mu_m_g,
+                k_max: input.k_max(),
+                parts: input.force_constraints(),
+                curls: input.curl_constraints(),
+                centers: input.centers,
+            }),
+            Err(e) => {
+                eprintln!("upm bench solver: {}: line {}: {e}", path.display(), i + 1);
+                bad += 1;
+            }
+        }
+    }
+    Ok((cases, bad))
+}
+
+/// Every problem of a `--problems` file; returns the rows and how many
+/// lines were malformed or failed to solve.
+pub fn run_problems(path: &Path, quick: bool) -> anyhow::Result<(Value, usize)> {
+    let (cases, mut bad) = load_problems(path)?;
+    let budget = if quick { 0.05 } else { 0.6 };
+    let mut rows = Vec::new();
+    for c in &cases {
+        match bench_bounded(c, budget) {
+            Ok(v) => rows.push(v),
+            Err(e) => {
+                eprintln!("upm bench solver: {}: {e:#}", path.display());
+                bad += 1;
+            }
+        }
+    }
+    Ok((Value::Array(rows), bad))
+}
+
+/// The headline sizes and a scaling curve to capacity on the exact path,
+/// then the bounded problems.
 pub fn run(quick: bool) -> anyhow::Result<Value> {
     let budget = if quick { 0.05 } else { 0.6 };
     let mut cases = Vec::new();
     for (m, n) in [(4, 9), (20, 24), (64, 96), (8, 16), (32, 48), (48, 72), (96, 144), (128, 192)] {
-        cases.push(bench_size(m, n, false, budget)?);
+        cases.push(bench_size(m, n, budget)?);
     }
-    let mut bounded = Vec::new();
-    for (m, n) in [(4, 9), (20, 24), (64, 96)] {
-        bounded.push(bench_size(m, n, true, budget)?);
-    }
+    let bounded =
+        builtin_bounded().iter().map(|c| bench_bounded(c, budget)).collect::<anyhow::Result<Vec<_>>>()?;
     Ok(json!({
-        "timed": "UPM: Solver::solve (validation, assembly, Householder QR (pivoted only when needed), condition estimate, ordering, achieved forces). nalgebra: DMatrix::pseudo_inverse(1e-12) (SVD) times b, plus one matrix clone.",
+        "timed": "UPM: Solver::solve (validation, assembly, Householder QR (pivoted only when needed), condition estimate, bounded path, ordering, achieved forces); cold = warm start forgotten before each solve, warm = consecutive frames, every part moved 1 mm. nalgebra: DMatrix::pseudo_inverse(1e-12) (SVD) times b, plus one matrix clone. Clarabel (reference): set-up and solve of the same box-constrained QP (tolerances 1e-12), AᵀA formed outside the timing.",
         "cases": cases,
         "bounded_cases": bounded,
     }))
@@ -204,10 +404,9 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
 
 pub fn to_text(v: &Value) -> String {
     let mut s = format!(
-        "{:>4} {:>4} {:>8} {:>10} {:>10} {:>12} {:>12} {:>8} {:>12} {:>6} {:>10} {:>9}\n",
+        "{:>4} {:>4} {:>10} {:>10} {:>12} {:>12} {:>8} {:>12} {:>6} {:>10} {:>9}\n",
         "m",
         "n",
-        "path",
         "upm p50",
         "upm p99",
         "nalg p50",
@@ -218,14 +417,11 @@ pub fn to_text(v: &Value) -> String {
         "max rel",
         "max κ"
     );
-    for c in
-        v["cases"].as_array().into_iter().flatten().chain(v["bounded_cases"].as_array().into_iter().flatten())
-    {
+    for c in v["cases"].as_array().into_iter().flatten() {
         s += &format!(
-            "{:>4} {:>4} {:>8} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>12.1} {:>6} {:>10.1e} {:>9.1e}\n",
+            "{:>4} {:>4} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>12.1} {:>6} {:>10.1e} {:>9.1e}\n",
             c["m"].as_u64().unwrap_or(0),
             c["n"].as_u64().unwrap_or(0),
-            c["path"].as_str().unwrap_or(""),
             c["upm_p50_us"].as_f64().unwrap_or(f64::NAN),
             c["upm_p99_us"].as_f64().unwrap_or(f64::NAN),
             c["nalgebra_p50_us"].as_f64().unwrap_or(f64::NAN),
@@ -237,6 +433,51 @@ pub fn to_text(v: &Value) -> String {
             c["max_condition"].as_f64().unwrap_or(f64::NAN),
         );
     }
-    s + "times in µs; speedup = nalgebra p50 / UPM p50 in warm A B A B batches; \
-         interleaved = the same ratio with single calls alternating (both cold)"
+    if !s.is_empty() && v["cases"].is_array() {
+        s += "exact path: times in µs; speedup = nalgebra p50 / UPM p50 in warm A B A B batches; \
+              interleaved = the same ratio with single calls alternating (both cold)\n\n";
+    }
+    s + &bounded_text(v.get("bounded_cases").unwrap_or(v))
+}
+
+/// The bounded rows (the built-in ones, or a `--problems` array).
+pub fn bounded_text(rows: &Value) -> String {
+    let mut s = format!(
+        "{:<18} {:>4} {:>4} {:>6} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9} {:>10} {:>6}\n",
+        "problem",
+        "m",
+        "n",
+        "active",
+        "cold p50",
+        "cold p99",
+        "warm p50",
+        "warm p99",
+        "clarabel",
+        "nalg p50",
+        "cold/nalg",
+        "warm/nalg",
+        "obj − ref",
+        "alloc"
+    );
+    for c in rows.as_array().into_iter().flatten() {
+        s += &format!(
+            "{:<18} {:>4} {:>4} {:>6} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>10.1} {:>9.1} {:>9.2} {:>9.2} {:>10.1e} {:>6}\n",
+            c["name"].as_str().unwrap_or(""),
+            c["m"].as_u64().unwrap_or(0),
+            c["n"].as_u64().unwrap_or(0),
+            c["active"].as_u64().unwrap_or(0),
+            c["upm_cold_p50_us"].as_f64().unwrap_or(f64::NAN),
+            c["upm_cold_p99_us"].as_f64().unwrap_or(f64::NAN),
+            c["upm_warm_p50_us"].as_f64().unwrap_or(f64::NAN),
+            c["upm_warm_p99_us"].as_f64().unwrap_or(f64::NAN),
+            c["reference_p50_us"].as_f64().unwrap_or(f64::NAN),
+            c["nalgebra_p50_us"].as_f64().unwrap_or(f64::NAN),
+            c["cold_over_nalgebra"].as_f64().unwrap_or(f64::NAN),
+            c["warm_over_nalgebra"].as_f64().unwrap_or(f64::NAN),
+            c["objective_rel_diff"].as_f64().unwrap_or(f64::NAN),
+            c["allocations"],
+        );
+    }
+    s + "bounded path: times in µs; cold = no warm start, warm = consecutive frames (every part 1 mm on); \
+         clarabel = the same box-constrained QP by Clarabel (set-up + solve); obj − ref = (UPM − Clarabel) / Clarabel"
 }

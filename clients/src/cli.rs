@@ -80,6 +80,11 @@ pub enum Command {
         /// (stress-ng if installed, else a built-in burner).
         #[arg(long)]
         stress: bool,
+        /// solver: bench these problems instead (JSON Lines, one `upm
+        /// solve` input per line); malformed lines are reported and make
+        /// the exit status non-zero.
+        #[arg(long)]
+        problems: Option<PathBuf>,
     },
     /// Snapshot of a running core's telemetry. Without --prefix or
     /// --config it finds the running rig by itself (several: lists them).
@@ -220,17 +225,26 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
             Ok(())
         }
-        Command::Bench { what, json, quick, seconds, rounds, plot, stress } => {
-            let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match what {
-                BenchTarget::Solver => (crate::bench_solver::run(quick)?, crate::bench_solver::to_text),
-                BenchTarget::Latency => {
+        Command::Bench { what, json, quick, seconds, rounds, plot, stress, problems } => {
+            let mut bad = 0;
+            let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
+                (BenchTarget::Solver, Some(file)) => {
+                    let (v, b) = crate::bench_solver::run_problems(&file, quick)?;
+                    bad = b;
+                    (v, crate::bench_solver::bounded_text)
+                }
+                (_, Some(_)) => anyhow::bail!("--problems applies to `upm bench solver` only"),
+                (BenchTarget::Solver, None) => {
+                    (crate::bench_solver::run(quick)?, crate::bench_solver::to_text)
+                }
+                (BenchTarget::Latency, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (
                         crate::bench_latency::run_with_plot(s, rounds, plot.as_deref(), stress)?,
                         crate::bench_latency::to_text,
                     )
                 }
-                BenchTarget::Ipc => {
+                (BenchTarget::Ipc, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
                 }
@@ -239,6 +253,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
                 println!("{}", text(&v));
+            }
+            if bad > 0 {
+                anyhow::bail!("{bad} problem line(s) malformed or unsolvable (named above)");
             }
             Ok(())
         }

@@ -51,6 +51,10 @@ pub struct SolveOutput {
     /// Estimated κ₂; rank-deficient systems report f64::MAX (JSON has no ∞).
     pub condition: f64,
     pub saturated: bool,
+    /// Wall time of `Solver::solve` alone (µs), on a fresh solver (cold).
+    pub solve_time_us: f64,
+    /// Free-block solves of the bounded path (0 on the exact path).
+    pub iterations: usize,
 }
 
 /// Input errors, each naming the JSON field, one line each.
@@ -109,11 +113,14 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut solution = solver.new_solution();
-    solver.solve(&problem, &mut solution).map_err(InputError::Solve)?;
-    Ok(to_output(&solution))
+    let started = std::time::Instant::now();
+    let result = solver.solve(&problem, &mut solution);
+    let solve_time_us = started.elapsed().as_secs_f64() * 1e6;
+    result.map_err(InputError::Solve)?;
+    Ok(to_output(&solution, solve_time_us))
 }
 
-pub fn to_output(s: &Solution) -> SolveOutput {
+pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
     SolveOutput {
         k: s.k().to_vec(),
         order: s.order().iter().map(|&j| j as usize).collect(),
@@ -123,5 +130,7 @@ pub fn to_output(s: &Solution) -> SolveOutput {
         rank: s.rank,
         condition: if s.condition.is_finite() { s.condition } else { f64::MAX },
         saturated: s.saturated,
+        solve_time_us,
+        iterations: s.iterations,
     }
 }

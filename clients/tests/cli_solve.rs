@@ -46,6 +46,8 @@ fn paper_3_1_from_a_file() {
     assert_eq!(v["order"], serde_json::json!([0, 2, 1, 3]));
     assert_eq!(v["rank"], 4);
     assert_eq!(v["saturated"], false);
+    assert_eq!(v["iterations"], 0, "the exact path iterates not");
+    assert!(v["solve_time_us"].as_f64().is_some_and(|t| t > 0.0), "solve_time_us: {}", v["solve_time_us"]);
 }
 
 #[test]
