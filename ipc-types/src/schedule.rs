@@ -51,9 +51,11 @@ pub struct Schedule {
     pub solve_time_ns: u64,
     /// ‖A·K − b‖ in force units (N); finite, ≥ 0.
     pub residual: f64,
-    /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient.
+    /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient,
+    /// 0 when not estimated (a saturated frame warm-started from the last
+    /// frame's active set does not factor A).
     pub condition: f64,
-    /// Numerical rank of A.
+    /// Numerical rank of A; 0 when not estimated (as `condition`).
     pub rank: u32,
     /// 1 when a bound |k| = k_max was active (request not fully met), else 0.
     pub saturated: u32,
