@@ -33,6 +33,7 @@
 //! among equally good ones.
 
 use super::dense::{axpy, dot};
+use super::free_cholesky::FreeCholesky;
 use super::pivoted_qr::PivotedQr;
 
 #[derive(Debug)]
@@ -52,6 +53,7 @@ pub(crate) struct BoundedBuffers {
     target: Vec<f64>,
     trial: Vec<f64>,
     free: Vec<usize>,
+    chol: FreeCholesky,
     /// Per variable: 0 free, ±1 fixed at ±k_max. The caller writes the
     /// starting guess here; after a solve it holds the final active set.
     pub state: Vec<i8>,
@@ -74,6 +76,7 @@ impl BoundedBuffers {
             target: vec![0.0; n],
             trial: vec![0.0; n],
             free: vec![0; n],
+            chol: FreeCholesky::new(m, n),
             state: vec![0; n],
         }
     }
@@ -130,7 +133,9 @@ pub(crate) fn bounded_solve(
         norms_ref: &mut buf.norms_ref,
         work: &mut buf.work,
         free: &mut buf.free,
+        chol: &mut buf.chol,
     };
+    qr.chol.valid = false;
     let mut it = Iterate { state: &mut buf.state[..n], k: &mut k[..n], rhs: &mut buf.rhs[..m] };
     let z = &mut buf.target[..n];
     let trial = &mut buf.trial[..n];
@@ -148,7 +153,7 @@ pub(crate) fn bounded_solve(
         if it.state[j] != 0 {
             it.k[j] = f64::from(it.state[j]) * k_max;
         } else if z[j].abs() > k_max {
-            block.fix(&mut it, j, z[j]);
+            block.fix(&mut it, qr.chol, j, z[j]);
             at_optimum = false;
         } else {
             it.k[j] = z[j];
@@ -173,14 +178,18 @@ pub(crate) fn bounded_solve(
                 }
             }
             match worst {
-                Some(j) => block.release(&mut it, j),
+                Some(j) => {
+                    report.converged = false;
+                    block.release(&mut it, qr.chol, j);
+                }
                 None if report.converged => break,
-                // Optimal on the incrementally kept r: confirm once on an r
-                // recomputed from scratch, so that the answer depends on the
-                // final active set only, not on the path to it.
+                // Optimal on the incrementally kept r and the updated factor:
+                // confirm once with both recomputed from scratch, so that the
+                // answer depends on the final active set only.
                 None => {
                     report.converged = true;
                     block.refresh_rhs(it.state, it.rhs);
+                    qr.chol.valid = false;
                 }
             }
         }
@@ -208,7 +217,7 @@ pub(crate) fn bounded_solve(
         if f_trial < f_k {
             for j in 0..n {
                 if it.state[j] == 0 && z[j].abs() > k_max {
-                    block.fix(&mut it, j, z[j]);
+                    block.fix(&mut it, qr.chol, j, z[j]);
                 } else if it.state[j] == 0 {
                     it.k[j] = trial[j];
                 }
@@ -228,7 +237,7 @@ pub(crate) fn bounded_solve(
             if it.state[j] == 0 {
                 let next = it.k[j] + alpha * (z[j] - it.k[j]);
                 if next.abs() >= k_max * (1.0 - 1e-12) {
-                    block.fix(&mut it, j, next);
+                    block.fix(&mut it, qr.chol, j, next);
                 } else {
                     it.k[j] = next;
                 }
@@ -267,6 +276,7 @@ struct QrBuffers<'a> {
     norms_ref: &'a mut [f64],
     work: &'a mut [f64],
     free: &'a mut [usize],
+    chol: &'a mut FreeCholesky,
 }
 
 impl FreeBlock<'_> {
@@ -275,15 +285,26 @@ impl FreeBlock<'_> {
     }
 
     /// Fix variable j at the bound on `toward`'s side.
-    fn fix(&self, it: &mut Iterate<'_>, j: usize, toward: f64) {
+    fn fix(&self, it: &mut Iterate<'_>, chol: &mut FreeCholesky, j: usize, toward: f64) {
         it.state[j] = if toward > 0.0 { 1 } else { -1 };
         it.k[j] = self.k_max.copysign(toward);
         axpy(-it.k[j], self.col(j), it.rhs);
+        if chol.valid {
+            chol.remove(j);
+        }
     }
 
-    fn release(&self, it: &mut Iterate<'_>, j: usize) {
+    fn release(&self, it: &mut Iterate<'_>, chol: &mut FreeCholesky, j: usize) {
         axpy(it.k[j], self.col(j), it.rhs);
         it.state[j] = 0;
+        if chol.valid {
+            // At |F| = m the row form is the smaller one: refactor there.
+            if it.state.iter().filter(|s| **s == 0).count() >= self.m {
+                chol.valid = false;
+            } else {
+                chol.add(j, self.cols, self.m, self.eps);
+            }
+        }
     }
 
     /// r = b − A_B k_B from scratch.
@@ -324,6 +345,11 @@ impl FreeBlock<'_> {
             }
         }
         if nf == 0 {
+            qr.chol.load(&[], 1, &[]);
+            return;
+        }
+        if qr.chol.valid {
+            qr.chol.solve(self.cols, m, self.eps, rhs, z);
             return;
         }
         let sqrt_eps = self.eps.sqrt();
@@ -350,6 +376,7 @@ impl FreeBlock<'_> {
             v[m..].fill(0.0);
             f.apply_qt(v);
             f.solve_r(v);
+            qr.chol.load(f.a, lead, &qr.free[..nf]);
         } else {
             // [A_Fᵀ; √ε·I] (|F| + m) × m, column i = [row i of A_F; √ε·e_i].
             let factor = &mut qr.factor[..lead * m];
@@ -369,6 +396,7 @@ impl FreeBlock<'_> {
             v[m..].fill(0.0);
             f.solve_rt(v);
             f.apply_q(v);
+            qr.chol.valid = false;
         }
         for (c, &j) in qr.free[..nf].iter().enumerate() {
             z[j] = v[c];

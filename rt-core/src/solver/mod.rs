@@ -37,6 +37,7 @@ mod condition;
 mod dense;
 mod error;
 pub mod field;
+mod free_cholesky;
 mod min_norm;
 mod order;
 mod params;
