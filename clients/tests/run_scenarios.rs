@@ -135,6 +135,27 @@ fn upm_run_spin_writes_metrics_trails_and_histograms() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// 32 parts, 96 centers, camera at 100 Hz through the real processes: every
+/// request solved and played, nothing rejected or held, and metrics.json
+/// says how many frames were late (a figure, not asserted: BENCHMARKS.md).
+#[test]
+fn upm_run_crowd_solves_32_parts_at_camera_rate() {
+    let out = std::env::temp_dir().join(format!("upm_run_crowd_{}", std::process::id()));
+    let o = upm_run("crowd", "3", &out).wait_with_output().expect("wait");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(m["parts"].as_array().map(Vec::len), Some(32));
+    assert_eq!(m["centers"], 96);
+    assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no schedule seen: {m}");
+    assert!(m["frames_late"].as_u64().is_some(), "frames_late missing: {m}");
+    assert_eq!(m["core"]["rejected_requests"], 0);
+    assert_eq!(m["core"]["hold_events"], 0);
+    assert_eq!(m["core"]["rt_thread_allocations"], 0);
+}
+
 #[test]
 fn a_killed_planner_is_restarted() {
     let out = std::env::temp_dir().join(format!("upm_run_kill_{}", std::process::id()));

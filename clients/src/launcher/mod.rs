@@ -111,7 +111,7 @@ pub fn run_plan(
     let mut planner = Supervised::new("upm-planner", exe, planner_args, Some(logs.join("planner.log")))
         .avoiding_cpu(plan.config.cpu_to_avoid());
 
-    let mut recorder = Recorder::new(&prefix, 20.0)?;
+    let mut recorder = Recorder::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
     core.start()?;
     if let Some(cpu) = plan.config.cpu_to_avoid() {
         // The recorder and progress bar need no RT CPU (the core, started
@@ -206,6 +206,10 @@ pub fn run_plan(
             "ipc_vision_to_core": latency_json(&t.latency.ipc_vision_to_core),
             "frame_to_schedule": latency_json(&t.latency.frame_to_schedule),
         },
+        // Of the schedules the launcher saw (it may miss some when it falls
+        // behind; the core's solver histogram above has them all).
+        "frames_late": recorder.frames_late,
+        "schedules_seen": recorder.schedules_seen,
         "processes": pids,
         "restarts": restarts,
     });

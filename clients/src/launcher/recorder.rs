@@ -1,12 +1,13 @@
 //! What `upm run` records while the loop runs: part trails from the
-//! simulator's ground truth and the core's newest telemetry.
+//! simulator's ground truth, the core's newest telemetry, and how many
+//! schedules took longer to solve than a camera frame lasts.
 
 use std::collections::BTreeMap;
 
 use iceoryx2::prelude::*;
 use ipc_types::ports::{Sub, open_pub_sub};
 use ipc_types::rig_node::rig_node;
-use ipc_types::{PartStates, Telemetry, service_names};
+use ipc_types::{PartStates, Schedule, Telemetry, service_names};
 use serde::Serialize;
 
 /// Positions of one part over the run.
@@ -34,7 +35,12 @@ pub struct Recorder {
     _node: Node<ipc::Service>,
     truth: Sub<PartStates>,
     telemetry: Sub<Telemetry>,
+    schedules: Sub<Schedule>,
     pub trails: Trails,
+    /// Schedules seen, and those whose solve took longer than a frame.
+    pub schedules_seen: u64,
+    pub frames_late: u64,
+    frame_period_ns: u64,
     pub last_telemetry: Option<Telemetry>,
     first_stamp: Option<u64>,
     last_sample: u64,
@@ -42,8 +48,9 @@ pub struct Recorder {
 }
 
 impl Recorder {
-    /// Record at most `sample_hz` trail points per second.
-    pub fn new(prefix: &str, sample_hz: f64) -> anyhow::Result<Self> {
+    /// Record at most `sample_hz` trail points per second; a solve longer
+    /// than 1/`frame_hz` makes its frame late.
+    pub fn new(prefix: &str, sample_hz: f64, frame_hz: f64) -> anyhow::Result<Self> {
         let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
         let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?
             .subscriber_builder()
@@ -53,11 +60,19 @@ impl Recorder {
             .subscriber_builder()
             .create()
             .map_err(|e| anyhow::anyhow!("telemetry subscriber: {e:?}"))?;
+        let schedules = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| anyhow::anyhow!("schedule subscriber: {e:?}"))?;
         Ok(Self {
             _node: node,
             truth,
             telemetry,
+            schedules,
             trails: Trails::default(),
+            schedules_seen: 0,
+            frames_late: 0,
+            frame_period_ns: (1e9 / frame_hz.max(1e-3)) as u64,
             last_telemetry: None,
             first_stamp: None,
             last_sample: 0,
@@ -69,6 +84,10 @@ impl Recorder {
     pub fn poll(&mut self) -> anyhow::Result<f64> {
         while let Some(s) = self.telemetry.receive().map_err(|e| anyhow::anyhow!("telemetry: {e:?}"))? {
             self.last_telemetry = Some(*s.payload());
+        }
+        while let Some(s) = self.schedules.receive().map_err(|e| anyhow::anyhow!("schedule: {e:?}"))? {
+            self.schedules_seen += 1;
+            self.frames_late += u64::from(s.payload().solve_time_ns > self.frame_period_ns);
         }
         while let Some(s) = self.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
             let m = s.payload();
