@@ -147,19 +147,23 @@ pub(crate) fn bounded_solve(
     // Start: the guessed free block's optimum, clipped into the box.
     let mut report = BoundedReport { iterations: 1, converged: false, active: 0 };
     block.refresh_rhs(it.state, it.rhs);
-    block.solve(it.state, z, it.rhs, &mut qr);
+    let mut rhs_fresh = true;
+    // The last solve is the canonical answer for its active set: a fresh
+    // QR in the smaller form on an r computed from scratch.
+    let mut canonical = block.solve(it.state, z, it.rhs, &mut qr, false);
     let mut at_optimum = true;
     for j in 0..n {
         if it.state[j] != 0 {
             it.k[j] = f64::from(it.state[j]) * k_max;
         } else if z[j].abs() > k_max {
             block.fix(&mut it, qr.chol, j, z[j]);
-            at_optimum = false;
+            (at_optimum, rhs_fresh) = (false, false);
         } else {
             it.k[j] = z[j];
         }
     }
     let mut f_k = block.objective(it.state, it.k, it.rhs, residual);
+    let mut confirm = false;
     // Each pass steps toward the free block's optimum or, there, releases
     // one bound or stops.
     loop {
@@ -178,27 +182,38 @@ pub(crate) fn bounded_solve(
                 }
             }
             match worst {
-                Some(j) => {
-                    report.converged = false;
-                    block.release(&mut it, qr.chol, j);
+                // If even alone (the others held) it would run past the
+                // opposite bound, move it there: the objective falls all
+                // the way, and the sign change costs one solve, not a
+                // release and a re-fix.
+                Some(j) if flips_over(block.col(j), block.eps, it.k[j], worst_pull, k_max) => {
+                    block.flip(&mut it, j);
+                    rhs_fresh = false;
+                    f_k = block.objective(it.state, it.k, it.rhs, residual);
                 }
-                None if report.converged => break,
+                Some(j) => {
+                    block.release(&mut it, qr.chol, j);
+                    rhs_fresh = false;
+                }
+                None if canonical && rhs_fresh => {
+                    report.converged = true;
+                    break;
+                }
                 // Optimal on the incrementally kept r and the updated factor:
                 // confirm once with both recomputed from scratch, so that the
                 // answer depends on the final active set only.
                 None => {
-                    report.converged = true;
                     block.refresh_rhs(it.state, it.rhs);
-                    qr.chol.valid = false;
+                    (rhs_fresh, confirm) = (true, true);
                 }
             }
         }
         if report.iterations >= inp.max_iterations {
-            report.converged = false;
             break;
         }
         report.iterations += 1;
-        block.solve(it.state, z, it.rhs, &mut qr);
+        canonical = block.solve(it.state, z, it.rhs, &mut qr, confirm);
+        confirm = false;
         let free = |j: &usize| it.state[*j] == 0;
         if (0..n).filter(free).all(|j| z[j].abs() <= k_max) {
             // The free optimum is inside: take it whole.
@@ -208,7 +223,7 @@ pub(crate) fn bounded_solve(
             continue;
         }
         at_optimum = false;
-        report.converged = false;
+        rhs_fresh = false;
         // Projected step: the free optimum clipped into the box, kept if it
         // lowers the objective (it fixes every clipped variable at once).
         trial.copy_from_slice(it.k);
@@ -248,6 +263,13 @@ pub(crate) fn bounded_solve(
     it.k.iter_mut().for_each(|v| *v = v.clamp(-k_max, k_max));
     report.active = it.state.iter().filter(|s| **s != 0).count();
     report
+}
+
+/// A fixed variable at ±k_max whose gradient pulls inward by `pull`
+/// (= |γ_j|): does its own Newton step, k_j ∓ pull/(‖a_j‖² + ε), pass
+/// the opposite bound?
+fn flips_over(a: &[f64], eps: f64, k: f64, pull: f64, k_max: f64) -> bool {
+    pull / (dot(a, a) + eps) > k.abs() + k_max
 }
 
 /// The iterate: which variables are fixed, k, and r = b − A_B k_B, kept
@@ -294,16 +316,19 @@ impl FreeBlock<'_> {
         }
     }
 
+    /// Move fixed variable j to the opposite bound (the free set, and so
+    /// the factor, stay as they are).
+    fn flip(&self, it: &mut Iterate<'_>, j: usize) {
+        axpy(2.0 * it.k[j], self.col(j), it.rhs);
+        it.state[j] = -it.state[j];
+        it.k[j] = -it.k[j];
+    }
+
     fn release(&self, it: &mut Iterate<'_>, chol: &mut FreeCholesky, j: usize) {
         axpy(it.k[j], self.col(j), it.rhs);
         it.state[j] = 0;
         if chol.valid {
-            // At |F| = m the row form is the smaller one: refactor there.
-            if it.state.iter().filter(|s| **s == 0).count() >= self.m {
-                chol.valid = false;
-            } else {
-                chol.add(j, self.cols, self.m, self.eps);
-            }
+            chol.add(j, self.cols, self.m, self.eps);
         }
     }
 
@@ -334,8 +359,11 @@ impl FreeBlock<'_> {
     }
 
     /// z_F ← the free block's optimum with the fixed variables at their
-    /// bounds, by a fresh QR in the smaller form (module doc).
-    fn solve(&self, state: &[i8], z: &mut [f64], rhs: &[f64], qr: &mut QrBuffers<'_>) {
+    /// bounds: from the updated factor, or by a fresh QR of [A_F; √ε·I]
+    /// (which renews it), or, to `confirm` an answer, by a fresh QR in
+    /// the smaller form (module doc). True when it was that canonical
+    /// fresh QR in the smaller form.
+    fn solve(&self, state: &[i8], z: &mut [f64], rhs: &[f64], qr: &mut QrBuffers<'_>, confirm: bool) -> bool {
         let m = self.m;
         let mut nf = 0;
         for j in 0..self.n {
@@ -346,17 +374,18 @@ impl FreeBlock<'_> {
         }
         if nf == 0 {
             qr.chol.load(&[], 1, &[]);
-            return;
+            return true;
         }
-        if qr.chol.valid {
+        if qr.chol.valid && !confirm {
             qr.chol.solve(self.cols, m, self.eps, rhs, z);
-            return;
+            return false;
         }
         let sqrt_eps = self.eps.sqrt();
         let lead = nf + m;
         let v = &mut qr.work[..lead];
-        if nf < m {
-            // [A_F; √ε·I] (m + |F|) × |F|, column c = [a_{F_c}; √ε·e_c].
+        if nf < m || !confirm {
+            // [A_F; √ε·I] (m + |F|) × |F|, column c = [a_{F_c}; √ε·e_c]:
+            // also the factor the updates continue from.
             let factor = &mut qr.factor[..lead * nf];
             factor.fill(0.0);
             for (c, &j) in qr.free[..nf].iter().enumerate() {
@@ -401,6 +430,7 @@ impl FreeBlock<'_> {
         for (c, &j) in qr.free[..nf].iter().enumerate() {
             z[j] = v[c];
         }
+        nf < m || confirm
     }
 }
 

@@ -257,10 +257,11 @@ impl Solver {
             self.warm.valid = false;
             return;
         }
-        // Guess the active set from the exact K clipped into the box when
-        // it can be trusted; otherwise (short rank, κ over the gate) start
-        // all free: the first iteration is then the regularised optimum.
-        let trusted = full_rank && out.condition <= self.params.max_condition;
+        // Guess the active set from the exact K clipped into the box (even
+        // over the κ gate it is the better guess); with a short rank its
+        // values are meaningless: start all free, the first iteration is
+        // then the regularised optimum.
+        let trusted = full_rank;
         let state = &mut self.bounded.state[..n];
         for (s, &k) in state.iter_mut().zip(&self.exact_k[..n]) {
             *s = if trusted && k.abs() > problem.k_max { if k > 0.0 { 1 } else { -1 } } else { 0 };
