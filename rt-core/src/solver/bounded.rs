@@ -1,36 +1,45 @@
 //! Bounded least squares: min ½‖A k − b‖² + ½ε‖k‖² subject to |k_j| ≤ k_max.
 //!
-//! **Block principal pivoting** (Júdice & Pires 1994; Kim & Park's NNLS,
-//! here on a box). Every variable is either free or fixed at ±k_max. Each
-//! iteration solves the free block with the fixed ones at their bounds and
-//! collects what breaks the KKT conditions: free variables outside the box,
-//! fixed ones whose gradient pulls them inside. None: optimal. Otherwise
-//! all of them change side at once, which reaches a heavily saturated
-//! optimum (in `sort` nearly every k_j is at a bound) in a handful of
-//! iterations where a one-bound-at-a-time method needs one per bound. When
-//! the count of violations stops falling for `BACKUP_TRIES` iterations,
-//! only the violating variable of largest index changes side (Murty's rule),
-//! which guarantees termination; the optimum is unique (ε > 0).
+//! **A feasible (primal) active-set method**, as in Stark & Parker's BVLS.
+//! Every variable is free or fixed at ±k_max. It starts from the caller's
+//! guess (the last frame's active set, the unbounded K clipped, or all
+//! free): the guessed free block's optimum, clipped into the box, with what
+//! was clipped fixed. From there every step keeps k feasible and never
+//! raises the objective, so a good guess is an answer in one iteration and
+//! a bad one costs iterations, never correctness. Each iteration solves the
+//! free block with the fixed variables at their bounds:
+//! - inside the box: take it; at this free optimum, the fixed variable
+//!   whose gradient pulls inward the most is released (it is then sure to
+//!   move inward), or moved to the opposite bound if its own Newton step
+//!   passes it; none: optimal;
+//! - outside: take the optimum clipped into the box if that lowers the
+//!   objective (a *projected* step, fixing every clipped variable at once),
+//!   else step toward it until the first bound and fix that one.
 //!
-//! The iteration starts from the caller's guess (the last frame's active
-//! set, the unbounded K clipped, or all free); a good guess is an answer
-//! in one iteration, a bad one costs iterations, never correctness.
+//! **The free block's factor is updated, not recomputed.** R (|F| × |F|)
+//! with RᵀR = A_FᵀA_F + εI (`free_cholesky.rs`): freeing a variable borders
+//! it, fixing one deletes its column with Givens rotations, O(m·|F| + |F|²)
+//! each; steps are solved by corrected semi-normal equations, and r = b −
+//! A_B k_B is kept as variables change side. A lost pivot refactors.
 //!
-//! **The free block** is solved by Householder QR in whichever form is
-//! smaller, never through AᵀA (whose κ² is ~1e20 for close parts). With F
-//! the free set and r = b − A_B k_B what the bound variables leave:
-//! - |F| < m: least squares [A_F; √ε·I] k_F ≈ [r; 0], R is |F| × |F|;
+//! **The answer never rests on the updates.** When no release remains, the
+//! free block is solved again by a fresh Householder QR in whichever form
+//! is smaller, never through AᵀA (whose κ² is ~1e20 for close parts), on an
+//! r recomputed from scratch:
+//! - |F| < m: least squares [A_F; √ε·I] k_F ≈ [r; 0];
 //! - else: minimum norm [A_F √ε·I] v = r, k_F = v[..|F|], from the QR of
-//!   [A_Fᵀ; √ε·I], R is m × m.
+//!   [A_Fᵀ; √ε·I];
 //!
-//! Both are backward stable, so the answer depends only on the final active
-//! set, not on the path to it (a warm start gives the cold answer bit for
-//! bit when both end on the same set). A saturated frame has |F| ≪ m, so
-//! its QR is small: 2·d²·(m + |F|) flops with d = min(m, |F|).
+//! and the KKT conditions are checked on that solution (the iteration goes
+//! on if they fail). Both forms are backward stable, and the answer depends
+//! only on the final active set: a warm start gives the cold answer bit for
+//! bit when both end on the same set.
 //!
-//! Work is bounded: at most `max_iterations` iterations of one such QR,
-//! one A·k and one Aᵀ·r (4·m·n flops). The small ε picks the smallest K
-//! among equally good ones.
+//! Work is bounded: at most `max_iterations` iterations, each one update
+//! and one solve with R plus O(m·n) for the gradient and objective, and a
+//! fresh QR of 2·d²·(m + |F|) flops (d = min(m, |F|)) at the start, to
+//! confirm, and after a lost pivot. The small ε picks the smallest K among
+//! equally good ones.
 
 use super::dense::{axpy, dot};
 use super::free_cholesky::FreeCholesky;

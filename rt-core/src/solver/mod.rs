@@ -3,7 +3,8 @@
 //!
 //! [`Solver::new`] allocates every buffer once for a [`SolverCapacity`];
 //! [`Solver::solve`] then allocates nothing, runs single-threaded
-//! (`Par::Seq`, bit-identical for the same input) and does bounded work:
+//! (bit-identical for the same input and the same previous frame) and does
+//! bounded work:
 //!
 //! 1. validate and assemble A (m × n) and b;
 //! 2. Householder QR → rank, κ₂ estimate, exact minimum-norm K; the QR is
@@ -11,9 +12,10 @@
 //!    short or κ₂ exceeds `max_condition`;
 //! 3. if K is inside |k_j| ≤ k_max, full rank and κ₂ ≤ `max_condition`:
 //!    done (exact path);
-//! 4. otherwise bounded least squares by block principal pivoting, started
-//!    from the exact K clipped into the box, at most
-//!    `bounded_max_iterations` iterations (flops in `bounded.rs`);
+//! 4. otherwise bounded least squares by a feasible active-set method with
+//!    an updated factorization, started from the exact K clipped into the
+//!    box, at most `bounded_max_iterations` iterations (flops in
+//!    `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
 //!
 //! **Warm start.** Consecutive camera frames ask nearly the same question,
