@@ -1,4 +1,4 @@
-//! The `upm` command line (DESIGN.md §7). Parsing only; each subcommand's
+//! The `upm` command line (ARCHITECTURE.md §7). Parsing only; each subcommand's
 //! work lives in its own module.
 
 use std::io::Read;
@@ -61,7 +61,7 @@ pub enum Command {
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
         what: BenchTarget,
-        /// Print JSON (DESIGN.md §7) instead of a table.
+        /// Print JSON (ARCHITECTURE.md §7) instead of a table.
         #[arg(long)]
         json: bool,
         /// Shorter runs (smoke test).
@@ -89,7 +89,7 @@ pub enum Command {
     /// Snapshot of a running core's telemetry. Without --prefix or
     /// --config it finds the running rig by itself (several: lists them).
     Status {
-        /// Print JSON (DESIGN.md §7) instead of text.
+        /// Print JSON (ARCHITECTURE.md §7) instead of text.
         #[arg(long)]
         json: bool,
         /// Service prefix of the rig (default: the running rig's).

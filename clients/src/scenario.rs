@@ -135,7 +135,7 @@ impl Scenario {
         p
     }
 
-    /// Goal metrics from the recorded trails (DESIGN.md §7).
+    /// Goal metrics from the recorded trails (ARCHITECTURE.md §7).
     pub fn evaluate(&self, config: &Config, trails: &Trails) -> Value {
         let p = &self.planner;
         let mut parts = Vec::new();

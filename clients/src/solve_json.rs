@@ -1,4 +1,4 @@
-//! `upm solve` JSON contract (DESIGN.md §7): parse, solve, serialize.
+//! `upm solve` JSON contract (ARCHITECTURE.md §7): parse, solve, serialize.
 
 use rt_core::{CurlConstraint, ForceConstraint, Problem, Solution, Solver, SolverCapacity, SolverParams};
 use serde::{Deserialize, Serialize};

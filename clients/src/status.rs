@@ -1,5 +1,5 @@
 //! `upm status [--json]`: the newest telemetry of the core on a prefix
-//! (DESIGN.md §7).
+//! (ARCHITECTURE.md §7).
 
 use std::time::{Duration, Instant};
 

@@ -1,4 +1,4 @@
-//! Shared-memory messages of the UPM kernel (DESIGN.md §3–§4).
+//! Shared-memory messages of the UPM kernel (ARCHITECTURE.md §3–§4).
 //!
 //! Every process (core, vision, planner, tools) links this one crate, so the
 //! byte layout of a message is defined exactly once. Payloads are

@@ -1,5 +1,5 @@
 //! Heap allocations per call of the iceoryx2 0.10 APIs (ipc::Service) the
-//! core's threads use (DESIGN.md §3). The solver thread relies on
+//! core's threads use (ARCHITECTURE.md §3). The solver thread relies on
 //! `Subscriber::receive()` and `Listener::try_wait()` allocating nothing;
 //! that is asserted. The other calls are measured and printed so the design
 //! can be re-checked whenever iceoryx2 changes.

@@ -1,4 +1,4 @@
-//! `upm validate` (DESIGN.md §7): solve, then play the schedule on the
+//! `upm validate` (ARCHITECTURE.md §7): solve, then play the schedule on the
 //! physics simulator and measure the forces and curls parts really feel.
 //!
 //! Each constrained point is a *free* body starting at rest at its position

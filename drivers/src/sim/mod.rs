@@ -175,11 +175,6 @@ impl Simulator {
         self.parts.len()
     }
 
-    /// Mass of part `i` (None if out of range).
-    pub fn part_mass(&self, i: usize) -> Option<f64> {
-        self.bodies.get(i).map(|b| b.mass)
-    }
-
     /// Moment of inertia of part `i` about its center (0 for points).
     pub fn part_inertia(&self, i: usize) -> Option<f64> {
         self.bodies.get(i).map(|b| b.mass * b.rho2)

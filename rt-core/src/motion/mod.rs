@@ -1,4 +1,4 @@
-//! Closed plate motion (DESIGN.md §2 "How a slot really moves the plate").
+//! Closed plate motion (ARCHITECTURE.md §2 "How a slot really moves the plate").
 //!
 //! A schedule (centers in play order, each with its k_j) becomes a
 //! [`PlateMotion`]: one slot per entry, each a time-asymmetric rotation about

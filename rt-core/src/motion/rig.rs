@@ -1,4 +1,4 @@
-//! Rig kinematics: plate pose ↔ actuator positions (DESIGN.md §6: four voice
+//! Rig kinematics: plate pose ↔ actuator positions (ARCHITECTURE.md §6: four voice
 //! coils, two along x and two along y). Linear actuators push along a fixed
 //! world direction u_i at an attachment point a_i of the plate; the stroke is
 //! the displacement of that point along u_i: s_i = u_i·(t + R(θ)a_i − a_i).

@@ -1,4 +1,4 @@
-//! The real-time core (DESIGN.md §3–5): a motor loop that plays closed plate
+//! The real-time core (ARCHITECTURE.md §3–5): a motor loop that plays closed plate
 //! motions through a [`crate::driver::PlateDriver`], a solver stage that turns
 //! validated messages into those motions, the wait-free hand-over between
 //! them, and the process that runs them on SCHED_FIFO threads over iceoryx2.

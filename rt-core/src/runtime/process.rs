@@ -1,4 +1,4 @@
-//! The real-time core process (DESIGN.md §3): a motor thread (SCHED_FIFO,
+//! The real-time core process (ARCHITECTURE.md §3): a motor thread (SCHED_FIFO,
 //! highest), a solver thread (SCHED_FIFO, below it), the iceoryx2 receiver
 //! thread (SCHED_FIFO between them on the motor's CPU in event mode, else
 //! normal priority) and the io thread (the caller's, normal priority) that

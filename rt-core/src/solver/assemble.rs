@@ -1,6 +1,6 @@
 //! Build A and b of Eq. 10 and 12.
 //!
-//! Row order (DESIGN.md §2): x rows of every force-constrained part, then
+//! Row order (ARCHITECTURE.md §2): x rows of every force-constrained part, then
 //! their y rows, then one curl row per curl point. A is stored row-major
 //! (m rows × n centers), which is Aᵀ column-major: what the QR wants.
 

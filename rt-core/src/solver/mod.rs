@@ -1,5 +1,5 @@
 //! Force synthesis: desired per-part forces and curls → rotation
-//! intensities k_j of one closed plate motion (paper §2–3, DESIGN.md §2).
+//! intensities k_j of one closed plate motion (paper §2–3, ARCHITECTURE.md §2).
 //!
 //! [`Solver::new`] allocates every buffer once for a [`SolverCapacity`];
 //! [`Solver::solve`] then allocates nothing, runs single-threaded
