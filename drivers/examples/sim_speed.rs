@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use drivers::conformance::demo_motion;
-use drivers::lockstep::{play, record_commands, replay};
+use drivers::playback::{play, record_commands, replay};
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;

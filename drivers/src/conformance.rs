@@ -8,7 +8,7 @@
 use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState, WriteError};
 use rt_core::motion::{MotionParams, PlateMotion, Rig, RigParams, ScheduleEntry};
 
-use crate::lockstep::play;
+use crate::playback::play;
 
 fn read<D: PlateDriver>(d: &mut D) -> PlateState {
     let mut s = PlateState::default();

@@ -1,5 +1,5 @@
 //! Plate drivers for UPM: the embedded physics simulator (the default
-//! driver), an ideal mock, the lock-step loop and the conformance suite every
+//! driver), an ideal mock, motion playback and the conformance suite every
 //! [`rt_core::driver::PlateDriver`] runs.
 
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
@@ -7,7 +7,7 @@
 
 pub mod conformance;
 pub mod ideal;
-pub mod lockstep;
+pub mod playback;
 pub mod rng;
 pub mod sim;
 

@@ -1,7 +1,7 @@
 //! Same config + seed → bit-identical runs; a different seed differs.
 
 use drivers::conformance::demo_motion;
-use drivers::lockstep::play;
+use drivers::playback::play;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;

@@ -4,7 +4,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use drivers::conformance::demo_motion;
-use drivers::lockstep::play;
+use drivers::playback::play;
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;

@@ -2,7 +2,7 @@
 //! substep per 10 kHz tick match a 32× finer integration to < 0.5 % of μmg.
 
 use drivers::conformance::demo_motion;
-use drivers::lockstep::play;
+use drivers::playback::play;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;

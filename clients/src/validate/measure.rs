@@ -1,7 +1,7 @@
 //! Play a solved schedule on the simulator and measure average forces/curls.
 
 use anyhow::{Context, anyhow};
-use drivers::lockstep::play;
+use drivers::playback::play;
 use drivers::rng::SplitMix64;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;

@@ -23,9 +23,11 @@ mod plan;
 mod pose;
 mod profile;
 mod rig;
+mod setpoint;
 
 pub use params::{MotionLimits, MotionParams, ParamsError};
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
 pub use pose::{PlateSample, Pose, Twist, sin_cos};
 pub use profile::{MAX_KNOTS, Profile, ProfilePoint};
 pub use rig::{Actuator, MAX_ACTUATORS, Rig, RigError, RigParams};
+pub use setpoint::next_command;

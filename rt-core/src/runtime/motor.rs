@@ -13,7 +13,7 @@ use super::params::CoreParams;
 use super::samples::MotorSample;
 use super::shared::CoreShared;
 use crate::driver::{ActuatorCommand, PlateDriver, PlateState, ReadError, WriteError};
-use crate::motion::{PlateSample, Pose, Rig};
+use crate::motion::{PlateSample, Pose, Rig, next_command};
 
 /// What the loop did in one tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -179,17 +179,9 @@ impl<D: PlateDriver> MotorLoop<D> {
         // write
         if self.mode == CoreState::Running {
             let motion = &self.reader.current().motion;
-            let mut next = motion.sample_tick(self.phase + 1);
-            // Feed-forward acceleration is the tick average, which is what a
-            // zero-order-held force produces.
-            let h = self.tick_s;
-            next.acceleration.x = (next.velocity.x - self.setpoint.velocity.x) / h;
-            next.acceleration.y = (next.velocity.y - self.setpoint.velocity.y) / h;
-            next.acceleration.theta = (next.velocity.theta - self.setpoint.velocity.theta) / h;
-            self.rig.command(&next, &mut self.cmd);
-            self.setpoint = next;
+            next_command(&self.rig, motion, self.tick_s, self.phase, &mut self.setpoint, &mut self.cmd);
             self.phase = (self.phase + 1) % motion.cycle_ticks().max(1);
-            self.shared.set_pose(&next.pose);
+            self.shared.set_pose(&self.setpoint.pose);
             if let Err(WriteError::Fault) = self.driver.write(&self.cmd) {
                 self.enter_fault_hold(HealthCause::DriverWriteFault);
                 self.driver.hold();

@@ -1,11 +1,14 @@
-//! The motor loop without wall-clock time: read → update (sample the motion,
-//! kinematics) → write → advance, one iteration per tick.
+//! Playback of one motion on a driver without a clock, schedule hand-over
+//! or safety holds: read → update (`rt_core::motion::next_command`, the
+//! motor loop's own update step) → write → advance, one iteration per tick.
+//! For `upm validate`, the driver conformance suite and driver benchmarks;
+//! the real-time loop is `rt_core::runtime::MotorLoop`.
 
-use multiversion::multiversion;
 use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState, WriteError};
-use rt_core::motion::{PlateMotion, PlateSample, Rig};
+use rt_core::motion::{PlateMotion, Rig, next_command};
 
-/// Play `ticks` ticks (the driver is assumed to sit at motion tick `start`) of `motion` starting at motion tick `start`. Returns
+/// Play `ticks` ticks of `motion` from motion tick `start` (where the
+/// driver is assumed to sit). Returns
 /// the number of rejected writes (always 0 for finite motions) or stops at
 /// the first read error.
 pub fn play<D: PlateDriver>(
@@ -30,29 +33,6 @@ pub fn play<D: PlateDriver>(
     }
     driver.read(state)?;
     Ok(rejected)
-}
-
-/// The update step: the command for the end of tick `t`, given the sample at
-/// its start (`now`, advanced to the end). AVX2 clone where the CPU has it
-/// (nothing is fused, so both clones give the same bits).
-#[multiversion(targets("x86_64+avx2"))]
-fn next_command(
-    rig: &Rig,
-    motion: &PlateMotion,
-    h: f64,
-    t: u64,
-    now: &mut PlateSample,
-    cmd: &mut ActuatorCommand,
-) {
-    // Setpoint for the end of this tick; the feed-forward acceleration is
-    // the tick average, which is what a zero-order-held force gives.
-    let mut next = motion.sample_tick(t + 1);
-    let end_velocity = next.velocity;
-    next.acceleration.x = (end_velocity.x - now.velocity.x) / h;
-    next.acceleration.y = (end_velocity.y - now.velocity.y) / h;
-    next.acceleration.theta = (end_velocity.theta - now.velocity.theta) / h;
-    rig.command(&next, cmd);
-    *now = next;
 }
 
 /// The commands `play` would write for ticks `0..ticks` (tick period `h`).
