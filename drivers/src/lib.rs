@@ -3,7 +3,7 @@
 //! [`rt_core::driver::PlateDriver`] runs.
 
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
-#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord, clippy::too_many_arguments)]
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod conformance;
 pub mod ideal;

@@ -11,7 +11,7 @@
 //! friction comes from the relative velocity of plate and part only.
 
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
-#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord, clippy::too_many_arguments)]
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 mod measure;
 pub mod plot;

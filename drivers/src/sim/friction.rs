@@ -108,6 +108,9 @@ fn advance<const N: usize>(vp: &mut [f64; N], disp: &mut [f64; N], g: [f64; N], 
 /// Integrate one step of length `h`. `xi` is plate − part at the start,
 /// `vp` the part twist (updated), `a` the plate twist acceleration at the
 /// part. Returns the part displacement (x, y, θ). `stuck` is the stick state.
+// The simulator's innermost kernel (per part, per substep): every input
+// varies per call, so each stays a plain argument.
+#[allow(clippy::too_many_arguments)]
 #[inline]
 pub(crate) fn step(
     b: &Body,

@@ -78,6 +78,8 @@ impl Plate {
     /// Set `acc` for a substep of length `s`; `remaining` substeps in this
     /// tick including this one (the ideal model lands on the target at the
     /// end of the tick).
+    // Called every substep with what varies per substep; the rest is `self`.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn plan_substep(
         &mut self,

@@ -10,7 +10,7 @@
 //! drive an actuator past its limits, and clamping is never silent.
 
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
-#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord, clippy::too_many_arguments)]
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 mod limits;
 

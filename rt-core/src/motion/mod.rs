@@ -16,7 +16,7 @@
 //! panic, O(1). [`Rig`] maps poses to actuator commands and back.
 
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
-#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord, clippy::too_many_arguments)]
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 mod params;
 mod plan;

@@ -49,6 +49,13 @@ pub(crate) fn r_factor(buf: &QrBuffers, s: QrSummary) -> super::condition::Upper
     super::condition::UpperTriangular { data: &buf.factor[..s.lead * s.dim], lead: s.lead, dim: s.dim }
 }
 
+/// How to factor: with column pivoting or not, and where the rank ends.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct QrOptions {
+    pub rank_tolerance: f64,
+    pub pivot: bool,
+}
+
 /// Solve with `rows` = A row-major (m × n). Writes k into `k[..n]`. When the
 /// rank is short the values in `k` are meaningless and the caller falls back.
 pub(crate) fn min_norm_solve(
@@ -56,11 +63,11 @@ pub(crate) fn min_norm_solve(
     b: &[f64],
     m: usize,
     n: usize,
-    rank_tolerance: f64,
-    pivot: bool,
+    options: QrOptions,
     buf: &mut QrBuffers,
     k: &mut [f64],
 ) -> QrSummary {
+    let QrOptions { rank_tolerance, pivot } = options;
     let (lead, dim) = if m <= n { (n, m) } else { (m, n) };
     let factor = &mut buf.factor[..lead * dim];
     if m <= n {

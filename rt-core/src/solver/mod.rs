@@ -31,7 +31,7 @@
 
 // Index loops mirror the matrix formulas; buffers are passed separately so
 // each routine borrows only what it needs.
-#![allow(clippy::needless_range_loop, clippy::too_many_arguments)]
+#![allow(clippy::needless_range_loop)]
 
 mod assemble;
 mod bounded;
@@ -210,8 +210,7 @@ impl Solver {
             &self.b,
             m,
             n,
-            self.params.rank_tolerance,
-            pivot,
+            min_norm::QrOptions { rank_tolerance: self.params.rank_tolerance, pivot },
             &mut self.qr,
             &mut self.exact_k,
         );
