@@ -1,29 +1,15 @@
 //! read / write / advance and motion sampling allocate nothing.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use drivers::conformance::demo_motion;
 use drivers::playback::play;
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-}
+use rt_core::runtime::alloc_count::{RtAllocCounter, mark_rt_thread, rt_allocations};
 
 #[global_allocator]
-static A: Counting = Counting;
+static A: RtAllocCounter = RtAllocCounter;
 
 #[test]
 fn lockstep_loop_does_not_allocate() {
@@ -40,12 +26,16 @@ fn lockstep_loop_does_not_allocate() {
     let rig = Rig::new(cfg.rig).expect("rig");
     let mut m = demo_motion();
     let mut st = PlateState::default();
-    let before = ALLOCS.load(Ordering::SeqCst);
+    assert!(rt_core::runtime::alloc_count::counter_installed(), "the counter must see allocations");
+    mark_rt_thread(true);
+    let before = rt_allocations();
     for c in 0..20 {
         play(&mut s, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut st).expect("read");
     }
     let entries = [rt_core::motion::ScheduleEntry { center: [1.0, 0.5], k: 0.3 }];
     m.set_schedule(&entries).expect("playable");
     let _ = m.sample_tick(3);
-    assert_eq!(ALLOCS.load(Ordering::SeqCst) - before, 0, "hot path allocated");
+    let allocated = rt_allocations() - before;
+    mark_rt_thread(false);
+    assert_eq!(allocated, 0, "hot path allocated");
 }

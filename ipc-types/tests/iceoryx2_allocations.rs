@@ -4,8 +4,8 @@
 //! that is asserted. The other calls are measured and printed so the design
 //! can be re-checked whenever iceoryx2 changes.
 //!
-//! One process-wide atomic counter (no thread-locals) is enabled only around
-//! the measured call. `harness = false`: nothing else runs while counting.
+//! The project's counting allocator counts this thread's allocations, only
+//! around the measured call. `harness = false`: nothing else runs.
 
 mod common;
 

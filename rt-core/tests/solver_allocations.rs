@@ -4,44 +4,14 @@
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use common::random_case;
+use rt_core::runtime::alloc_count::{RtAllocCounter, mark_rt_thread, rt_allocations};
 use rt_core::{ForceConstraint, Problem, SolveMethod, Solver, SolverCapacity, SolverParams};
 
-struct CountingAllocator;
-
-thread_local! {
-    // Per thread, so tests running in parallel do not count each other.
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if COUNTING.with(Cell::get) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        // SAFETY: forwarding the caller's contract to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: as above.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if COUNTING.with(Cell::get) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        // SAFETY: as above.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
+// The project's one counting allocator; it counts only threads marked
+// real-time, so tests running in parallel do not count each other.
 #[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
+static GLOBAL: RtAllocCounter = RtAllocCounter;
 
 #[test]
 fn thousands_of_solves_allocate_nothing() {
@@ -78,8 +48,8 @@ fn thousands_of_solves_allocate_nothing() {
     let mut methods = [0usize; 3];
     let (mut unconverged, mut warm) = (0, 0);
 
-    ALLOCATIONS.store(0, Ordering::SeqCst);
-    COUNTING.with(|c| c.set(true));
+    mark_rt_thread(true);
+    let before = rt_allocations();
     for case in &cases {
         let problem = Problem {
             mu_m_g: 0.1,
@@ -97,8 +67,8 @@ fn thousands_of_solves_allocate_nothing() {
         unconverged += usize::from(!out.converged);
         warm += usize::from(out.warm_started);
     }
-    COUNTING.with(|c| c.set(false));
-    let allocations = ALLOCATIONS.load(Ordering::SeqCst);
+    let allocations = rt_allocations() - before;
+    mark_rt_thread(false);
 
     println!(
         "exact {}, bounded {} ({warm} warm-started), trivial {}, bounded not converged {unconverged}",
@@ -113,10 +83,11 @@ fn thousands_of_solves_allocate_nothing() {
 #[test]
 fn the_counter_sees_allocations() {
     // Guard against a counter that can never fail.
-    ALLOCATIONS.store(0, Ordering::SeqCst);
-    COUNTING.with(|c| c.set(true));
+    mark_rt_thread(true);
+    let before = rt_allocations();
     let v: Vec<u64> = std::hint::black_box(Vec::with_capacity(16));
-    COUNTING.with(|c| c.set(false));
+    let counted = rt_allocations() - before;
+    mark_rt_thread(false);
     drop(v);
-    assert!(ALLOCATIONS.load(Ordering::SeqCst) >= 1);
+    assert!(counted >= 1);
 }

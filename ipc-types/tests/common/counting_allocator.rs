@@ -1,52 +1,18 @@
-//! A global allocator that counts allocations while counting is enabled.
-//! One process-wide atomic (no thread-locals): counts from every thread, so
-//! measure only while nothing else runs.
+//! The project's one counting allocator (`rt_core::runtime::alloc_count`),
+//! installed for this test binary: it counts allocations made by threads
+//! marked real-time, here the test thread while `count` runs.
 
-use core::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::alloc::{GlobalAlloc, Layout, System};
-
-struct CountingAllocator;
-
-static COUNTING: AtomicBool = AtomicBool::new(false);
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
-
-fn record() {
-    if COUNTING.load(Ordering::Relaxed) {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-// SAFETY: forwards every call unchanged to the system allocator.
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        record();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        record();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        record();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+use rt_core::runtime::alloc_count::{RtAllocCounter, mark_rt_thread, rt_allocations};
 
 #[global_allocator]
-static ALLOCATOR: CountingAllocator = CountingAllocator;
+static ALLOCATOR: RtAllocCounter = RtAllocCounter;
 
-/// Allocations made while running `f`.
+/// Allocations made by this thread while running `f`.
 pub fn count<R>(f: impl FnOnce() -> R) -> (R, u64) {
-    ALLOCATIONS.store(0, Ordering::SeqCst);
-    COUNTING.store(true, Ordering::SeqCst);
+    mark_rt_thread(true);
+    let before = rt_allocations();
     let r = f();
-    COUNTING.store(false, Ordering::SeqCst);
-    (r, ALLOCATIONS.load(Ordering::SeqCst))
+    let after = rt_allocations();
+    mark_rt_thread(false);
+    (r, after - before)
 }
