@@ -24,7 +24,7 @@ use ipc_types::{
 use super::alloc_count;
 use super::clock::MonotonicClock;
 use super::handoff::{StagedMotion, motion_handoff};
-use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, drain, forward};
+use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, MotorPolicy, TruthFill, TruthTap};
@@ -45,10 +45,6 @@ use crate::motion::{PlateMotion, Rig};
 /// The iceoryx2 node name of the core's io thread; a second core on the
 /// same prefix finds it alive and refuses to start.
 pub const CORE_NODE_NAME: &str = ipc_types::discovery::CORE_NODE;
-
-/// Longest the solver thread sleeps without a ring from the receiver (a
-/// safety net: every message and the stop request ring it).
-const SOLVER_IDLE_NS: u64 = 100_000_000;
 
 /// How a run is set up besides [`CoreParams`].
 #[derive(Debug, Clone, Default)]
@@ -501,17 +497,13 @@ fn spawn_solver(
             let mut buf = InboxBuffers::default();
             #[cfg(feature = "fault-injection")]
             let inject = super::fault_injection::FaultPlan::from_env();
+            #[cfg(feature = "fault-injection")]
+            let before_each = || inject.panic_if_due(HealthSource::SolverThread, monotonic_now_ns());
+            #[cfg(not(feature = "fault-injection"))]
+            let before_each = || {};
             let _ = ready_tx.send(Ok(placement));
-            let clock = MonotonicClock;
             alloc_count::mark_rt_thread(true);
-            while !shared.stop.load(Relaxed) {
-                #[cfg(feature = "fault-injection")]
-                inject.panic_if_due(HealthSource::SolverThread, monotonic_now_ns());
-                let seen = shared.solver_doorbell.seen();
-                drain(&mut inbox, &mut stage, &mut buf, &clock);
-                // Woken by the receiver; the timeout is only a safety net.
-                shared.solver_doorbell.wait(seen, SOLVER_IDLE_NS);
-            }
+            stage.serve(&mut inbox, &mut buf, &MonotonicClock, before_each);
             alloc_count::mark_rt_thread(false);
         })
         .map_err(|_| StartError::Thread { thread: "solver" })?;

@@ -14,7 +14,9 @@ use ipc_types::{
     ValidationLimits,
 };
 
+use super::clock::Clock;
 use super::handoff::MotionWriter;
+use super::inbox::{Inbox, InboxBuffers, drain};
 use super::params::CoreParams;
 use super::samples::SolverSample;
 use super::shared::CoreShared;
@@ -156,6 +158,10 @@ impl Newest {
     }
 }
 
+/// Longest the solver thread sleeps without a ring from the receiver (a
+/// safety net: every message and the stop request ring it).
+const IDLE_NS: u64 = 100_000_000;
+
 /// The solver thread's state.
 #[derive(Debug)]
 pub struct SolveStage {
@@ -183,6 +189,25 @@ pub struct SolveStage {
 }
 
 impl SolveStage {
+    /// The solver thread's loop, until stop: handle whatever the receiver
+    /// forwarded, then sleep on the doorbell until it rings again.
+    /// `before_each` runs first in every pass (test fault injection).
+    pub fn serve<I: Inbox, C: Clock>(
+        &mut self,
+        inbox: &mut I,
+        buf: &mut InboxBuffers,
+        clock: &C,
+        mut before_each: impl FnMut(),
+    ) {
+        let shared = self.shared.clone();
+        while !shared.stop.load(Relaxed) {
+            before_each();
+            let seen = shared.solver_doorbell.seen();
+            drain(inbox, self, buf, clock);
+            shared.solver_doorbell.wait(seen, IDLE_NS);
+        }
+    }
+
     /// Build with every buffer the stage will ever use. `k_max` becomes the
     /// smaller of the configured bound and what every center can play within
     /// the motion and actuator limits, so a solved schedule is always playable.
