@@ -8,7 +8,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_SLOTS};
 use crate::reject_reason::RejectReason;
-use crate::validation::{ValidationLimits, clamped_len, count_fits};
+use crate::validation::{ValidationLimits, count_fits};
 
 /// One slot: a rotation about configured center `center_index` with signed
 /// intensity `k` (k > 0 = CCW), |k| ≤ 1.
@@ -145,24 +145,7 @@ impl ExplicitSchedule {
         }
     }
 
-    /// Used slots; a corrupt `count` is clamped to the capacity.
-    pub fn slots(&self) -> &[ExplicitSlot] {
-        &self.slots[..clamped_len(self.count, MAX_SLOTS)]
-    }
-
-    /// Used slots, mutable; a corrupt `count` is clamped to the capacity.
-    pub fn slots_mut(&mut self) -> &mut [ExplicitSlot] {
-        let n = clamped_len(self.count, MAX_SLOTS);
-        &mut self.slots[..n]
-    }
-
-    pub fn len(&self) -> usize {
-        clamped_len(self.count, MAX_SLOTS)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    crate::used_entries::used_entries!(slots, slots_mut, ExplicitSlot, MAX_SLOTS);
 
     pub fn clear(&mut self) {
         self.count = 0;

@@ -8,7 +8,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_CURLS, MAX_PARTS};
 use crate::reject_reason::RejectReason;
-use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite, is_flag};
+use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag};
 
 /// What one part should feel. A curl is optional per entry (`curl_flag`),
 /// at most [`MAX_CURLS`] entries of a request may set it; the curl point is
@@ -206,24 +206,7 @@ impl ForceRequest {
         }
     }
 
-    /// Used entries; a corrupt `count` is clamped to the capacity.
-    pub fn entries(&self) -> &[ForceEntry] {
-        &self.entries[..clamped_len(self.count, MAX_PARTS)]
-    }
-
-    /// Used entries, mutable; a corrupt `count` is clamped to the capacity.
-    pub fn entries_mut(&mut self) -> &mut [ForceEntry] {
-        let n = clamped_len(self.count, MAX_PARTS);
-        &mut self.entries[..n]
-    }
-
-    pub fn len(&self) -> usize {
-        clamped_len(self.count, MAX_PARTS)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    crate::used_entries::used_entries!(entries, entries_mut, ForceEntry, MAX_PARTS);
 
     /// Number of used entries whose `curl_flag` is 1.
     pub fn curl_count(&self) -> usize {

@@ -36,6 +36,7 @@ pub mod rig_node;
 mod schedule;
 pub mod service_names;
 mod telemetry;
+mod used_entries;
 mod validation;
 
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};

@@ -7,7 +7,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_PARTS};
 use crate::reject_reason::RejectReason;
-use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite};
+use crate::validation::{ValidationLimits, count_fits, first_non_finite};
 
 /// One part as seen by vision. Pose in plate coordinates (m, rad),
 /// velocity in m/s and rad/s.
@@ -150,24 +150,7 @@ impl PartStates {
         }
     }
 
-    /// Used entries; a corrupt `count` is clamped to the capacity.
-    pub fn parts(&self) -> &[PartState] {
-        &self.parts[..clamped_len(self.count, MAX_PARTS)]
-    }
-
-    /// Used entries, mutable; a corrupt `count` is clamped to the capacity.
-    pub fn parts_mut(&mut self) -> &mut [PartState] {
-        let n = clamped_len(self.count, MAX_PARTS);
-        &mut self.parts[..n]
-    }
-
-    pub fn len(&self) -> usize {
-        clamped_len(self.count, MAX_PARTS)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    crate::used_entries::used_entries!(parts, parts_mut, PartState, MAX_PARTS);
 
     /// Forget all parts (entries keep their old bytes).
     pub fn clear(&mut self) {

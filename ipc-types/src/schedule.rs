@@ -6,7 +6,7 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_SLOTS};
-use crate::validation::{ValidationLimits, clamped_len, count_fits, first_non_finite, is_flag};
+use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag};
 
 /// One slot in play order: rotation about center `center_index` at (x, y)
 /// (m, plate coordinates; centers may lie off the plate) with intensity k.
@@ -152,24 +152,7 @@ impl Schedule {
         }
     }
 
-    /// Used slots in play order; a corrupt `count` is clamped to the capacity.
-    pub fn slots(&self) -> &[ScheduleSlot] {
-        &self.slots[..clamped_len(self.count, MAX_SLOTS)]
-    }
-
-    /// Used slots, mutable; a corrupt `count` is clamped to the capacity.
-    pub fn slots_mut(&mut self) -> &mut [ScheduleSlot] {
-        let n = clamped_len(self.count, MAX_SLOTS);
-        &mut self.slots[..n]
-    }
-
-    pub fn len(&self) -> usize {
-        clamped_len(self.count, MAX_SLOTS)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    crate::used_entries::used_entries!(slots, slots_mut, ScheduleSlot, MAX_SLOTS);
 
     /// True only if `saturated` is exactly 1.
     pub const fn is_saturated(&self) -> bool {
