@@ -66,10 +66,7 @@ impl FreeCholesky {
             let f = self.order[c];
             self.t[c] = dot(&cols[f * m..(f + 1) * m], a);
         }
-        for c in 0..nf {
-            let col = &self.r[c * self.ld..c * self.ld + c + 1];
-            self.t[c] = (self.t[c] - dot(&col[..c], &self.t[..c])) / col[c];
-        }
+        solve_rt(&self.r, self.ld, nf, &mut self.t);
         let d = dot(a, a) + eps;
         let rho2 = d - dot(&self.t[..nf], &self.t[..nf]);
         // ρ² ≥ ε in exact arithmetic; below that the cancellation has eaten
@@ -117,21 +114,6 @@ impl FreeCholesky {
         self.len = nf - 1;
     }
 
-    /// x ← (RᵀR)⁻¹ x on the leading `len` entries.
-    fn normal_solve(&self, x: &mut [f64]) {
-        let (nf, ld) = (self.len, self.ld);
-        for c in 0..nf {
-            let col = &self.r[c * ld..c * ld + c + 1];
-            x[c] = (x[c] - dot(&col[..c], &x[..c])) / col[c];
-        }
-        for c in (0..nf).rev() {
-            let col = &self.r[c * ld..c * ld + c + 1];
-            x[c] /= col[c];
-            let xc = x[c];
-            axpy(-xc, &col[..c], &mut x[..c]);
-        }
-    }
-
     /// z_F ← argmin ‖A_F z − r‖² + ε‖z‖² (only the free entries of z).
     pub fn solve(&mut self, cols: &[f64], m: usize, eps: f64, rhs: &[f64], z: &mut [f64]) {
         let nf = self.len;
@@ -139,26 +121,42 @@ impl FreeCholesky {
             let f = self.order[c];
             self.x[c] = dot(&cols[f * m..(f + 1) * m], rhs);
         }
-        let mut x = std::mem::take(&mut self.x);
-        self.normal_solve(&mut x);
+        normal_solve(&self.r, self.ld, nf, &mut self.x);
         // One refinement step: s = r − A_F x, δ = (RᵀR)⁻¹(A_Fᵀs − εx).
         let s = &mut self.s[..m];
         s.copy_from_slice(rhs);
         for c in 0..nf {
             let f = self.order[c];
-            axpy(-x[c], &cols[f * m..(f + 1) * m], s);
+            axpy(-self.x[c], &cols[f * m..(f + 1) * m], s);
         }
         for c in 0..nf {
             let f = self.order[c];
-            self.t[c] = dot(&cols[f * m..(f + 1) * m], s) - eps * x[c];
+            self.t[c] = dot(&cols[f * m..(f + 1) * m], s) - eps * self.x[c];
         }
-        let mut t = std::mem::take(&mut self.t);
-        self.normal_solve(&mut t);
+        normal_solve(&self.r, self.ld, nf, &mut self.t);
         for c in 0..nf {
-            z[self.order[c]] = x[c] + t[c];
+            z[self.order[c]] = self.x[c] + self.t[c];
         }
-        self.x = x;
-        self.t = t;
+    }
+}
+
+/// x ← R⁻ᵀ x on the leading `nf` entries (R column-major, leading dimension
+/// `ld`, column c holding rows 0..=c): forward substitution.
+fn solve_rt(r: &[f64], ld: usize, nf: usize, x: &mut [f64]) {
+    for c in 0..nf {
+        let col = &r[c * ld..c * ld + c + 1];
+        x[c] = (x[c] - dot(&col[..c], &x[..c])) / col[c];
+    }
+}
+
+/// x ← (RᵀR)⁻¹ x on the leading `nf` entries.
+fn normal_solve(r: &[f64], ld: usize, nf: usize, x: &mut [f64]) {
+    solve_rt(r, ld, nf, x);
+    for c in (0..nf).rev() {
+        let col = &r[c * ld..c * ld + c + 1];
+        x[c] /= col[c];
+        let xc = x[c];
+        axpy(-xc, &col[..c], &mut x[..c]);
     }
 }
 

@@ -80,14 +80,14 @@ pub struct Solver {
     last_shape: (usize, usize),
 }
 
-/// What the last bounded solve leaves for the next frame.
+/// Whether the active set the last bounded solve left in the bounded
+/// buffers may start the next frame, and the layout it belongs to.
 #[derive(Debug)]
 struct WarmStart {
     valid: bool,
     rows: usize,
     force_rows: usize,
     centers: Vec<[f64; 2]>,
-    state: Vec<i8>,
 }
 
 impl WarmStart {
@@ -126,13 +126,7 @@ impl Solver {
             center_x: vec![0.0; n],
             center_y: vec![0.0; n],
             cond_diag: vec![0.0; m.min(n)],
-            warm: WarmStart {
-                valid: false,
-                rows: 0,
-                force_rows: 0,
-                centers: Vec::with_capacity(n),
-                state: vec![0; n],
-            },
+            warm: WarmStart { valid: false, rows: 0, force_rows: 0, centers: Vec::with_capacity(n) },
             last_shape: (0, 0),
         }
     }
@@ -262,18 +256,17 @@ impl Solver {
         // over the κ gate it is the better guess); with a short rank its
         // values are meaningless: start all free, the first iteration is
         // then the regularised optimum.
-        let trusted = full_rank;
         let state = &mut self.bounded.state[..n];
         for (s, &k) in state.iter_mut().zip(&self.exact_k[..n]) {
-            *s = if trusted && k.abs() > problem.k_max { if k > 0.0 { 1 } else { -1 } } else { 0 };
+            *s = if full_rank && k.abs() > problem.k_max { if k > 0.0 { 1 } else { -1 } } else { 0 };
         }
         self.run_bounded(problem, m, n, out);
     }
 
-    /// The warm-started bounded solve; false (and nothing to use) when it
-    /// ended with no bound active or did not converge.
+    /// The warm-started bounded solve, from the active set the last one left
+    /// in `self.bounded.state`; false (and nothing to use) when it ended
+    /// with no bound active or did not converge.
     fn warm_solve(&mut self, problem: &Problem<'_>, m: usize, n: usize, out: &mut Solution) -> bool {
-        self.bounded.state[..n].copy_from_slice(&self.warm.state[..n]);
         self.run_bounded(problem, m, n, out);
         if !self.warm.valid {
             return false;
@@ -284,8 +277,9 @@ impl Solver {
         true
     }
 
-    /// Bounded solve from the guess in `self.bounded.state`; remembers the
-    /// active set for the next frame when it converged with a bound active.
+    /// Bounded solve from the guess in `self.bounded.state`, which then holds
+    /// its active set; marks it usable by the next frame when it converged
+    /// with a bound active.
     fn run_bounded(&mut self, problem: &Problem<'_>, m: usize, n: usize, out: &mut Solution) {
         let input = BoundedInput {
             rows: &self.rows,
@@ -307,7 +301,6 @@ impl Solver {
             warm.force_rows = problem.force_rows();
             warm.centers.clear();
             warm.centers.extend_from_slice(problem.centers);
-            warm.state[..n].copy_from_slice(&self.bounded.state[..n]);
         }
     }
 
