@@ -67,6 +67,7 @@ fn every_good_line_gets_a_row_and_a_malformed_one_fails_the_run() {
         }
         assert_eq!(row["saturated"], true, "{row}");
         assert_eq!(row["allocations"], 0, "{row}");
+        assert_eq!(row["failed_solves"], 0, "{row}");
         let (upm, reference) = (
             row["objective"].as_f64().unwrap_or(f64::NAN),
             row["reference_objective"].as_f64().unwrap_or(f64::NAN),
