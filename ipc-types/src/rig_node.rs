@@ -96,3 +96,25 @@ pub fn files_open_to_others(prefix: &str) -> Vec<(String, u32)> {
         })
         .collect()
 }
+
+/// Remove the per-prefix node-counter segment iceoryx2 leaves in /dev/shm,
+/// once no node on `prefix` is alive (tests and benches use a prefix per
+/// run). Returns whether it was removed. iceoryx2 0.10 offers this only
+/// in its `testing` module; this is the one place UPM calls it.
+#[allow(unsafe_code)]
+pub fn remove_prefix_segment(prefix: &str) -> bool {
+    let Ok(config) = config_with_prefix(prefix) else { return false };
+    let mut alive = 0;
+    let listed = Node::<ipc::Service>::list(&config, |state| {
+        if let NodeState::Alive(_) = state {
+            alive += 1;
+        }
+        CallbackProgression::Continue
+    });
+    if listed.is_err() || alive > 0 {
+        return false;
+    }
+    // SAFETY: no node on this prefix is alive (checked just above); the
+    // prefix is one per rig, test or bench run, so no new node joins it.
+    unsafe { iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&config) }.unwrap_or(false)
+}

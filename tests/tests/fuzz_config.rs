@@ -8,8 +8,8 @@
 use drivers::Simulator;
 use proptest::prelude::*;
 use rt_core::runtime::lockstep::Lockstep;
-use upm_clients::config::Config;
-use upm_clients::scenario::Scenario;
+use upm_cli::config::Config;
+use upm_cli::scenario::Scenario;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 const PATH: &str = "fuzz.toml";

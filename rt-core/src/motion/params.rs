@@ -60,7 +60,7 @@ impl Default for MotionParams {
     /// speed at a part ≈ 0.3–1 m/s ≫ part speed ≈ μgτ ≈ 10 mm/s
     /// (Assumption 1), part travel per 4-slot cycle ≲ 1 mm (Assumption 2).
     /// The residual bias scales as μg·k·τ²/displacement (drag of the part's
-    /// own velocity); see drivers/BENCH_NOTES.md.
+    /// own velocity); BENCHMARKS.md, "`upm validate` on the paper's examples".
     fn default() -> Self {
         Self {
             tick_hz: 10_000.0,

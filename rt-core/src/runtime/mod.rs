@@ -41,8 +41,7 @@ pub use latency::{LatencyHistograms, percentiles, write_hgrm};
 pub use motor::{MotorLoop, MotorPolicy, TickOutcome, TruthFill, TruthTap};
 pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use process::{
-    CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, core_running, fill_telemetry, run_core,
-    run_core_with_truth,
+    CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
 };
 pub use samples::{MotorSample, SolverSample};
 pub use shared::{CoreShared, HealthReport};

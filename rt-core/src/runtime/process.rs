@@ -121,19 +121,14 @@ impl RealtimeStatus {
     }
 }
 
-/// True if a live upm-core owns `prefix` (dead cores' resources are
-/// cleaned up on the way).
-pub fn core_running(prefix: &str) -> Result<bool, StartError> {
-    config_with_prefix(prefix).map_err(|_| StartError::Prefix)?;
-    Ok(claim_prefix(prefix) == Err(StartError::AlreadyRunning))
-}
-
 /// Refuse to start if a live core owns `config`'s prefix; clean up the
 /// resources of dead ones (a core killed with SIGKILL).
 fn claim_prefix(prefix: &str) -> Result<(), StartError> {
-    let cores = ipc_types::discovery::live_nodes(prefix, CORE_NODE_NAME).map_err(StartError::NodeList)?;
-    // Exact name: the core's receiver node shares the name's start.
-    if cores.iter().any(|n| n.name == CORE_NODE_NAME) { Err(StartError::AlreadyRunning) } else { Ok(()) }
+    match ipc_types::discovery::core_running(prefix) {
+        Ok(true) => Err(StartError::AlreadyRunning),
+        Ok(false) => Ok(()),
+        Err(e) => Err(StartError::NodeList(e)),
+    }
 }
 
 /// Run the core with `driver` until SIGINT/SIGTERM (or `options.duration`).

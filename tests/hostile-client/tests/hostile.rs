@@ -56,10 +56,7 @@ impl Drop for Core {
         }
         let _ = self.child.kill();
         let _ = self.child.wait();
-        if let Ok(config) = config_with_prefix(&self.prefix) {
-            // SAFETY: every node on this test's prefix has ended.
-            let _ = unsafe { iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&config) };
-        }
+        ipc_types::rig_node::remove_prefix_segment(&self.prefix);
     }
 }
 

@@ -1,0 +1,33 @@
+//! Planners: a small trait, the built-in planners of the paper's
+//! experiments, and the process loop that runs one. A planner sees only
+//! part states and writes force requests; it links `ipc-types` and nothing
+//! of the core or the simulator. An external planner is a separate binary
+//! that implements [`Planner`] and calls [`run::run_planner`] (see
+//! `examples/external_planner.rs`).
+//!
+//! The built-in planners are chosen by [`PlannerConfig`], the `[planner]`
+//! section of the rig config: `name` picks the planner, the other fields
+//! are that planner's parameters.
+
+pub mod args;
+pub mod drive;
+pub mod local;
+pub mod registry;
+pub mod run;
+pub mod sort;
+pub mod spin;
+pub mod track;
+
+use ipc_types::{ForceRequest, PartStates};
+
+pub use drive::DriveParams;
+pub use registry::PlannerConfig;
+
+/// What every planner implements.
+pub trait Planner: Send {
+    fn name(&self) -> &'static str;
+    /// Fill `out`'s entries from the newest part states at time `t` (s
+    /// since the planner's first frame). Returns false when it has nothing
+    /// to ask this frame.
+    fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool;
+}

@@ -1,0 +1,76 @@
+//! The planner process loop: newest PartStates in, ForceRequest out, over
+//! iceoryx2. Waits (never crashes) while no vision or core is up; exits
+//! cleanly on SIGINT/SIGTERM.
+
+use std::time::Duration;
+
+use iceoryx2::node::NodeWaitFailure;
+use iceoryx2::prelude::*;
+use ipc_types::discovery::CoreWatch;
+use ipc_types::inbox_event::InboxNotifier;
+use ipc_types::ports::open_pub_sub;
+use ipc_types::rig_node::rig_node;
+use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
+
+use crate::Planner;
+
+/// How long a request stays valid: the core holds if no newer one arrives.
+pub const REQUEST_LIFETIME_NS: u64 = 300_000_000;
+
+/// Run `planner` on `prefix` until a signal (or `duration`); returns the
+/// number of requests sent.
+pub fn run_planner(
+    planner: &mut dyn Planner,
+    prefix: &str,
+    duration: Option<Duration>,
+) -> anyhow::Result<u64> {
+    let node = rig_node(
+        prefix,
+        Some(ipc_types::discovery::PLANNER_NODE),
+        SignalHandlingMode::HandleTerminationRequests,
+    )?;
+    let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("part_states subscriber: {e:?}"))?;
+    let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)?
+        .publisher_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("force_request publisher: {e:?}"))?;
+    let mut wake = InboxNotifier::new(&node)?;
+    let start = monotonic_now_ns();
+    let end = duration.map(|d| start + d.as_nanos() as u64);
+    let mut first_frame: Option<u64> = None;
+    let mut msg = ForceRequest::new();
+    let mut sent = 0u64;
+    let mut core = CoreWatch::new(prefix, Duration::from_secs(1));
+    loop {
+        if let Some(news) = core.poll() {
+            eprintln!("upm-planner: {news}");
+        }
+        let mut newest = None;
+        while let Some(s) = parts.receive().map_err(|e| anyhow::anyhow!("receiving part states: {e:?}"))? {
+            newest = Some(*s.payload());
+        }
+        if let Some(states) = newest {
+            let t0 = *first_frame.get_or_insert(states.stamp_ns);
+            let t = states.stamp_ns.saturating_sub(t0) as f64 / 1e9;
+            if planner.plan(&states, t, &mut msg) {
+                let now = monotonic_now_ns();
+                sent += 1;
+                msg.seq = sent;
+                msg.stamp_ns = now;
+                msg.deadline_ns = now + REQUEST_LIFETIME_NS;
+                requests.send_copy(msg).map_err(|e| anyhow::anyhow!("publishing a request: {e:?}"))?;
+                wake.notify();
+            }
+        }
+        if end.is_some_and(|e| monotonic_now_ns() >= e) {
+            return Ok(sent);
+        }
+        match node.wait(Duration::from_millis(1)) {
+            Ok(()) => {}
+            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => return Ok(sent),
+        }
+    }
+}

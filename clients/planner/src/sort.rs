@@ -1,0 +1,223 @@
+//! `sort` (paper §4.2): every part goes to the side of its class, class 0
+//! to the left, the others to the right.
+
+use ipc_types::{ForceEntry, ForceRequest, PartState, PartStates};
+use serde::{Deserialize, Serialize};
+
+use crate::Planner;
+use crate::drive::{DriveParams, PartPoints};
+
+/// `[planner]` with `name = "sort"`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct SortParams {
+    pub drive: DriveParams,
+    /// |x| a part must pass on its side.
+    pub sorted_x: f64,
+    /// Parts driven at once (the nearest to their side first); the rest are
+    /// left unconstrained. The paper drives all of them.
+    pub batch: usize,
+    /// That many other parts nearest to the driven ones are held where they
+    /// were last driven (a PD, like the driven parts), so the field does not
+    /// drag them along.
+    pub hold: usize,
+    /// A part steers sideways around parts of the other class that are
+    /// ahead of it closer than this (m; 0 turns dodging off) ...
+    pub dodge_distance: f64,
+    /// ... and within this (m) of its lane.
+    pub dodge_width: f64,
+}
+
+impl Default for SortParams {
+    fn default() -> Self {
+        Self {
+            drive: DriveParams::default(),
+            sorted_x: 0.6,
+            batch: ipc_types::MAX_PARTS,
+            hold: 0,
+            dodge_distance: 0.15,
+            dodge_width: 0.06,
+        }
+    }
+}
+
+#[derive(Debug)]
+pub struct SortPlanner {
+    p: SortParams,
+    /// Where each held part is held: set while it is driven, else where it
+    /// was first seen.
+    anchors: PartPoints,
+}
+
+impl SortPlanner {
+    pub fn new(p: SortParams) -> Result<Self, String> {
+        p.drive.validate()?;
+        let pos = |x: f64| x.is_finite() && x > 0.0;
+        if !(p.dodge_distance.is_finite() && p.dodge_distance >= 0.0 && pos(p.dodge_width)) {
+            return Err(format!(
+                "planner.dodge_distance must be >= 0 (0: no dodging) and planner.dodge_width > 0, got {} and {}",
+                p.dodge_distance, p.dodge_width
+            ));
+        }
+        if !p.sorted_x.is_finite() {
+            return Err(format!("planner.sorted_x must be finite, got {}", p.sorted_x));
+        }
+        Ok(Self { p, anchors: PartPoints::default() })
+    }
+
+    /// Sideways speed that takes `part` around the parts of the other class
+    /// ahead of it in its lane: two parts heading for opposite sides
+    /// otherwise meet head-on and push against each other for good.
+    fn dodge(&self, part: &PartState, parts: &PartStates) -> f64 {
+        let (reach, width) = (self.p.dodge_distance, self.p.dodge_width);
+        let heading = sort_side(part.class);
+        let mut vy = 0.0;
+        for other in parts.parts().iter().filter(|o| o.class != part.class) {
+            let ahead = (other.x - part.x) * heading;
+            let dy = part.y - other.y;
+            if ahead <= 0.0 || ahead >= reach || dy.abs() >= width {
+                continue;
+            }
+            // Head-on: the classes pick opposite ways, so the two parts
+            // never both dodge the same way.
+            let away = if dy.abs() > 1e-3 { dy.signum() } else { -heading };
+            vy += away * self.p.drive.max_speed * (1.0 - dy.abs() / width) * (1.0 - ahead / reach);
+        }
+        vy.clamp(-self.p.drive.max_speed, self.p.drive.max_speed)
+    }
+}
+
+impl Planner for SortPlanner {
+    fn name(&self) -> &'static str {
+        "sort"
+    }
+
+    /// Drive the `batch` unsorted parts nearest to their side (all of
+    /// them, as in the paper, when the batch is large enough), steering
+    /// around oncoming parts; leave the others free.
+    fn plan(&mut self, parts: &PartStates, _t: f64, out: &mut ForceRequest) -> bool {
+        out.clear();
+        let x_goal = self.p.sorted_x + 0.1;
+        let side = |p: &PartState| sort_side(p.class);
+        let mut todo: Vec<&PartState> = parts.parts().iter().filter(|p| side(p) * p.x < x_goal).collect();
+        todo.sort_by(|a, b| {
+            (x_goal - side(a) * a.x).total_cmp(&(x_goal - side(b) * b.x)).then(a.id.cmp(&b.id))
+        });
+        if todo.is_empty() {
+            // Done: ask for zero force everywhere, so the plate rests on an
+            // explicit request rather than on the core's stale-input hold.
+            for part in parts.parts() {
+                if out.push(ForceEntry::force(part.id, [0.0; 2])).is_err() {
+                    break;
+                }
+            }
+            return !out.is_empty();
+        }
+        let active: Vec<&PartState> = todo.into_iter().take(self.p.batch.max(1)).collect();
+        for part in &active {
+            // No pull back to a start row: a part keeps the row a dodge took
+            // it to, so it does not steer back into the part it passed.
+            let goal = [side(part) * (x_goal + 0.05), part.y];
+            let vff = [0.0, self.dodge(part, parts)];
+            if out.push(ForceEntry::force(part.id, self.p.drive.force_to(part, goal, vff))).is_err() {
+                return true;
+            }
+        }
+        // Hold still the parts nearest to the driven ones, where they were
+        // last driven (or first seen): a PD, since a bare zero force damps
+        // nothing.
+        for part in &active {
+            self.anchors.set(part.id, [part.x, part.y]);
+        }
+        let dist =
+            |p: &PartState| active.iter().map(|a| (a.x - p.x).hypot(a.y - p.y)).fold(f64::INFINITY, f64::min);
+        let mut others: Vec<&PartState> =
+            parts.parts().iter().filter(|p| active.iter().all(|a| a.id != p.id)).collect();
+        others.sort_by(|a, b| dist(a).total_cmp(&dist(b)).then(a.id.cmp(&b.id)));
+        let held = self.p.hold.min(others.len());
+        for part in &others[..held] {
+            let anchor = self.anchors.get_or_remember(part);
+            if out.push(ForceEntry::force(part.id, self.p.drive.force_to(part, anchor, [0.0; 2]))).is_err() {
+                break;
+            }
+        }
+        // A free part is held, when its turn comes, where it then is, not
+        // where an earlier hold left it.
+        for part in &others[held..] {
+            self.anchors.set(part.id, [part.x, part.y]);
+        }
+        !out.is_empty()
+    }
+}
+
+/// sort: the side a part of `class` goes to, −1 (left, class 0) or +1.
+pub fn sort_side(class: u32) -> f64 {
+    if class == 0 { -1.0 } else { 1.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn states(parts: &[(u32, u32, [f64; 2])]) -> PartStates {
+        let mut s = PartStates::new();
+        for &(id, class, [x, y]) in parts {
+            s.push(PartState::new(id, class, 0, [x, y, 0.0], [0.0; 3])).expect("capacity");
+        }
+        s
+    }
+
+    fn sort_planner() -> SortPlanner {
+        SortPlanner::new(SortParams::default()).expect("params")
+    }
+
+    #[test]
+    fn head_on_parts_dodge_opposite_ways() {
+        let p = sort_planner();
+        // Black (heading left) just right of grey (heading right), same row.
+        let s = states(&[(1, 0, [0.05, 0.1]), (2, 1, [0.0, 0.1])]);
+        let (black, grey) = (p.dodge(&s.parts()[0], &s), p.dodge(&s.parts()[1], &s));
+        assert!(black != 0.0 && grey != 0.0, "{black} {grey}");
+        assert!(black.signum() != grey.signum(), "{black} {grey}");
+        // Slightly offset rows: each moves away from the other.
+        let s = states(&[(1, 0, [0.05, 0.11]), (2, 1, [0.0, 0.09])]);
+        assert!(p.dodge(&s.parts()[0], &s) > 0.0 && p.dodge(&s.parts()[1], &s) < 0.0);
+    }
+
+    #[test]
+    fn no_dodge_for_parts_behind_beside_or_of_the_same_class() {
+        let p = sort_planner();
+        // Grey behind black (black heads left, grey is to its right).
+        let s = states(&[(1, 0, [0.0, 0.1]), (2, 1, [0.05, 0.1])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+        // Far outside the lane, or beyond the look-ahead.
+        let s = states(&[(1, 0, [0.05, 0.3]), (2, 1, [0.0, 0.1]), (3, 1, [-0.5, 0.3])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+        // Same class ahead.
+        let s = states(&[(1, 0, [0.05, 0.1]), (2, 0, [0.0, 0.1])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+    }
+
+    #[test]
+    fn bad_dodge_parameters_are_refused() {
+        for (distance, width) in [(-0.1, 0.06), (f64::NAN, 0.06), (0.15, 0.0), (0.15, f64::INFINITY)] {
+            let p = SortParams { dodge_distance: distance, dodge_width: width, ..Default::default() };
+            let e = SortPlanner::new(p).expect_err("refused");
+            assert!(e.contains("planner.dodge_"), "{e}");
+        }
+        let off = SortParams { dodge_distance: 0.0, ..Default::default() };
+        let p = SortPlanner::new(off).expect("0 turns dodging off");
+        let s = states(&[(1, 0, [0.05, 0.1]), (2, 1, [0.0, 0.1])]);
+        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+    }
+
+    #[test]
+    fn a_finished_sort_asks_for_zero_force_instead_of_going_stale() {
+        let mut p = sort_planner();
+        let s = states(&[(1, 0, [-0.8, 0.0]), (2, 1, [0.8, 0.1])]);
+        let mut out = ForceRequest::new();
+        assert!(p.plan(&s, 0.0, &mut out));
+        assert_eq!(out.entries().len(), 2);
+        assert!(out.entries().iter().all(|e| e.requested_force() == Some([0.0; 2])));
+    }
+}

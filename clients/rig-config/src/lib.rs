@@ -1,0 +1,12 @@
+//! The rig's one TOML file, as each process reads it: every process takes
+//! the sections of its own concern ([`RigFile::section`]) and ignores the
+//! rest; the `upm` CLI validates the whole file. Parsing has no side
+//! effects: nothing here opens a port, spawns or touches shared memory.
+
+mod error;
+mod file;
+mod service;
+
+pub use error::ConfigError;
+pub use file::{RigFile, load_toml, parse_toml};
+pub use service::ServiceSection;

@@ -1,0 +1,310 @@
+//! The `upm` command line (ARCHITECTURE.md §7). Parsing only; each subcommand's
+//! work lives in its own module.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "upm",
+    version,
+    about = "Universal planar manipulator: force synthesis, simulation and the closed loop"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Force synthesis: JSON in (a file or `-` for stdin), JSON out.
+    Solve {
+        /// Input JSON file, or `-` for stdin.
+        file: PathBuf,
+    },
+    /// The RT core (same as the `upm-core` binary); `upm run` starts it so.
+    #[command(hide = true)]
+    Core(crate::core_process::CoreArgs),
+    /// The camera client (same as `upm-vision`).
+    #[command(hide = true)]
+    Vision(upm_vision::args::VisionArgs),
+    /// The planner client (same as `upm-planner`).
+    #[command(hide = true)]
+    Planner(upm_planner::args::PlannerArgs),
+    /// The closed loop: core, vision and planner as separate processes.
+    Run {
+        /// Scenario name (scenarios/NAME.toml) or path.
+        scenario: String,
+        /// Output directory (metrics.json, trails.svg, latency/*.hgrm).
+        #[arg(long, default_value = "out/run")]
+        out: PathBuf,
+        /// Override the scenario's duration (s).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Override the scenario's seed.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Service prefix (default: one per run).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Load every CPU but the motor's during the run (stress-ng if
+        /// installed, else a built-in burner); metrics.json names it.
+        #[arg(long)]
+        stress: bool,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Benchmarks side by side with their references (BENCHMARKS.md).
+    Bench {
+        what: BenchTarget,
+        /// Print JSON (ARCHITECTURE.md §7) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Shorter runs (smoke test).
+        #[arg(long)]
+        quick: bool,
+        /// latency: seconds per run.
+        #[arg(long, default_value_t = 5.0)]
+        seconds: f64,
+        /// latency: A/B rounds.
+        #[arg(long, default_value_t = 2)]
+        rounds: usize,
+        /// latency: draw upm vs cyclictest distributions into this SVG.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+        /// latency: repeat the rounds under CPU load on the other CPUs
+        /// (stress-ng if installed, else a built-in burner).
+        #[arg(long)]
+        stress: bool,
+        /// solver: bench these problems instead (JSON Lines, one `upm
+        /// solve` input per line); malformed lines are reported and make
+        /// the exit status non-zero.
+        #[arg(long)]
+        problems: Option<PathBuf>,
+    },
+    /// Snapshot of a running core's telemetry. Without --prefix or
+    /// --config it finds the running rig by itself (several: lists them).
+    Status {
+        /// Print JSON (ARCHITECTURE.md §7) instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Service prefix of the rig (default: the running rig's).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config to take the prefix from.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// How long to wait for telemetry (s).
+        #[arg(long, default_value_t = 2.0)]
+        timeout: f64,
+    },
+    /// The sort scenario over and over while clients and the core are
+    /// killed at random; reports holds, restarts, input ages, allocations,
+    /// overruns and failures (a benchmark, see BENCHMARKS.md).
+    Soak {
+        /// How long (minutes).
+        #[arg(long, default_value_t = 30.0)]
+        minutes: f64,
+        /// Seed of the kill schedule and of the runs.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory (one run-NNN/ per run, soak.json).
+        #[arg(long, default_value = "out/soak")]
+        out: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// End a driver-fault hold: the core plays again from its next cycle.
+    Resume {
+        /// Service prefix of the rig (default: the running rig's).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config to take the prefix from.
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+    /// Solve, then play the schedule on the physics simulator and report the
+    /// forces and curls the parts really feel.
+    Validate {
+        /// Input JSON file (same format as `solve`), or `-` for stdin.
+        file: PathBuf,
+        /// Cycles to simulate and average over.
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+        cycles: u64,
+        /// Seed of the start-position jitter.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write an SVG of the average force field (like the paper's Fig. 7).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+}
+
+/// What `upm bench` measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchTarget {
+    /// Solver vs nalgebra's pseudo-inverse.
+    Solver,
+    /// Motor-thread wake-up vs cyclictest.
+    Latency,
+    /// One-way PartStates latency vs raw iceoryx2 ping-pong.
+    Ipc,
+}
+
+/// The rig a command talks to: `--prefix`, else the config's, else the
+/// one running rig.
+fn rig_prefix(prefix: Option<String>, config: Option<PathBuf>) -> anyhow::Result<String> {
+    match (prefix, config) {
+        (Some(p), _) => Ok(p),
+        (None, Some(c)) => Ok(crate::config::Config::load(&c)?.service.prefix),
+        (None, None) => crate::status::discover_prefix(),
+    }
+}
+
+/// Read a file, or stdin for `-`.
+pub fn read_input(path: &Path) -> anyhow::Result<String> {
+    if path == Path::new("-") {
+        let mut s = String::new();
+        std::io::stdin().read_to_string(&mut s).context("reading stdin")?;
+        Ok(s)
+    } else {
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))
+    }
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Solve { file } => {
+            let text = read_input(&file)?;
+            let input = crate::solve_json::parse(&text)?;
+            let out = crate::solve_json::solve(&input)?;
+            println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+        Command::Core(args) => crate::core_process::report(&crate::core_process::run(args)?),
+        Command::Vision(args) => {
+            let frames = upm_vision::args::run_vision(args)?;
+            eprintln!("upm-vision: stopped after {frames} frames");
+            Ok(())
+        }
+        Command::Planner(args) => {
+            let n = upm_planner::args::run_planner_process(args)?;
+            eprintln!("upm-planner: stopped after {n} requests");
+            Ok(())
+        }
+        Command::Run { scenario, out, duration, seed, prefix, quiet, stress } => {
+            let path = crate::scenario::resolve(&scenario);
+            let sc = crate::scenario::Scenario::load(&path)?;
+            let seed = seed.unwrap_or(sc.seed);
+            let duration_s = match duration {
+                Some(d) if d.is_finite() && d > 0.0 => d,
+                Some(d) => anyhow::bail!("--duration must be a positive number of seconds, got {d}"),
+                None => sc.duration_s,
+            };
+            let prefix = prefix.unwrap_or_else(|| format!("upm_run_{}_", std::process::id()));
+            let config = sc.config(seed, &prefix)?;
+            eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");
+            let plan = crate::launcher::RunPlan {
+                scenario: sc.name.clone(),
+                seed,
+                duration_s,
+                config: config.clone(),
+                stress,
+            };
+            let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
+            ipc_types::rig_node::remove_prefix_segment(&prefix);
+            let outcome = outcome?;
+            println!("{}", serde_json::to_string_pretty(&outcome.metrics)?);
+            eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
+            Ok(())
+        }
+        Command::Bench { what, json, quick, seconds, rounds, plot, stress, problems } => {
+            let mut bad = 0;
+            let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
+                (BenchTarget::Solver, Some(file)) => {
+                    let (v, b) = crate::bench_solver::run_problems(&file, quick)?;
+                    bad = b;
+                    (v, crate::bench_solver::bounded_text)
+                }
+                (_, Some(_)) => anyhow::bail!("--problems applies to `upm bench solver` only"),
+                (BenchTarget::Solver, None) => {
+                    (crate::bench_solver::run(quick)?, crate::bench_solver::to_text)
+                }
+                (BenchTarget::Latency, None) => {
+                    let s = if quick { seconds.min(1.0) } else { seconds };
+                    (
+                        crate::bench_latency::run_with_plot(s, rounds, plot.as_deref(), stress)?,
+                        crate::bench_latency::to_text,
+                    )
+                }
+                (BenchTarget::Ipc, None) => {
+                    let s = if quick { seconds.min(1.0) } else { seconds };
+                    (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
+                }
+            };
+            if json {
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!("{}", text(&v));
+            }
+            if bad > 0 {
+                anyhow::bail!("{bad} problem line(s) malformed or unsolvable (named above)");
+            }
+            Ok(())
+        }
+        Command::Soak { minutes, seed, out, json } => {
+            if !(minutes.is_finite() && minutes > 0.0) {
+                anyhow::bail!("--minutes must be a positive number, got {minutes}");
+            }
+            let plan = crate::soak::SoakPlan {
+                minutes,
+                seed,
+                out,
+                kill_every_s: (20.0, 60.0),
+                core_kill_every_s: 600.0,
+            };
+            let v = crate::soak::run(&plan)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!("{}", crate::soak::to_text(&v));
+            }
+            Ok(())
+        }
+        Command::Resume { prefix, config } => {
+            let prefix = rig_prefix(prefix, config)?;
+            crate::status::send_resume(&prefix)?;
+            eprintln!(
+                "upm resume: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it"
+            );
+            Ok(())
+        }
+        Command::Status { json, prefix, config, timeout } => {
+            let prefix = rig_prefix(prefix, config)?;
+            if !(timeout.is_finite() && timeout > 0.0 && timeout < 3600.0) {
+                anyhow::bail!("--timeout must be a positive number of seconds below 3600, got {timeout}");
+            }
+            let t = crate::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
+            if json {
+                let mut v = crate::status::to_json(&t);
+                v["prefix"] = serde_json::json!(prefix);
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!("rig {prefix}\n{}", crate::status::to_text(&t));
+            }
+            Ok(())
+        }
+        Command::Validate { file, cycles, seed, plot } => {
+            let text = read_input(&file)?;
+            let input = crate::solve_json::parse(&text)?;
+            let out = crate::validate::run(&input, cycles as usize, seed, plot.as_deref())?;
+            println!("{}", serde_json::to_string_pretty(&out)?);
+            Ok(())
+        }
+    }
+}

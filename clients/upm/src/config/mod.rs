@@ -1,0 +1,119 @@
+//! The rig's one TOML config, as `upm` and `upm-core` validate it whole:
+//! every section and field is optional and has a default; unknown fields
+//! are errors, and every message names the field. One module per concern:
+//! [`rig`] (plate, motion), [`core`] (rt, safety, telemetry), [`sim`]; the
+//! `[vision]` and `[planner]` sections belong to their crates, which read
+//! them alone from the same file. Parsing has no side effects.
+
+pub mod core;
+pub mod rig;
+pub mod sim;
+
+use std::path::Path;
+
+pub use rig_config::{ConfigError, ServiceSection};
+use rt_core::motion::RigParams;
+use rt_core::runtime::CoreParams;
+use serde::{Deserialize, Serialize};
+use upm_planner::PlannerConfig;
+use upm_vision::{CameraParams, TrackerParams, VisionSection};
+
+pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
+pub use rig::{MotionSection, PlateSection};
+pub use sim::{SimPartSection, SimParts, SimSection};
+
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    pub service: ServiceSection,
+    pub plate: PlateSection,
+    pub motion: MotionSection,
+    pub rt: RtSection,
+    pub safety: SafetySection,
+    pub telemetry: TelemetrySection,
+    pub sim: SimSection,
+    pub vision: VisionSection,
+    pub planner: PlannerConfig,
+}
+
+impl Config {
+    /// Parse TOML text; errors name the field (`motion.tick_hz: invalid type …`).
+    pub fn parse(text: &str, path: &str) -> Result<Self, ConfigError> {
+        rig_config::parse_toml(text, path)
+    }
+
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        rig_config::load_toml(path)
+    }
+
+    /// The validated core parameters.
+    pub fn core_params(&self, path: &str) -> Result<CoreParams, ConfigError> {
+        self.core_params_inner().map_err(|message| ConfigError::invalid(path, message))
+    }
+
+    fn core_params_inner(&self) -> Result<CoreParams, String> {
+        use self::core::{ms_to_ns, ms_to_ns_or_zero};
+        if !(self.telemetry.period_ms.is_finite() && self.telemetry.period_ms >= 1.0) {
+            return Err(format!("telemetry.period_ms must be at least 1, got {}", self.telemetry.period_ms));
+        }
+        self.service.prefix_or(None)?;
+        let params = CoreParams {
+            motion: self.motion.params(&self.plate),
+            rig: RigParams::default(),
+            centers: self.plate.centers.clone(),
+            mu_m_g: self.plate.mu_m_g,
+            parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
+            request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,
+            max_future_skew_ns: ms_to_ns(self.safety.max_future_skew_ms, "safety.max_future_skew_ms")?,
+            solver_poll_ns: self.rt.solver_poll_us.saturating_mul(1000),
+            telemetry_period_ns: ms_to_ns(self.telemetry.period_ms, "telemetry.period_ms")?,
+            auto_resume_ns: ms_to_ns_or_zero(self.safety.auto_resume_ms, "safety.auto_resume_ms")?,
+            fault_exit_ns: ms_to_ns_or_zero(self.safety.fault_exit_ms, "safety.fault_exit_ms")?,
+            rt: self.rt.params()?,
+        };
+        // Complete validation: the core would refuse an unplayable rig at start.
+        params.playable_k_max().map_err(|e| e.to_string())?;
+        Ok(params)
+    }
+
+    /// The simulator's configuration, consistent with the core's.
+    pub fn sim_config(&self, path: &str) -> Result<drivers::SimConfig, ConfigError> {
+        self.sim
+            .config(self.motion.tick_hz, self.plate.half_extent)
+            .map_err(|m| ConfigError::invalid(path, m))
+    }
+
+    /// `[[sim.parts]]` as simulator part specs; ids must be unique.
+    pub fn sim_parts(&self, path: &str) -> Result<SimParts, ConfigError> {
+        self.sim.parts().map_err(|m| ConfigError::invalid(path, m))
+    }
+
+    /// Camera and tracker parameters; errors name the field.
+    pub fn vision_params(&self, path: &str) -> Result<(CameraParams, TrackerParams), ConfigError> {
+        self.vision.params().map_err(|m| ConfigError::invalid(path, m))
+    }
+
+    /// Every section checked, as each process will check its own.
+    pub fn validate(&self, path: &str) -> Result<(), ConfigError> {
+        self.core_params(path)?;
+        self.sim_parts(path)?;
+        self.sim_config(path)?;
+        self.vision_params(path)?;
+        self.planner.build().map_err(|m| ConfigError::invalid(path, m))?;
+        Ok(())
+    }
+
+    /// The motor's CPU if normal-priority work should stay off it.
+    pub fn cpu_to_avoid(&self) -> Option<usize> {
+        self.rt.isolate_motor_cpu.then(|| self.rt.motor_cpu()).flatten()
+    }
+
+    /// The motor thread's CPU, if it is pinned (and the number is valid).
+    pub fn rt_motor_cpu(&self) -> Option<usize> {
+        self.rt.motor_cpu()
+    }
+
+    pub fn histogram_dir(&self) -> Option<&Path> {
+        (!self.telemetry.histogram_dir.is_empty()).then(|| Path::new(&self.telemetry.histogram_dir))
+    }
+}

@@ -1,0 +1,73 @@
+//! `[plate]` and `[motion]`: the rig itself, shared by the core and the
+//! simulator.
+
+use rt_core::motion::{MotionLimits, MotionParams};
+use rt_core::runtime::CoreParams;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct PlateSection {
+    pub half_extent: [f64; 2],
+    pub mu_m_g: f64,
+    pub centers: Vec<[f64; 2]>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct MotionSection {
+    pub tick_hz: f64,
+    pub slot_ticks: u32,
+    pub displacement_mm: f64,
+    pub k_max: f64,
+    pub max_angle: f64,
+    pub max_angular_velocity: f64,
+    pub max_angular_acceleration: f64,
+    pub max_point_speed: f64,
+    pub max_point_acceleration: f64,
+}
+
+impl Default for PlateSection {
+    fn default() -> Self {
+        let c = CoreParams::default();
+        Self { half_extent: c.motion.plate_half_extent, mu_m_g: c.mu_m_g, centers: c.centers }
+    }
+}
+
+impl Default for MotionSection {
+    fn default() -> Self {
+        let m = MotionParams::default();
+        Self {
+            tick_hz: m.tick_hz,
+            slot_ticks: m.slot_ticks,
+            displacement_mm: m.displacement * 1e3,
+            k_max: m.k_max,
+            max_angle: m.limits.max_angle,
+            max_angular_velocity: m.limits.max_angular_velocity,
+            max_angular_acceleration: m.limits.max_angular_acceleration,
+            max_point_speed: m.limits.max_point_speed,
+            max_point_acceleration: m.limits.max_point_acceleration,
+        }
+    }
+}
+
+impl MotionSection {
+    /// The motion parameters of `plate`; checked with the rest of the core's.
+    pub fn params(&self, plate: &PlateSection) -> MotionParams {
+        MotionParams {
+            tick_hz: self.tick_hz,
+            slot_ticks: self.slot_ticks,
+            displacement: self.displacement_mm * 1e-3,
+            plate_half_extent: plate.half_extent,
+            k_max: self.k_max,
+            limits: MotionLimits {
+                max_angle: self.max_angle,
+                max_angular_velocity: self.max_angular_velocity,
+                max_angular_acceleration: self.max_angular_acceleration,
+                max_point_speed: self.max_point_speed,
+                max_point_acceleration: self.max_point_acceleration,
+            },
+            ..MotionParams::default()
+        }
+    }
+}

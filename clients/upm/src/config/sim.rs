@@ -1,0 +1,128 @@
+//! `[sim]`: the physics simulator behind the core's default driver, and
+//! the parts on its plate.
+
+use drivers::{ActuatorModel, SimConfig};
+use rt_core::motion::RigParams;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimSection {
+    pub seed: u64,
+    pub mu_static: f64,
+    pub mu_kinetic: f64,
+    /// "second_order" or "ideal".
+    pub actuator: String,
+    pub bandwidth_hz: f64,
+    pub damping: f64,
+    pub substeps: u32,
+    /// Parts on the simulated plate (the simulated camera sees these).
+    pub parts: Vec<SimPartSection>,
+}
+
+/// One `[[sim.parts]]` entry.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SimPartSection {
+    pub id: u32,
+    #[serde(default)]
+    pub class: u32,
+    /// "point", "disc" or "square".
+    pub shape: String,
+    /// Disc radius or square side (m); a point's radius for contacts.
+    pub size: f64,
+    pub mass: f64,
+    pub position: [f64; 2],
+    #[serde(default)]
+    pub angle: f64,
+}
+
+/// The simulator's parts with the ids and classes the camera reports.
+#[derive(Debug, Clone, Default)]
+pub struct SimParts {
+    pub specs: Vec<drivers::PartSpec>,
+    pub ids: Vec<u32>,
+    pub classes: Vec<u32>,
+}
+
+impl Default for SimSection {
+    fn default() -> Self {
+        let s = SimConfig::default();
+        let (bandwidth_hz, damping) = match s.actuator {
+            ActuatorModel::SecondOrder { bandwidth_hz, damping } => (bandwidth_hz, damping),
+            ActuatorModel::Ideal => (1000.0, 0.7),
+        };
+        Self {
+            seed: s.seed,
+            mu_static: s.mu_static,
+            mu_kinetic: s.mu_kinetic,
+            actuator: "second_order".into(),
+            bandwidth_hz,
+            damping,
+            substeps: s.substeps,
+            parts: Vec::new(),
+        }
+    }
+}
+
+impl SimSection {
+    /// The simulator's configuration for a rig ticking at `tick_hz` with a
+    /// plate of `plate_half_extent`; the message names the field.
+    pub fn config(&self, tick_hz: f64, plate_half_extent: [f64; 2]) -> Result<SimConfig, String> {
+        let actuator = match self.actuator.as_str() {
+            "second_order" => {
+                ActuatorModel::SecondOrder { bandwidth_hz: self.bandwidth_hz, damping: self.damping }
+            }
+            "ideal" => ActuatorModel::Ideal,
+            other => return Err(format!("sim.actuator {other:?}: expected \"second_order\" or \"ideal\"")),
+        };
+        let cfg = SimConfig {
+            tick_hz,
+            substeps: self.substeps,
+            mu_static: self.mu_static,
+            mu_kinetic: self.mu_kinetic,
+            actuator,
+            rig: RigParams::default(),
+            plate_half_extent,
+            seed: self.seed,
+            ..SimConfig::default()
+        };
+        cfg.validate().map_err(|e| e.to_string())?;
+        Ok(cfg)
+    }
+
+    /// `[[sim.parts]]` as simulator part specs; ids must be unique.
+    pub fn parts(&self) -> Result<SimParts, String> {
+        let mut out = SimParts::default();
+        for (i, p) in self.parts.iter().enumerate() {
+            let field = format!("sim.parts[{i}]");
+            if out.ids.contains(&p.id) {
+                return Err(format!("{field}.id {} is used twice", p.id));
+            }
+            if !(p.size.is_finite() && p.size > 0.0) {
+                return Err(format!("{field}.size must be finite and positive"));
+            }
+            let shape = match p.shape.as_str() {
+                "point" => drivers::Shape::Point { radius: p.size },
+                "disc" => drivers::Shape::Disc { radius: p.size },
+                "square" => {
+                    let h = 0.5 * p.size;
+                    let mut vertices = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
+                    vertices[..4].copy_from_slice(&[[-h, -h], [h, -h], [h, h], [-h, h]]);
+                    drivers::Shape::Polygon { vertices, count: 4 }
+                }
+                other => {
+                    return Err(format!(
+                        "{field}.shape {other:?}: expected \"point\", \"disc\" or \"square\""
+                    ));
+                }
+            };
+            out.specs.push(drivers::PartSpec { shape, mass: p.mass, position: p.position, angle: p.angle });
+            out.ids.push(p.id);
+            out.classes.push(p.class);
+        }
+        // The simulator checks mass, position and capacity; name the part.
+        drivers::Simulator::new(SimConfig::default(), &out.specs).map_err(|e| format!("sim.parts: {e}"))?;
+        Ok(out)
+    }
+}

@@ -1,0 +1,230 @@
+//! `upm run SCENARIO`: start upm-core, upm-vision and upm-planner as
+//! separate processes on the scenario's own service prefix, show progress,
+//! restart a client that dies (with backoff), stop everything cleanly at
+//! the end or on Ctrl-C, and write `metrics.json`, `trails.svg` and
+//! `latency/*.hgrm` into the output directory.
+
+pub mod plot;
+pub mod recorder;
+pub mod supervisor;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, bail};
+use iceoryx2::node::NodeWaitFailure;
+use iceoryx2::prelude::*;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::{Value, json};
+
+use crate::config::Config;
+pub use recorder::{PartTrail, Recorder, Trails};
+use supervisor::Supervised;
+
+/// Everything the launcher needs to run one scenario.
+#[derive(Debug, Clone)]
+pub struct RunPlan {
+    pub scenario: String,
+    pub seed: u64,
+    pub duration_s: f64,
+    /// The rig config all three processes get (with the scenario's parts
+    /// and planner).
+    pub config: Config,
+    /// Load every CPU but the motor's while the loop runs (see `cpu_load`).
+    pub stress: bool,
+}
+
+/// What the run produced.
+#[derive(Debug)]
+pub struct RunOutcome {
+    pub metrics: Value,
+    pub trails: Trails,
+    pub interrupted: bool,
+}
+
+/// The `upm` executable: it runs each process through a hidden
+/// subcommand (`upm core|vision|planner`), so `cargo run --bin upm` is all a
+/// fresh checkout needs. Set `UPM_EXE` to use another build.
+fn upm_exe() -> anyhow::Result<PathBuf> {
+    if let Some(p) = std::env::var_os("UPM_EXE") {
+        return Ok(PathBuf::from(p));
+    }
+    std::env::current_exe().context("locating the upm binary")
+}
+
+fn latency_json(p: &ipc_types::LatencyPercentiles) -> Value {
+    let us = |ns: u64| ns as f64 / 1e3;
+    json!({ "p50": us(p.p50_ns), "p99": us(p.p99_ns), "p999": us(p.p999_ns), "max": us(p.max_ns), "samples": p.samples })
+}
+
+/// Run `plan`, writing into `out`. `evaluate` turns the trails into the
+/// scenario's goal metrics (merged into metrics.json).
+pub fn run_plan(
+    plan: &RunPlan,
+    out: &Path,
+    show_progress: bool,
+    evaluate: &dyn Fn(&Trails) -> Value,
+) -> anyhow::Result<RunOutcome> {
+    let prefix = plan.config.service.prefix.clone();
+    if ipc_types::discovery::core_running(&prefix).map_err(|e| anyhow::anyhow!("{e}"))? {
+        bail!(
+            "a upm-core is already running on service prefix {prefix:?}; stop it first or use another prefix"
+        );
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let cfg_path = out.join("config.toml");
+    std::fs::write(&cfg_path, toml::to_string(&plan.config).context("serialising the config")?)
+        .with_context(|| format!("writing {}", cfg_path.display()))?;
+    let logs = out.join("logs");
+    std::fs::create_dir_all(&logs)?;
+    let cfg = cfg_path.display().to_string();
+
+    let exe = upm_exe()?;
+    let mut core = Supervised::new(
+        "upm-core",
+        exe.clone(),
+        vec![
+            "core".into(),
+            "--config".into(),
+            cfg.clone(),
+            "--truth-hz".into(),
+            "1000".into(),
+            "--histograms".into(),
+            out.join("latency").display().to_string(),
+        ],
+        Some(logs.join("core.log")),
+    );
+    let mut vision = Supervised::new(
+        "upm-vision",
+        exe.clone(),
+        vec!["vision".into(), "--config".into(), cfg.clone()],
+        Some(logs.join("vision.log")),
+    )
+    .avoiding_cpu(plan.config.cpu_to_avoid());
+    let planner_args = vec!["planner".into(), "--config".into(), cfg.clone()];
+    let mut planner = Supervised::new("upm-planner", exe, planner_args, Some(logs.join("planner.log")))
+        .avoiding_cpu(plan.config.cpu_to_avoid());
+
+    let mut recorder = Recorder::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
+    core.start()?;
+    if let Some(cpu) = plan.config.cpu_to_avoid() {
+        // The recorder and progress bar need no RT CPU (the core, started
+        // above, has taken the full set with it).
+        let _ = rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+    }
+    // Wait until the core is up before starting its clients.
+    let up = Instant::now();
+    while !ipc_types::discovery::core_running(&prefix).unwrap_or(false) {
+        if let Some(s) = core.exited() {
+            bail!("upm-core exited at start-up ({s}); see {}", logs.join("core.log").display());
+        }
+        if up.elapsed() > Duration::from_secs(20) {
+            bail!("upm-core did not come up within 20 s; see {}", logs.join("core.log").display());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    vision.start()?;
+    planner.start()?;
+    let load = if plan.stress {
+        Some(crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(plan.config.rt_motor_cpu()))?)
+    } else {
+        None
+    };
+
+    // The launcher's own node handles Ctrl-C (SIGINT) and SIGTERM.
+    let node = ipc_types::rig_node::rig_node(&prefix, None, SignalHandlingMode::HandleTerminationRequests)?;
+    let bar =
+        if show_progress { ProgressBar::new((plan.duration_s * 10.0) as u64) } else { ProgressBar::hidden() };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {pos}/{len} ds  (elapsed {elapsed})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(format!("{} seed {}", plan.scenario, plan.seed));
+    let mut interrupted = false;
+    let mut sim_s = 0.0;
+    let mut core_failed = None;
+    while sim_s < plan.duration_s {
+        sim_s = recorder.poll()?;
+        bar.set_position((sim_s * 10.0) as u64);
+        for c in [&mut vision, &mut planner] {
+            if c.restart_if_dead()? {
+                let msg = format!("upm run: {} died; restarted (restart {})", c.name, c.restarts);
+                if bar.is_hidden() { eprintln!("{msg}") } else { bar.println(msg) }
+            }
+        }
+        if let Some(s) = core.exited() {
+            core_failed = Some(s);
+            break;
+        }
+        match node.wait(Duration::from_millis(20)) {
+            Ok(()) => {}
+            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => {
+                interrupted = true;
+                break;
+            }
+        }
+    }
+    bar.finish_and_clear();
+    let stress = load.as_ref().map(|l| l.description().to_owned());
+    drop(load);
+    let _ = recorder.poll();
+    let pids = json!({ "core": core.pid(), "vision": vision.pid(), "planner": planner.pid() });
+    let restarts = json!({ "vision": vision.restarts, "planner": planner.restarts });
+    planner.stop(Duration::from_secs(3));
+    vision.stop(Duration::from_secs(3));
+    let core_exit = core.stop(Duration::from_secs(5));
+    let t = recorder.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
+    let mut metrics = json!({
+        "scenario": plan.scenario,
+        "seed": plan.seed,
+        "sim_seconds": recorder.trails.duration(),
+        "interrupted": interrupted,
+        "stress": stress,
+        "core": {
+            "cycles": t.cycle,
+            "ticks": t.counters.ticks,
+            "overruns": t.counters.overruns,
+            "hold_events": t.counters.hold_events,
+            "schedule_swaps": t.counters.schedule_swaps,
+            "rt_thread_allocations": t.counters.rt_thread_allocations,
+            "rejected_parts": t.counters.rejected_parts,
+            "rejected_requests": t.counters.rejected_requests,
+            "realtime_flags": t.realtime_flags,
+            "pm_qos_held": t.realtime_flags & ipc_types::Telemetry::RT_PM_QOS_HELD != 0,
+            "exit_ok": core_exit.is_some_and(|s| s.success()),
+            "died": core_failed.map(|s| s.to_string()),
+        },
+        "latency_us": {
+            "motor_wakeup": latency_json(&t.latency.motor_wakeup),
+            "solver": latency_json(&t.latency.solver),
+            "ipc_vision_to_core": latency_json(&t.latency.ipc_vision_to_core),
+            "frame_to_schedule": latency_json(&t.latency.frame_to_schedule),
+        },
+        // Of the schedules the launcher saw (it may miss some when it falls
+        // behind; the core's solver histogram above has them all).
+        "frames_late": recorder.frames_late,
+        "schedules_seen": recorder.schedules_seen,
+        "processes": pids,
+        "restarts": restarts,
+    });
+    if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&recorder.trails)) {
+        m.extend(goals);
+    }
+    std::fs::write(out.join("metrics.json"), serde_json::to_string_pretty(&metrics)?)?;
+    plot::draw_trails(
+        &out.join("trails.svg"),
+        &format!("{} (seed {})", plan.scenario, plan.seed),
+        plan.config.plate.half_extent,
+        &plan.config.plate.centers,
+        &recorder.trails,
+    )?;
+    // What was recorded is written first: a dead core loses nothing.
+    if let Some(s) = core_failed {
+        bail!(
+            "upm-core died during the run ({s}); see {}; what was recorded is in {}",
+            logs.join("core.log").display(),
+            out.display()
+        );
+    }
+    Ok(RunOutcome { metrics, trails: recorder.trails, interrupted })
+}

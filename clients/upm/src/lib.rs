@@ -1,0 +1,24 @@
+//! The `upm` command line: configuration, the launcher of the closed loop,
+//! status, plots and benchmarks. It runs the core, vision and planner
+//! through hidden subcommands (`upm core|vision|planner`), so one binary
+//! is all a fresh checkout needs; vision and planner are their own crates
+//! (`upm-vision`, `upm-planner`) with their own thin binaries.
+
+pub mod bench_ipc;
+pub mod bench_latency;
+pub mod bench_solver;
+pub mod bounded_reference;
+pub mod cli;
+pub mod closed_loop;
+pub mod config;
+pub mod core_process;
+pub mod cpu_load;
+pub mod die_with_parent;
+pub mod feeder;
+pub mod host_facts;
+pub mod launcher;
+pub mod scenario;
+pub mod soak;
+pub mod solve_json;
+pub mod status;
+pub mod validate;

@@ -1,0 +1,291 @@
+//! Scenarios (`scenarios/*.toml`): the rig, the parts, the planner and the
+//! run length of one closed-loop experiment, and how its goals are judged.
+
+use std::path::{Path, PathBuf};
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use crate::config::{Config, SimPartSection};
+use crate::launcher::Trails;
+use upm_planner::PlannerConfig;
+use upm_planner::sort::sort_side;
+use upm_planner::track::distance_to_rectangle;
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub name: String,
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    pub duration_s: f64,
+    /// Rig and simulator settings (the same sections as a core config);
+    /// `[rig.sim].parts` may be left empty when `random_parts` places them.
+    #[serde(default)]
+    pub rig: Config,
+    /// The planner and its parameters; the launcher puts it into the rig
+    /// config (`[planner]`), with the parts' mass and μmg filled in.
+    #[serde(default)]
+    pub planner: PlannerConfig,
+    /// Parts placed at random (seeded): count per class, shape and size.
+    #[serde(default)]
+    pub random_parts: Vec<RandomParts>,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomParts {
+    pub count: u32,
+    pub class: u32,
+    pub shape: String,
+    pub size: f64,
+    /// Region (x0, y0, x1, y1) to scatter in.
+    pub region: [f64; 4],
+    /// Smallest distance between parts (m).
+    pub min_spacing: f64,
+}
+
+/// `name` (a file under `scenarios/`) or a path.
+pub fn resolve(name_or_path: &str) -> PathBuf {
+    let p = Path::new(name_or_path);
+    if p.extension().is_some() || p.components().count() > 1 {
+        return p.to_path_buf();
+    }
+    let here = Path::new("scenarios").join(format!("{name_or_path}.toml"));
+    if here.is_file() {
+        return here;
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios").join(format!("{name_or_path}.toml"))
+}
+
+impl Scenario {
+    pub fn load(path: &Path) -> anyhow::Result<Self> {
+        let s: Scenario = rig_config::load_toml(path)?;
+        if !(s.duration_s.is_finite() && s.duration_s > 0.0) {
+            anyhow::bail!("{}: duration_s must be positive", path.display());
+        }
+        Ok(s)
+    }
+
+    /// The rig config every process gets: the scenario's parts (random ones
+    /// placed with `seed`), part mass consistent with μmg, the planner with
+    /// that mass and μmg, and `prefix`.
+    pub fn config(&self, seed: u64, prefix: &str) -> anyhow::Result<Config> {
+        if self.rig.planner != PlannerConfig::default() {
+            anyhow::bail!("{}: the planner goes in [planner], not [rig.planner]", self.name);
+        }
+        let mut c = self.rig.clone();
+        c.service.prefix = prefix.to_owned();
+        c.sim.seed = seed;
+        c.vision.seed = seed;
+        let mass = c.plate.mu_m_g / (c.sim.mu_kinetic * 9.81);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut next_id = c.sim.parts.iter().map(|p| p.id).max().unwrap_or(0) + 1;
+        for group in &self.random_parts {
+            for _ in 0..group.count {
+                let mut tries = 0;
+                let pos = loop {
+                    let [x0, y0, x1, y1] = group.region;
+                    let p = [rng.random_range(x0..x1), rng.random_range(y0..y1)];
+                    let free = c
+                        .sim
+                        .parts
+                        .iter()
+                        .all(|q| (q.position[0] - p[0]).hypot(q.position[1] - p[1]) >= group.min_spacing);
+                    tries += 1;
+                    if free {
+                        break p;
+                    }
+                    if tries > 10_000 {
+                        anyhow::bail!(
+                            "random_parts: cannot place {} parts {} m apart",
+                            group.count,
+                            group.min_spacing
+                        );
+                    }
+                };
+                c.sim.parts.push(SimPartSection {
+                    id: next_id,
+                    class: group.class,
+                    shape: group.shape.clone(),
+                    size: group.size,
+                    mass,
+                    position: pos,
+                    angle: 0.0,
+                });
+                next_id += 1;
+            }
+        }
+        for p in &mut c.sim.parts {
+            p.mass = mass;
+        }
+        // The planner's model of the parts: the rig's μmg, the parts' mass.
+        c.planner = self.planner.clone();
+        let drive = c.planner.drive_mut();
+        drive.mu_m_g = c.plate.mu_m_g;
+        drive.part_mass = mass;
+        Ok(c)
+    }
+
+    /// Goal metrics from the recorded trails (ARCHITECTURE.md §7).
+    pub fn evaluate(&self, config: &Config, trails: &Trails) -> Value {
+        let p = &self.planner;
+        let mut parts = Vec::new();
+        let mut sorted = 0usize;
+        let mut rms_sum = 0.0;
+        let mut rms_n = 0usize;
+        for (id, trail) in &trails.parts {
+            let (Some(first), Some(last)) = (trail.points.first(), trail.points.last()) else { continue };
+            let goal_met = match p {
+                PlannerConfig::Sort(p) => {
+                    let ok = sort_side(trail.class) * last[1] >= p.sorted_x;
+                    sorted += usize::from(ok);
+                    ok
+                }
+                PlannerConfig::Track(p) => match p.rects.get(*id as usize - 1) {
+                    Some(&rect) => {
+                        // Settling: judged over the last 80 % of the run.
+                        let settle = 0.2 * trails.duration();
+                        for q in trail.points.iter().filter(|q| q[0] >= settle) {
+                            let d = distance_to_rectangle(rect, [q[1], q[2]]);
+                            rms_sum += d * d;
+                            rms_n += 1;
+                        }
+                        true
+                    }
+                    None => true,
+                },
+                PlannerConfig::Spin(p) if *id == p.part => (last[3] - p.angle).abs() <= 5f64.to_radians(),
+                PlannerConfig::Local(p) if *id == p.part => {
+                    (last[1] - p.goal[0]).hypot(last[2] - p.goal[1]) <= 0.02
+                }
+                _ => true,
+            };
+            parts.push(json!({
+                "id": id, "class": trail.class,
+                "start": [first[1], first[2], first[3]],
+                "final": [last[1], last[2], last[3]],
+                "goal_met": goal_met,
+            }));
+        }
+        let n = parts.len().max(1);
+        let mut v = json!({ "parts": parts, "collisions": contacts_in_trails(config, trails), "centers": config.plate.centers.len() });
+        match p {
+            PlannerConfig::Sort(_) => v["sorted_fraction"] = json!(sorted as f64 / n as f64),
+            PlannerConfig::Track(p) => {
+                let path: f64 =
+                    p.rects.iter().map(|r| 2.0 * (r[2] + r[3])).sum::<f64>() / p.rects.len().max(1) as f64;
+                v["tracking_rms_m"] =
+                    json!(if rms_n > 0 { (rms_sum / rms_n as f64).sqrt() } else { f64::NAN });
+                v["path_length_m"] = json!(path);
+            }
+            PlannerConfig::Spin(p) => {
+                if let Some(t) = trails.parts.get(&p.part).and_then(|t| t.points.last()) {
+                    v["spin_angle_error_deg"] = json!((t[3] - p.angle).to_degrees());
+                }
+            }
+            PlannerConfig::Local(p) => {
+                // How far the parts asked to stay still ever got from their start.
+                let drift = trails
+                    .parts
+                    .iter()
+                    .filter(|(id, _)| **id != p.part)
+                    .filter_map(|(_, t)| {
+                        let first = t.points.first()?;
+                        t.points.iter().map(|q| (q[1] - first[1]).hypot(q[2] - first[2])).reduce(f64::max)
+                    })
+                    .fold(0.0, f64::max);
+                v["others_max_drift_m"] = json!(drift);
+            }
+        }
+        v
+    }
+}
+
+/// Bounding radius of a configured part (m): what the simulator's part–part
+/// contact uses.
+fn bounding_radius(part: &SimPartSection) -> f64 {
+    match part.shape.as_str() {
+        "square" => part.size * core::f64::consts::FRAC_1_SQRT_2,
+        _ => part.size,
+    }
+}
+
+/// How close (m) beyond touching a pair must come in the trails to count:
+/// the trails are sampled (30 Hz in lock-step), so a brief contact is seen
+/// as a near miss at the samples around it.
+const CONTACT_SLACK: f64 = 0.002;
+
+/// Part–part collisions seen in the trails: each time a pair comes within
+/// `CONTACT_SLACK` of touching after being apart, counted once per approach.
+pub fn contacts_in_trails(config: &Config, trails: &Trails) -> u64 {
+    let radius = |id: u32| config.sim.parts.iter().find(|p| p.id == id).map(bounding_radius);
+    let parts: Vec<(f64, &Vec<[f64; 4]>)> =
+        trails.parts.iter().filter_map(|(id, t)| Some((radius(*id)?, &t.points))).collect();
+    let mut contacts = 0;
+    for (i, (ra, a)) in parts.iter().enumerate() {
+        for (rb, b) in &parts[i + 1..] {
+            let reach = ra + rb + CONTACT_SLACK;
+            let mut touching = false;
+            // Walk both trails in time; only samples taken at the same
+            // instant are compared (a part missing from a frame skips it).
+            let (mut i, mut j) = (0, 0);
+            while let (Some(p), Some(q)) = (a.get(i), b.get(j)) {
+                if p[0] < q[0] {
+                    i += 1;
+                } else if q[0] < p[0] {
+                    j += 1;
+                } else {
+                    let close = (p[1] - q[1]).hypot(p[2] - q[2]) <= reach;
+                    contacts += u64::from(close && !touching);
+                    touching = close;
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+    }
+    contacts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::launcher::PartTrail;
+
+    fn disc(id: u32, size: f64) -> SimPartSection {
+        SimPartSection {
+            id,
+            class: 0,
+            shape: "disc".into(),
+            size,
+            mass: 0.04,
+            position: [0.0; 2],
+            angle: 0.0,
+        }
+    }
+
+    #[test]
+    fn each_approach_to_touching_counts_once() {
+        let mut config = Config::default();
+        config.sim.parts = vec![disc(1, 0.015), disc(2, 0.015), disc(3, 0.015)];
+        // Part 2 gaps from part 1 (mm): apart, touching twice in a row, apart,
+        // touching again. Part 3 stays far away.
+        let gaps_mm = [50.0, 10.0, 1.0, 0.0, 20.0, 1.5, 40.0];
+        let mut trails = Trails::default();
+        let trail = |xs: Vec<f64>| PartTrail {
+            class: 0,
+            points: xs.iter().enumerate().map(|(i, &x)| [i as f64, x, 0.0, 0.0]).collect(),
+        };
+        trails.parts.insert(1, trail(vec![0.0; gaps_mm.len()]));
+        trails.parts.insert(2, trail(gaps_mm.iter().map(|g| 0.03 + g * 1e-3).collect()));
+        trails.parts.insert(3, trail(vec![0.5; gaps_mm.len()]));
+        assert_eq!(contacts_in_trails(&config, &trails), 2);
+    }
+}

@@ -1,0 +1,220 @@
+//! `upm status [--json]`: the newest telemetry of the core on a prefix
+//! (ARCHITECTURE.md §7).
+
+use std::time::{Duration, Instant};
+
+use anyhow::bail;
+use iceoryx2::prelude::*;
+use ipc_types::discovery::{NodePresence, running_rigs};
+use ipc_types::ports::open_pub_sub;
+use ipc_types::rig_node::rig_node;
+use ipc_types::{
+    CoreCommand, LatencyPercentiles, RejectReason, Telemetry, ValidationLimits, monotonic_now_ns,
+    service_names,
+};
+use serde_json::{Value, json};
+
+/// Wait up to `timeout` for a telemetry sample of the core on `prefix`.
+pub fn read_telemetry(prefix: &str, timeout: Duration) -> anyhow::Result<Telemetry> {
+    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
+    let sub = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("telemetry subscriber: {e:?}"))?;
+    let start = Instant::now();
+    let mut newest: Option<Telemetry> = None;
+    while start.elapsed() < timeout {
+        while let Some(s) = sub.receive().map_err(|e| anyhow::anyhow!("receiving telemetry: {e:?}"))? {
+            newest = Some(*s.payload());
+        }
+        if let Some(t) = newest {
+            let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
+            t.validate(&limits).map_err(|e| anyhow::anyhow!("invalid telemetry from the core: {e}"))?;
+            return Ok(t);
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    bail!("no upm-core is running on service prefix {prefix:?} (no telemetry within {timeout:?})")
+}
+
+fn us(p: &LatencyPercentiles) -> Value {
+    let f = |ns: u64| ns as f64 / 1e3;
+    json!({ "p50": f(p.p50_ns), "p99": f(p.p99_ns), "p999": f(p.p999_ns), "max": f(p.max_ns), "samples": p.samples })
+}
+
+/// Seconds since a CLOCK_MONOTONIC stamp (null when 0 = absent).
+fn age_s(started_ns: u64) -> Value {
+    if started_ns == 0 {
+        Value::Null
+    } else {
+        json!(monotonic_now_ns().saturating_sub(started_ns) as f64 / 1e9)
+    }
+}
+
+/// Rejections by reason, only the reasons that occurred.
+fn rejected_by_reason(t: &Telemetry) -> serde_json::Map<String, Value> {
+    RejectReason::ALL
+        .iter()
+        .filter(|r| t.rejected_by_reason[r.index()] > 0)
+        .map(|r| (r.as_str().to_owned(), json!(t.rejected_by_reason[r.index()])))
+        .collect()
+}
+
+/// `ok`, or which thread or the driver, what happened and where.
+fn health_json(t: &Telemetry) -> Value {
+    let (source, cause) = t.health().map_or(("unknown", "unknown"), |(s, c)| (s.as_str(), c.as_str()));
+    json!({ "ok": t.health_source == 0, "source": source, "cause": cause, "detail": t.health_detail_str() })
+}
+
+/// The `upm status --json` document.
+pub fn to_json(t: &Telemetry) -> Value {
+    let flag = |b: u32| t.realtime_flags & b != 0;
+    let c = &t.counters;
+    json!({
+        "state": t.core_state().map_or("unknown", |s| s.as_str()),
+        "health": health_json(t),
+        "cycle": t.cycle,
+        "ages_ms": { "parts": t.parts_age_ms, "request": t.request_age_ms },
+        "rejected": {
+            "parts": c.rejected_parts,
+            "requests": c.rejected_requests,
+            "by_reason": rejected_by_reason(t),
+        },
+        "processes": {
+            "core": t.core_pid,
+            "vision": t.vision_pid,
+            "planner": t.planner_pid,
+            "vision_age_s": age_s(t.vision_started_ns),
+            "planner_age_s": age_s(t.planner_started_ns),
+        },
+        "driver": {
+            "faults": c.driver_faults,
+            "clamped": c.driver_clamped,
+            "rejected": c.driver_rejected,
+            "fault_holds": c.fault_holds,
+            "resumes": c.resumes,
+        },
+        "latency_us": {
+            "motor_wakeup": us(&t.latency.motor_wakeup),
+            "solver": us(&t.latency.solver),
+            "ipc_vision_to_core": us(&t.latency.ipc_vision_to_core),
+            "frame_to_schedule": us(&t.latency.frame_to_schedule),
+        },
+        "counters": {
+            "ticks": t.counters.ticks,
+            "overruns": t.counters.overruns,
+            "hold_events": t.counters.hold_events,
+            "schedule_swaps": t.counters.schedule_swaps,
+            "rt_thread_allocations": t.counters.rt_thread_allocations,
+        },
+        "plate": { "x": t.plate_x, "y": t.plate_y, "theta": t.plate_theta },
+        "realtime": {
+            "memory_locked": flag(Telemetry::RT_MEMORY_LOCKED),
+            "motor_fifo": flag(Telemetry::RT_MOTOR_FIFO),
+            "solver_fifo": flag(Telemetry::RT_SOLVER_FIFO),
+            "motor_pinned": flag(Telemetry::RT_MOTOR_PINNED),
+            "receiver_fifo": flag(Telemetry::RT_RECEIVER_FIFO),
+            "pm_qos_held": flag(Telemetry::RT_PM_QOS_HELD),
+            "allocations_counted": flag(Telemetry::RT_ALLOCATIONS_COUNTED),
+        },
+    })
+}
+
+/// A few human-readable lines.
+pub fn to_text(t: &Telemetry) -> String {
+    let rt = t.realtime_flags
+        & (Telemetry::RT_MEMORY_LOCKED | Telemetry::RT_MOTOR_FIFO | Telemetry::RT_SOLVER_FIFO)
+        == (Telemetry::RT_MEMORY_LOCKED | Telemetry::RT_MOTOR_FIFO | Telemetry::RT_SOLVER_FIFO);
+    let w = &t.latency.motor_wakeup;
+    let c = &t.counters;
+    let health = match t.health() {
+        Some((ipc_types::HealthSource::Ok, _)) => "ok".to_owned(),
+        Some((s, c)) => format!("{s} {c}: {}", t.health_detail_str()),
+        None => "unknown".to_owned(),
+    };
+    let reasons: Vec<String> = rejected_by_reason(t).iter().map(|(k, v)| format!("{k} {v}")).collect();
+    let client = |pid: u32, started: u64| {
+        if pid == 0 {
+            "absent".to_owned()
+        } else {
+            format!("pid {pid}, up {:.0} s", age_s(started).as_f64().unwrap_or(0.0))
+        }
+    };
+    format!(
+        "state {}  health {}\n\
+         cycle {}  ticks {}  overruns {}  holds {}\n\
+         ages: parts {:.1} ms, request {:.1} ms;  rejected: parts {}, requests {}{}\n\
+         driver: faults {}, fault holds {}, resumes {}, clamped {}, rejected {}\n\
+         motor wake-up µs: p50 {:.1}  p99 {:.1}  p99.9 {:.1}  max {:.1}\n\
+         real-time: {}  PM QoS held: {}  rt allocations: {}\n\
+         processes: core pid {}; vision {}; planner {}",
+        t.core_state().map_or("unknown", |s| s.as_str()),
+        health,
+        t.cycle,
+        c.ticks,
+        c.overruns,
+        c.hold_events,
+        t.parts_age_ms,
+        t.request_age_ms,
+        c.rejected_parts,
+        c.rejected_requests,
+        if reasons.is_empty() { String::new() } else { format!(" ({})", reasons.join(", ")) },
+        c.driver_faults,
+        c.fault_holds,
+        c.resumes,
+        c.driver_clamped,
+        c.driver_rejected,
+        w.p50_ns as f64 / 1e3,
+        w.p99_ns as f64 / 1e3,
+        w.p999_ns as f64 / 1e3,
+        w.max_ns as f64 / 1e3,
+        if rt { "yes" } else { "NO (not real-time: no SCHED_FIFO or no locked memory)" },
+        if t.realtime_flags & Telemetry::RT_PM_QOS_HELD != 0 { "yes" } else { "no" },
+        c.rt_thread_allocations,
+        t.core_pid,
+        client(t.vision_pid, t.vision_started_ns),
+        client(t.planner_pid, t.planner_started_ns),
+    )
+}
+
+/// Which rig `upm status` / `upm resume` talk to when no prefix is given:
+/// the only running one. Several or none is an error listing what runs.
+pub fn discover_prefix() -> anyhow::Result<String> {
+    let rigs = running_rigs().map_err(|e| anyhow::anyhow!("reading the running rigs: {e:?}"))?;
+    match rigs.as_slice() {
+        [one] => Ok(one.name.clone()),
+        [] => bail!("no running upm rig found on this machine (start one with `upm run`, or pass --prefix)"),
+        many => bail!("{} rigs are running, pass one with --prefix: {}", many.len(), rig_list(many)),
+    }
+}
+
+/// `prefix (pid P, up N s)` for each rig.
+pub fn rig_list(rigs: &[NodePresence]) -> String {
+    let now = monotonic_now_ns();
+    rigs.iter()
+        .map(|r| {
+            format!("{} (pid {}, up {:.0} s)", r.name, r.pid, now.saturating_sub(r.started_ns) as f64 / 1e9)
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Ask the core on `prefix` to leave a driver-fault hold.
+pub fn send_resume(prefix: &str) -> anyhow::Result<()> {
+    if !ipc_types::discovery::core_running(prefix).map_err(|e| anyhow::anyhow!("{e}"))? {
+        bail!("no upm-core is running on service prefix {prefix:?}");
+    }
+    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
+    let publisher = open_pub_sub::<CoreCommand>(&node, service_names::CORE_COMMAND)?
+        .publisher_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("core command publisher: {e:?}"))?;
+    let mut notifier = ipc_types::inbox_event::InboxNotifier::new(&node)?;
+    // The core's subscriber connects to a new publisher on its next look.
+    std::thread::sleep(Duration::from_millis(100));
+    publisher
+        .send_copy(CoreCommand::new(CoreCommand::RESUME, 1, monotonic_now_ns()))
+        .map_err(|e| anyhow::anyhow!("sending resume: {e:?}"))?;
+    notifier.notify();
+    Ok(())
+}

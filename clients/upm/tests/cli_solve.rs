@@ -1,0 +1,121 @@
+//! The `upm` binary as users run it: the paper's examples, stdin, and every
+//! kind of bad input exiting non-zero with one line that names the field.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+fn upm(args: &[&str], stdin: Option<&str>) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn upm");
+    if let Some(text) = stdin {
+        child.stdin.take().expect("stdin").write_all(text.as_bytes()).expect("write");
+    }
+    drop(child.stdin.take());
+    child.wait_with_output().expect("wait")
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+/// Exit non-zero, exactly one stderr line, containing `needle`, no panic.
+fn rejects(input: &str, needle: &str) {
+    let out = upm(&["solve", "-"], Some(input));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "accepted: {input}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(err.contains(needle), "{err:?} does not name {needle:?} (input {input})");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn paper_3_1_from_a_file() {
+    let v = json(&upm(&["solve", "examples/paper-3-1.json"], None));
+    let k: Vec<f64> = v["k"].as_array().expect("k").iter().map(|x| x.as_f64().expect("num")).collect();
+    for (got, want) in k.iter().zip([0.584, -0.389, 0.480, -0.0946]) {
+        assert!((got - want).abs() <= 0.006, "k = {k:?}");
+    }
+    assert_eq!(v["order"], serde_json::json!([0, 2, 1, 3]));
+    assert_eq!(v["rank"], 4);
+    assert_eq!(v["saturated"], false);
+    assert_eq!(v["iterations"], 0, "the exact path iterates not");
+    assert!(v["solve_time_us"].as_f64().is_some_and(|t| t > 0.0), "solve_time_us: {}", v["solve_time_us"]);
+}
+
+#[test]
+fn paper_3_3_from_stdin() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/paper-3-3.json"))
+        .expect("example");
+    let v = json(&upm(&["solve", "-"], Some(&text)));
+    assert_eq!(v["k"].as_array().expect("k").len(), 3);
+    let curl = v["achieved"]["curls"][0].as_f64().expect("curl");
+    assert!((curl + 0.05).abs() < 1e-6, "curl {curl}");
+}
+
+const GOOD: &str = r#"{"mu_m_g":0.1,"centers":[[-1,-0.5],[1,-0.5],[1,0.5],[-1,0.5]],
+  "parts":[{"position":[0.5,0.0],"force":[0.01,0.01]}]}"#;
+
+#[test]
+fn the_good_input_used_below_is_accepted() {
+    json(&upm(&["solve", "-"], Some(GOOD)));
+}
+
+#[test]
+fn bad_inputs_exit_nonzero_with_one_line_naming_the_field() {
+    rejects(&GOOD.replace("\"mu_m_g\":0.1", "\"mu_m_g\":null"), "mu_m_g");
+    rejects(&GOOD.replace("\"mu_m_g\":0.1", "\"mu_m_g\":\"0.1\""), "mu_m_g");
+    rejects(&GOOD.replace("\"mu_m_g\":0.1", "\"mu_m_g\":0"), "mu_m_g");
+    rejects(&GOOD.replace("\"mu_m_g\":0.1", "\"mu_m_g\":-1"), "mu_m_g");
+    rejects(&GOOD.replace("[0.01,0.01]", "[null,0.01]"), "parts[0].force");
+    rejects(&GOOD.replace("[0.5,0.0]", "[1,0.5]"), "parts[0]");
+    rejects(&GOOD.replace("[[-1,-0.5],[1,-0.5],[1,0.5],[-1,0.5]]", "[]"), "centers");
+    rejects(&GOOD.replace("[0.01,0.01]", "[1e999,0.01]"), "parts[0].force");
+    rejects(&GOOD.replace("[0.5,0.0]", "[1e300,1e300]"), "parts[0].position");
+    rejects(&GOOD.replace("[0.01,0.01]", "[1e200,0.01]"), "parts[0].force");
+    rejects(&GOOD.replace("\"mu_m_g\"", "\"mu_mg\""), "mu_mg");
+    rejects("{\"mu_m_g\": 0.1, \"centers\": [[0,0]", "line");
+    rejects("", "line");
+}
+
+#[test]
+fn missing_file_is_one_line() {
+    let out = upm(&["solve", "no/such/file.json"], None);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("no/such/file.json"), "{err}");
+}
+
+#[test]
+fn validate_runs_and_plots() {
+    let dir = std::env::temp_dir().join(format!("upm_cli_validate_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let svg = dir.join("field.svg");
+    let v = json(&upm(
+        &["validate", "examples/paper-3-1.json", "--cycles", "2", "--plot", svg.to_str().expect("utf-8")],
+        None,
+    ));
+    assert_eq!(v["simulated"]["forces"].as_array().expect("forces").len(), 2);
+    let text = std::fs::read_to_string(&svg).expect("svg written");
+    assert!(text.starts_with("<svg") || text.contains("<svg"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn status_without_a_core_says_so() {
+    let prefix = format!("upmt_nocore_{}_", std::process::id());
+    let out = upm(&["status", "--prefix", &prefix, "--timeout", "0.3"], None);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("no upm-core is running"), "{err}");
+    ipc_types::rig_node::remove_prefix_segment(&prefix);
+}

@@ -1,0 +1,200 @@
+//! `upm validate` on the paper's examples (§3.1, §3.3) and on random
+//! geometries: simulated average force within 5 % of the request
+//! (+ 0.01·μmg), simulated curl of the right sign and within 15 %.
+
+use upm_cli::solve_json::{CurlInput, PartInput, SolveInput, parse};
+use upm_cli::{solve_json, validate};
+
+fn paper_31() -> SolveInput {
+    parse(
+        r#"{ "mu_m_g": 0.1,
+             "centers": [[-1,-0.5],[1,-0.5],[1,0.5],[-1,0.5]],
+             "parts": [{"position":[0.5,0.0],"force":[0.01,0.01]},
+                       {"position":[-0.75,0.25],"force":[-0.01,0.0]}] }"#,
+    )
+    .expect("valid input")
+}
+
+fn paper_33() -> SolveInput {
+    parse(
+        r#"{ "mu_m_g": 0.1,
+             "centers": [[-1,-0.5],[1,-0.5],[1,0.5]],
+             "parts": [{"position":[0.5,0.0],"force":[0.0,0.0]}],
+             "curls": [{"position":[0.5,0.0],"curl":-0.05}] }"#,
+    )
+    .expect("valid input")
+}
+
+fn check(v: &serde_json::Value) {
+    let sim = &v["simulated"];
+    for (i, ok) in sim["force_within_target"].as_array().expect("array").iter().enumerate() {
+        assert!(
+            ok.as_bool() != Some(false),
+            "part {i}: {} (error/μmg {})",
+            sim["forces"][i],
+            sim["force_error_over_mu_m_g"][i]
+        );
+    }
+    for (i, ok) in sim["curl_within_target"].as_array().expect("array").iter().enumerate() {
+        assert_eq!(
+            ok.as_bool(),
+            Some(true),
+            "curl {i}: {} (rel. error {})",
+            sim["curls"][i],
+            sim["curl_relative_error"][i]
+        );
+    }
+}
+
+#[test]
+fn paper_force_example_meets_targets() {
+    let v = validate::run(&paper_31(), 5, 1, None).expect("validate");
+    println!("{}", serde_json::to_string_pretty(&v["simulated"]).unwrap_or_default());
+    check(&v);
+    // Same k as solve.
+    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).expect("k");
+    assert!((k[0] - 0.58).abs() < 0.01 && (k[3] + 0.095).abs() < 0.01);
+}
+
+#[test]
+fn paper_curl_example_meets_targets() {
+    let v = validate::run(&paper_33(), 5, 1, None).expect("validate");
+    println!("{}", serde_json::to_string_pretty(&v["simulated"]).unwrap_or_default());
+    check(&v);
+}
+
+#[test]
+fn plot_is_written() {
+    let path = std::env::temp_dir().join(format!("upm_validate_{}.svg", std::process::id()));
+    validate::run(&paper_31(), 1, 1, Some(&path)).expect("validate");
+    let svg = std::fs::read_to_string(&path).expect("svg written");
+    assert!(svg.contains("<svg") && svg.len() > 10_000);
+    let _ = std::fs::remove_file(&path);
+}
+
+/// Deterministic pseudo-random numbers for the random geometries.
+fn lcg(s: &mut u64) -> f64 {
+    *s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    (*s >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// 4–6 centers around the plate edge, 1–2 parts inside, forces up to
+/// 0.12·μmg, sometimes a curl at the first part.
+fn random_case(s: &mut u64) -> SolveInput {
+    let n = 4 + (lcg(s) * 3.0) as usize;
+    let centers = (0..n)
+        .map(|j| {
+            let a = std::f64::consts::TAU * (j as f64 + 0.3 * lcg(s)) / n as f64;
+            [1.1 * a.cos(), 0.6 * a.sin()]
+        })
+        .collect();
+    let m = 1 + (lcg(s) * 2.0) as usize;
+    let parts: Vec<PartInput> = (0..m)
+        .map(|_| PartInput {
+            position: [1.2 * lcg(s) - 0.6, 0.6 * lcg(s) - 0.3],
+            force: Some([0.024 * lcg(s) - 0.012, 0.024 * lcg(s) - 0.012]),
+        })
+        .collect();
+    let curls = if m == 1 && lcg(s) < 0.5 {
+        vec![CurlInput { position: parts[0].position, curl: if lcg(s) < 0.5 { -0.03 } else { 0.03 } }]
+    } else {
+        vec![]
+    };
+    SolveInput { mu_m_g: 0.1, centers, parts, curls, k_max: None }
+}
+
+#[test]
+fn random_geometries_meet_targets() {
+    let mut seed = 42u64;
+    let (mut tried, mut skipped, mut failed) = (0, 0, Vec::new());
+    while tried < 30 {
+        let input = random_case(&mut seed);
+        let Ok(out) = solve_json::solve(&input) else { continue };
+        // Only cases the model says are exactly reachable and playable.
+        if out.saturated || out.residual > 1e-9 {
+            continue;
+        }
+        tried += 1;
+        match validate::run(&input, 3, tried as u64, None) {
+            Err(e) => {
+                skipped += 1;
+                println!("case {tried}: not playable: {e}");
+            }
+            Ok(v) => {
+                let sim = &v["simulated"];
+                let f_ok = sim["force_within_target"]
+                    .as_array()
+                    .is_some_and(|a| a.iter().all(|x| x.as_bool() != Some(false)));
+                let c_ok = sim["curl_within_target"]
+                    .as_array()
+                    .is_some_and(|a| a.iter().all(|x| x.as_bool() == Some(true)));
+                println!(
+                    "case {tried}: k {} err/μmg {} curl rel {}",
+                    v["k"], sim["force_error_over_mu_m_g"], sim["curl_relative_error"]
+                );
+                if !(f_ok && c_ok) {
+                    failed.push(tried);
+                }
+            }
+        }
+    }
+    println!("random: {tried} cases, {skipped} not playable, {} failed: {failed:?}", failed.len());
+    assert!(skipped <= tried / 3, "too many unplayable cases: {skipped}");
+    assert!(failed.is_empty(), "cases missing the targets: {failed:?}");
+}
+
+/// What priority ordering buys: force error (in μmg) with the solver's
+/// priority order vs the reverse order, over random geometries. Prints the
+/// table in BENCHMARKS.md ("What priority ordering buys"). Run with
+/// `cargo test --release -p upm-cli --test validate_paper -- --ignored --nocapture ordering`.
+#[test]
+#[ignore]
+fn ordering_study() {
+    let mut seed = 7u64;
+    let setup = validate::ValidateSetup::default();
+    let (mut e_pri, mut e_rev, mut e_in) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut better, mut cases) = (0, 0);
+    while cases < 200 {
+        let input = random_case(&mut seed);
+        let Ok(out) = solve_json::solve(&input) else { continue };
+        if out.saturated || out.residual > 1e-9 {
+            continue;
+        }
+        let pri: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
+        let rev: Vec<u16> = pri.iter().rev().copied().collect();
+        let inp: Vec<u16> = (0..input.centers.len() as u16).collect();
+        let err = |order: &[u16]| -> Option<f64> {
+            let m = validate::measure(&input, &out.k, order, 2, 1, &setup).ok()?;
+            let worst = input
+                .parts
+                .iter()
+                .zip(&m.forces)
+                .filter_map(|(p, s)| p.force.map(|f| (s[0] - f[0]).hypot(s[1] - f[1]) / input.mu_m_g))
+                .fold(0.0, f64::max);
+            Some(worst)
+        };
+        let (Some(a), Some(b), Some(c)) = (err(&pri), err(&rev), err(&inp)) else { continue };
+        cases += 1;
+        better += (a < b) as usize;
+        e_pri.push(a);
+        e_rev.push(b);
+        e_in.push(c);
+    }
+    let stats = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        (mean, v[v.len() / 2], v[(v.len() * 95) / 100], v[v.len() - 1])
+    };
+    println!("| order | mean | median | p95 | max |  (worst-part force error / μmg, {cases} cases)");
+    for (name, v) in [("priority", &mut e_pri), ("reverse", &mut e_rev), ("input", &mut e_in)] {
+        let (m, med, p95, mx) = stats(v);
+        println!(
+            "| {name} | {:.3}% | {:.3}% | {:.3}% | {:.3}% |",
+            100.0 * m,
+            100.0 * med,
+            100.0 * p95,
+            100.0 * mx
+        );
+    }
+    println!("priority better than reverse in {better}/{cases} cases");
+}

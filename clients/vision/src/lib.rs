@@ -1,0 +1,18 @@
+//! `upm-vision`: the camera client. Its only output is the public
+//! `PartStates` service; it links `ipc-types` and what it computes with,
+//! never the simulator. The default source is a simulated camera that reads
+//! ground truth from its service (`upm/sim/ground_truth`, published by a
+//! core that runs the simulator), adds noise, latency and dropped frames,
+//! tracks parts without using the simulator's ids, and publishes
+//! PartStates.
+
+pub mod args;
+pub mod camera;
+pub mod config;
+pub mod run;
+pub mod tracker;
+
+pub use camera::{Camera, CameraParams};
+pub use config::VisionSection;
+pub use run::{part_states, run};
+pub use tracker::{Detection, Track, Tracker, TrackerParams};
