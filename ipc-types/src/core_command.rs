@@ -1,5 +1,6 @@
 //! CoreCommand: operator → core, e.g. `upm resume` after a driver fault.
 
+use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
@@ -26,26 +27,20 @@ const _: () = assert!(size_of::<CoreCommand>() == 4 + 4 + 8 + 8);
 /// Why a [`CoreCommand`] was rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CoreCommandError {
-    WrongProtocolVersion { found: u32 },
-    UnknownCommand { command: u32 },
-    StampFromFuture { stamp_ns: u64, now_ns: u64 },
-    Stale { stamp_ns: u64, now_ns: u64 },
+    /// Protocol version, count or stamp.
+    Header(HeaderError),
+
+    UnknownCommand {
+        command: u32,
+    },
 }
 
 impl fmt::Display for CoreCommandError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Self::WrongProtocolVersion { found } => {
-                write!(f, "core_command.protocol_version is {found}, expected {PROTOCOL_VERSION}")
-            }
+            Self::Header(h) => h.fmt_in("core_command", f),
             Self::UnknownCommand { command } => {
                 write!(f, "core_command.command {command} is not a known command")
-            }
-            Self::StampFromFuture { stamp_ns, now_ns } => {
-                write!(f, "core_command.stamp_ns {stamp_ns} is in the future (now {now_ns})")
-            }
-            Self::Stale { stamp_ns, now_ns } => {
-                write!(f, "core_command.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})")
             }
         }
     }
@@ -57,10 +52,8 @@ impl CoreCommandError {
     /// The counter this rejection is counted under.
     pub const fn reason(&self) -> RejectReason {
         match self {
-            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
+            Self::Header(h) => h.reason(),
             Self::UnknownCommand { .. } => RejectReason::UnknownCommand,
-            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
-            Self::Stale { .. } => RejectReason::Stale,
         }
     }
 }
@@ -75,17 +68,10 @@ impl CoreCommand {
 
     /// Check the whole message. Allocation-free, constant time.
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), CoreCommandError> {
-        if self.protocol_version != PROTOCOL_VERSION {
-            return Err(CoreCommandError::WrongProtocolVersion { found: self.protocol_version });
-        }
+        check_header(self.protocol_version, None, self.stamp_ns, OldStamps::Reject, limits)
+            .map_err(CoreCommandError::Header)?;
         if self.command != Self::RESUME {
             return Err(CoreCommandError::UnknownCommand { command: self.command });
-        }
-        if limits.is_from_future(self.stamp_ns) {
-            return Err(CoreCommandError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
-        }
-        if limits.is_stale(self.stamp_ns) {
-            return Err(CoreCommandError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
         }
         Ok(())
     }

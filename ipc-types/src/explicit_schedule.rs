@@ -1,14 +1,15 @@
 //! ExplicitSchedule: planner → core, a cycle given slot by slot, for
 //! planners that bypass the solver.
 
+use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
-use crate::capacity::{CapacityError, MAX_SLOTS};
+use crate::capacity::MAX_SLOTS;
 use crate::reject_reason::RejectReason;
-use crate::validation::{ValidationLimits, count_fits};
+use crate::validation::ValidationLimits;
 
 /// One slot: a rotation about configured center `center_index` with signed
 /// intensity `k` (k > 0 = CCW), |k| ≤ 1.
@@ -52,22 +53,12 @@ const _: () = assert!(size_of::<ExplicitSchedule>() == 4 + 4 + 2 * 8 + MAX_SLOTS
 /// Why an [`ExplicitSchedule`] was rejected. Indices refer to `slots`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ExplicitScheduleError {
-    WrongProtocolVersion {
-        found: u32,
-    },
-    CountExceedsCapacity {
-        count: u32,
-    },
+    /// Protocol version, count or stamp.
+    Header(HeaderError),
+
     /// A cycle needs at least one slot (its duration is divided among them).
     Empty,
-    StampFromFuture {
-        stamp_ns: u64,
-        now_ns: u64,
-    },
-    Stale {
-        stamp_ns: u64,
-        now_ns: u64,
-    },
+
     UnknownCenter {
         index: usize,
         center_index: u32,
@@ -85,22 +76,8 @@ pub enum ExplicitScheduleError {
 impl fmt::Display for ExplicitScheduleError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Self::WrongProtocolVersion { found } => {
-                write!(f, "explicit_schedule.protocol_version is {found}, expected {PROTOCOL_VERSION}")
-            }
-            Self::CountExceedsCapacity { count } => {
-                write!(f, "explicit_schedule.count {count} exceeds the capacity {MAX_SLOTS}")
-            }
+            Self::Header(h) => h.fmt_in("explicit_schedule", f),
             Self::Empty => write!(f, "explicit_schedule.count is 0, a cycle needs at least one slot"),
-            Self::StampFromFuture { stamp_ns, now_ns } => {
-                write!(f, "explicit_schedule.stamp_ns {stamp_ns} is in the future (now {now_ns})")
-            }
-            Self::Stale { stamp_ns, now_ns } => {
-                write!(
-                    f,
-                    "explicit_schedule.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})"
-                )
-            }
             Self::UnknownCenter { index, center_index } => write!(
                 f,
                 "explicit_schedule.slots[{index}].center_index {center_index} is not a configured center"
@@ -119,11 +96,8 @@ impl ExplicitScheduleError {
     /// The counter this rejection is counted under.
     pub const fn reason(&self) -> RejectReason {
         match self {
-            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
-            Self::CountExceedsCapacity { .. } => RejectReason::CountExceedsCapacity,
+            Self::Header(h) => h.reason(),
             Self::Empty => RejectReason::Empty,
-            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
-            Self::Stale { .. } => RejectReason::Stale,
             Self::UnknownCenter { .. } => RejectReason::UnknownCenter,
             Self::NonFinite { .. } => RejectReason::NonFinite,
             Self::KOutOfRange { .. } => RejectReason::KOutOfRange,
@@ -147,39 +121,19 @@ impl ExplicitSchedule {
 
     crate::used_entries::used_entries!(slots, slots_mut, ExplicitSlot, MAX_SLOTS);
 
-    pub fn clear(&mut self) {
-        self.count = 0;
-    }
-
-    /// Append one slot, or fail when the schedule is full.
-    pub fn push(&mut self, slot: ExplicitSlot) -> Result<(), CapacityError> {
-        let n = self.count as usize;
-        let entry = self.slots.get_mut(n).ok_or(CapacityError::Full { capacity: MAX_SLOTS })?;
-        *entry = slot;
-        self.count += 1;
-        Ok(())
-    }
-
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count).
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ExplicitScheduleError> {
-        if self.protocol_version != PROTOCOL_VERSION {
-            return Err(ExplicitScheduleError::WrongProtocolVersion { found: self.protocol_version });
-        }
-        if !count_fits(self.count, MAX_SLOTS) {
-            return Err(ExplicitScheduleError::CountExceedsCapacity { count: self.count });
-        }
+        check_header(
+            self.protocol_version,
+            Some((self.count, MAX_SLOTS)),
+            self.stamp_ns,
+            OldStamps::Reject,
+            limits,
+        )
+        .map_err(ExplicitScheduleError::Header)?;
         if self.count == 0 {
             return Err(ExplicitScheduleError::Empty);
-        }
-        if limits.is_from_future(self.stamp_ns) {
-            return Err(ExplicitScheduleError::StampFromFuture {
-                stamp_ns: self.stamp_ns,
-                now_ns: limits.now_ns,
-            });
-        }
-        if limits.is_stale(self.stamp_ns) {
-            return Err(ExplicitScheduleError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
         }
         for (index, s) in self.slots().iter().enumerate() {
             if s.center_index >= limits.center_count {

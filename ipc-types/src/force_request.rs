@@ -1,6 +1,7 @@
 //! ForceRequest: planner → core, the average force (and optional curl) each
 //! part should feel during the next cycles.
 
+use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
@@ -8,7 +9,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_CURLS, MAX_PARTS};
 use crate::reject_reason::RejectReason;
-use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag};
+use crate::validation::{ValidationLimits, first_non_finite, is_flag};
 
 /// What one part should feel. A curl is optional per entry (`curl_flag`),
 /// at most [`MAX_CURLS`] entries of a request may set it; the curl point is
@@ -89,20 +90,9 @@ const _: () = assert!(size_of::<ForceRequest>() == 4 + 4 + 3 * 8 + MAX_PARTS * s
 /// core against its latest [`crate::PartStates`], not here.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ForceRequestError {
-    WrongProtocolVersion {
-        found: u32,
-    },
-    CountExceedsCapacity {
-        count: u32,
-    },
-    StampFromFuture {
-        stamp_ns: u64,
-        now_ns: u64,
-    },
-    Stale {
-        stamp_ns: u64,
-        now_ns: u64,
-    },
+    /// Protocol version, count or stamp.
+    Header(HeaderError),
+
     DeadlineBeforeStamp {
         deadline_ns: u64,
         stamp_ns: u64,
@@ -134,18 +124,7 @@ pub enum ForceRequestError {
 impl fmt::Display for ForceRequestError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Self::WrongProtocolVersion { found } => {
-                write!(f, "force_request.protocol_version is {found}, expected {PROTOCOL_VERSION}")
-            }
-            Self::CountExceedsCapacity { count } => {
-                write!(f, "force_request.count {count} exceeds the capacity {MAX_PARTS}")
-            }
-            Self::StampFromFuture { stamp_ns, now_ns } => {
-                write!(f, "force_request.stamp_ns {stamp_ns} is in the future (now {now_ns})")
-            }
-            Self::Stale { stamp_ns, now_ns } => {
-                write!(f, "force_request.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})")
-            }
+            Self::Header(h) => h.fmt_in("force_request", f),
             Self::DeadlineBeforeStamp { deadline_ns, stamp_ns } => {
                 write!(f, "force_request.deadline_ns {deadline_ns} is before stamp_ns {stamp_ns}")
             }
@@ -177,10 +156,7 @@ impl ForceRequestError {
     /// The counter this rejection is counted under.
     pub const fn reason(&self) -> RejectReason {
         match self {
-            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
-            Self::CountExceedsCapacity { .. } => RejectReason::CountExceedsCapacity,
-            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
-            Self::Stale { .. } => RejectReason::Stale,
+            Self::Header(h) => h.reason(),
             Self::DeadlineBeforeStamp { .. } => RejectReason::DeadlineBeforeStamp,
             Self::NotAFlag { .. } => RejectReason::NotAFlag,
             Self::NonFinite { .. } => RejectReason::NonFinite,
@@ -206,15 +182,11 @@ impl ForceRequest {
         }
     }
 
-    crate::used_entries::used_entries!(entries, entries_mut, ForceEntry, MAX_PARTS);
+    crate::used_entries::used_entries!(entries, entries_mut, ForceEntry, MAX_PARTS, own_push);
 
     /// Number of used entries whose `curl_flag` is 1.
     pub fn curl_count(&self) -> usize {
         self.entries().iter().filter(|e| e.curl_flag == 1).count()
-    }
-
-    pub fn clear(&mut self) {
-        self.count = 0;
     }
 
     /// Append one entry, or fail when the entries or the curls are full.
@@ -234,21 +206,14 @@ impl ForceRequest {
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count²) for the duplicate-id check.
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ForceRequestError> {
-        if self.protocol_version != PROTOCOL_VERSION {
-            return Err(ForceRequestError::WrongProtocolVersion { found: self.protocol_version });
-        }
-        if !count_fits(self.count, MAX_PARTS) {
-            return Err(ForceRequestError::CountExceedsCapacity { count: self.count });
-        }
-        if limits.is_from_future(self.stamp_ns) {
-            return Err(ForceRequestError::StampFromFuture {
-                stamp_ns: self.stamp_ns,
-                now_ns: limits.now_ns,
-            });
-        }
-        if limits.is_stale(self.stamp_ns) {
-            return Err(ForceRequestError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
-        }
+        check_header(
+            self.protocol_version,
+            Some((self.count, MAX_PARTS)),
+            self.stamp_ns,
+            OldStamps::Reject,
+            limits,
+        )
+        .map_err(ForceRequestError::Header)?;
         if self.deadline_ns < self.stamp_ns {
             return Err(ForceRequestError::DeadlineBeforeStamp {
                 deadline_ns: self.deadline_ns,

@@ -1,13 +1,14 @@
 //! PartStates: vision → core, the pose and velocity of every part seen.
 
+use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
-use crate::capacity::{CapacityError, MAX_PARTS};
+use crate::capacity::MAX_PARTS;
 use crate::reject_reason::RejectReason;
-use crate::validation::{ValidationLimits, count_fits, first_non_finite};
+use crate::validation::{ValidationLimits, first_non_finite};
 
 /// One part as seen by vision. Pose in plate coordinates (m, rad),
 /// velocity in m/s and rad/s.
@@ -74,32 +75,36 @@ const _: () = assert!(size_of::<PartStates>() == 4 + 4 + 8 + 8 + MAX_PARTS * siz
 /// Why a [`PartStates`] was rejected. Indices refer to `parts`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PartStatesError {
-    WrongProtocolVersion { found: u32 },
-    CountExceedsCapacity { count: u32 },
-    StampFromFuture { stamp_ns: u64, now_ns: u64 },
-    Stale { stamp_ns: u64, now_ns: u64 },
-    NonFinite { index: usize, field: &'static str },
-    OffPlate { index: usize, field: &'static str },
-    UnknownClass { index: usize, class: u32 },
-    UnknownFrictionClass { index: usize, friction_class: u32 },
-    DuplicateId { index: usize, first_index: usize, id: u32 },
+    /// Protocol version, count or stamp.
+    Header(HeaderError),
+
+    NonFinite {
+        index: usize,
+        field: &'static str,
+    },
+    OffPlate {
+        index: usize,
+        field: &'static str,
+    },
+    UnknownClass {
+        index: usize,
+        class: u32,
+    },
+    UnknownFrictionClass {
+        index: usize,
+        friction_class: u32,
+    },
+    DuplicateId {
+        index: usize,
+        first_index: usize,
+        id: u32,
+    },
 }
 
 impl fmt::Display for PartStatesError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Self::WrongProtocolVersion { found } => {
-                write!(f, "part_states.protocol_version is {found}, expected {PROTOCOL_VERSION}")
-            }
-            Self::CountExceedsCapacity { count } => {
-                write!(f, "part_states.count {count} exceeds the capacity {MAX_PARTS}")
-            }
-            Self::StampFromFuture { stamp_ns, now_ns } => {
-                write!(f, "part_states.stamp_ns {stamp_ns} is in the future (now {now_ns})")
-            }
-            Self::Stale { stamp_ns, now_ns } => {
-                write!(f, "part_states.stamp_ns {stamp_ns} is older than the core accepts (now {now_ns})")
-            }
+            Self::Header(h) => h.fmt_in("part_states", f),
             Self::NonFinite { index, field } => write!(f, "part_states.parts[{index}].{field} is not finite"),
             Self::OffPlate { index, field } => {
                 write!(f, "part_states.parts[{index}].{field} is off the plate")
@@ -124,10 +129,7 @@ impl PartStatesError {
     /// The counter this rejection is counted under.
     pub const fn reason(&self) -> RejectReason {
         match self {
-            Self::WrongProtocolVersion { .. } => RejectReason::WrongProtocolVersion,
-            Self::CountExceedsCapacity { .. } => RejectReason::CountExceedsCapacity,
-            Self::StampFromFuture { .. } => RejectReason::StampFromFuture,
-            Self::Stale { .. } => RejectReason::Stale,
+            Self::Header(h) => h.reason(),
             Self::NonFinite { .. } => RejectReason::NonFinite,
             Self::OffPlate { .. } => RejectReason::OffPlate,
             Self::UnknownClass { .. } | Self::UnknownFrictionClass { .. } => RejectReason::UnknownClass,
@@ -152,35 +154,17 @@ impl PartStates {
 
     crate::used_entries::used_entries!(parts, parts_mut, PartState, MAX_PARTS);
 
-    /// Forget all parts (entries keep their old bytes).
-    pub fn clear(&mut self) {
-        self.count = 0;
-    }
-
-    /// Append one part, or fail when the message is full.
-    pub fn push(&mut self, part: PartState) -> Result<(), CapacityError> {
-        let n = self.count as usize;
-        let slot = self.parts.get_mut(n).ok_or(CapacityError::Full { capacity: MAX_PARTS })?;
-        *slot = part;
-        self.count += 1;
-        Ok(())
-    }
-
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count²) for the duplicate-id check (≤ 2016 compares).
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), PartStatesError> {
-        if self.protocol_version != PROTOCOL_VERSION {
-            return Err(PartStatesError::WrongProtocolVersion { found: self.protocol_version });
-        }
-        if !count_fits(self.count, MAX_PARTS) {
-            return Err(PartStatesError::CountExceedsCapacity { count: self.count });
-        }
-        if limits.is_from_future(self.stamp_ns) {
-            return Err(PartStatesError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
-        }
-        if limits.is_stale(self.stamp_ns) {
-            return Err(PartStatesError::Stale { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
-        }
+        check_header(
+            self.protocol_version,
+            Some((self.count, MAX_PARTS)),
+            self.stamp_ns,
+            OldStamps::Reject,
+            limits,
+        )
+        .map_err(PartStatesError::Header)?;
         let parts = self.parts();
         for (index, p) in parts.iter().enumerate() {
             let floats =

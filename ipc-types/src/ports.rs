@@ -4,7 +4,8 @@
 
 use core::fmt;
 
-use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::port::publisher::{Publisher, PublisherCreateError};
+use iceoryx2::port::subscriber::{Subscriber, SubscriberCreateError};
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenOrCreateError;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
@@ -57,6 +58,56 @@ pub fn open_pub_sub<T: core::fmt::Debug + ZeroCopySend>(
 
 /// A subscriber of payload `T` on `name`.
 pub type Sub<T> = Subscriber<ipc::Service, T, ()>;
+/// A publisher of payload `T`.
+pub type Pub<T> = Publisher<ipc::Service, T, ()>;
+
+/// Why a publisher or subscriber could not be created; names the service.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PortError {
+    Service { service: &'static str, error: OpenServiceError },
+    Publisher { service: &'static str, error: PublisherCreateError },
+    Subscriber { service: &'static str, error: SubscriberCreateError },
+}
+
+impl fmt::Display for PortError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Service { service, error } => write!(f, "service {service}: {error}"),
+            Self::Publisher { service, error } => {
+                write!(f, "service {service}: creating a publisher: {error:?}")
+            }
+            Self::Subscriber { service, error } => {
+                write!(f, "service {service}: creating a subscriber: {error:?}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for PortError {}
+
+/// A publisher of `T` on `service`, opened with the rig's settings.
+pub fn publisher<T: core::fmt::Debug + ZeroCopySend>(
+    node: &Node<ipc::Service>,
+    service: &'static str,
+) -> Result<Pub<T>, PortError> {
+    open_pub_sub::<T>(node, service)
+        .map_err(|error| PortError::Service { service, error })?
+        .publisher_builder()
+        .create()
+        .map_err(|error| PortError::Publisher { service, error })
+}
+
+/// A subscriber of `T` on `service`, opened with the rig's settings.
+pub fn subscriber<T: core::fmt::Debug + ZeroCopySend>(
+    node: &Node<ipc::Service>,
+    service: &'static str,
+) -> Result<Sub<T>, PortError> {
+    open_pub_sub::<T>(node, service)
+        .map_err(|error| PortError::Service { service, error })?
+        .subscriber_builder()
+        .create()
+        .map_err(|error| PortError::Subscriber { service, error })
+}
 
 /// iceoryx2 config isolated to one rig (or test) by its prefix.
 pub fn config_with_prefix(prefix: &str) -> Result<Config, OpenServiceError> {

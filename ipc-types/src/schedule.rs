@@ -1,11 +1,12 @@
 //! Schedule: core → all, the closed plate motion the core plays next.
 
+use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
-use crate::capacity::{CapacityError, MAX_SLOTS};
+use crate::capacity::MAX_SLOTS;
 use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag};
 
 /// One slot in play order: rotation about center `center_index` at (x, y)
@@ -68,16 +69,9 @@ const _: () =
 /// Why a [`Schedule`] was rejected. Indices refer to `slots`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScheduleError {
-    WrongProtocolVersion {
-        found: u32,
-    },
-    CountExceedsCapacity {
-        count: u32,
-    },
-    StampFromFuture {
-        stamp_ns: u64,
-        now_ns: u64,
-    },
+    /// Protocol version, count or stamp.
+    Header(HeaderError),
+
     /// `residual` is NaN, infinite or negative.
     InvalidResidual,
     /// `condition` is NaN or negative.
@@ -106,15 +100,7 @@ pub enum ScheduleError {
 impl fmt::Display for ScheduleError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Self::WrongProtocolVersion { found } => {
-                write!(f, "schedule.protocol_version is {found}, expected {PROTOCOL_VERSION}")
-            }
-            Self::CountExceedsCapacity { count } => {
-                write!(f, "schedule.count {count} exceeds the capacity {MAX_SLOTS}")
-            }
-            Self::StampFromFuture { stamp_ns, now_ns } => {
-                write!(f, "schedule.stamp_ns {stamp_ns} is in the future (now {now_ns})")
-            }
+            Self::Header(h) => h.fmt_in("schedule", f),
             Self::InvalidResidual => write!(f, "schedule.residual is not a finite number ≥ 0"),
             Self::InvalidCondition => write!(f, "schedule.condition is NaN or negative"),
             Self::RankExceedsCapacity { rank } => {
@@ -159,31 +145,17 @@ impl Schedule {
         self.saturated == 1
     }
 
-    pub fn clear(&mut self) {
-        self.count = 0;
-    }
-
-    /// Append one slot, or fail when the schedule is full.
-    pub fn push(&mut self, slot: ScheduleSlot) -> Result<(), CapacityError> {
-        let n = self.count as usize;
-        let entry = self.slots.get_mut(n).ok_or(CapacityError::Full { capacity: MAX_SLOTS })?;
-        *entry = slot;
-        self.count += 1;
-        Ok(())
-    }
-
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count).
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ScheduleError> {
-        if self.protocol_version != PROTOCOL_VERSION {
-            return Err(ScheduleError::WrongProtocolVersion { found: self.protocol_version });
-        }
-        if !count_fits(self.count, MAX_SLOTS) {
-            return Err(ScheduleError::CountExceedsCapacity { count: self.count });
-        }
-        if limits.is_from_future(self.stamp_ns) {
-            return Err(ScheduleError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
-        }
+        check_header(
+            self.protocol_version,
+            Some((self.count, MAX_SLOTS)),
+            self.stamp_ns,
+            OldStamps::Accept,
+            limits,
+        )
+        .map_err(ScheduleError::Header)?;
         if !(self.residual.is_finite() && self.residual >= 0.0) {
             return Err(ScheduleError::InvalidResidual);
         }

@@ -1,5 +1,6 @@
 //! Telemetry: core → all, the core's state, counters and latencies.
 
+use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
@@ -124,13 +125,9 @@ const _: () = assert!(
 /// Why a [`Telemetry`] was rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TelemetryError {
-    WrongProtocolVersion {
-        found: u32,
-    },
-    StampFromFuture {
-        stamp_ns: u64,
-        now_ns: u64,
-    },
+    /// Protocol version, count or stamp.
+    Header(HeaderError),
+
     UnknownState {
         code: u32,
     },
@@ -153,12 +150,7 @@ pub enum TelemetryError {
 impl fmt::Display for TelemetryError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Self::WrongProtocolVersion { found } => {
-                write!(f, "telemetry.protocol_version is {found}, expected {PROTOCOL_VERSION}")
-            }
-            Self::StampFromFuture { stamp_ns, now_ns } => {
-                write!(f, "telemetry.stamp_ns {stamp_ns} is in the future (now {now_ns})")
-            }
+            Self::Header(h) => h.fmt_in("telemetry", f),
             Self::UnknownState { code } => write!(f, "telemetry.state {code} is not a known state code"),
             Self::UnknownHealth { source, cause } => {
                 write!(f, "telemetry.health_source {source} / health_cause {cause} is not a known code")
@@ -261,12 +253,8 @@ impl Telemetry {
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, constant time.
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), TelemetryError> {
-        if self.protocol_version != PROTOCOL_VERSION {
-            return Err(TelemetryError::WrongProtocolVersion { found: self.protocol_version });
-        }
-        if limits.is_from_future(self.stamp_ns) {
-            return Err(TelemetryError::StampFromFuture { stamp_ns: self.stamp_ns, now_ns: limits.now_ns });
-        }
+        check_header(self.protocol_version, None, self.stamp_ns, OldStamps::Accept, limits)
+            .map_err(TelemetryError::Header)?;
         if self.core_state().is_none() {
             return Err(TelemetryError::UnknownState { code: self.state });
         }

@@ -3,8 +3,8 @@
 
 use ipc_types::{
     CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, ForceEntry,
-    ForceRequest, ForceRequestError, MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION, PartState,
-    PartStates, PartStatesError, Schedule, ScheduleError, ScheduleSlot, Telemetry, TelemetryError,
+    ForceRequest, ForceRequestError, HeaderError, MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION,
+    PartState, PartStates, PartStatesError, Schedule, ScheduleError, ScheduleSlot, Telemetry, TelemetryError,
     ValidationLimits,
 };
 
@@ -101,19 +101,28 @@ fn wrong_version_is_rejected_everywhere() {
     let bad = PROTOCOL_VERSION + 1;
     let mut p = good_part_states();
     p.protocol_version = bad;
-    assert_eq!(p.validate(&l), Err(PartStatesError::WrongProtocolVersion { found: bad }));
+    assert_eq!(
+        p.validate(&l),
+        Err(PartStatesError::Header(HeaderError::WrongProtocolVersion { found: bad }))
+    );
     let mut f = good_force_request();
     f.protocol_version = 0;
-    assert_eq!(f.validate(&l), Err(ForceRequestError::WrongProtocolVersion { found: 0 }));
+    assert_eq!(
+        f.validate(&l),
+        Err(ForceRequestError::Header(HeaderError::WrongProtocolVersion { found: 0 }))
+    );
     let mut e = good_explicit_schedule();
     e.protocol_version = bad;
-    assert_eq!(e.validate(&l), Err(ExplicitScheduleError::WrongProtocolVersion { found: bad }));
+    assert_eq!(
+        e.validate(&l),
+        Err(ExplicitScheduleError::Header(HeaderError::WrongProtocolVersion { found: bad }))
+    );
     let mut s = good_schedule();
     s.protocol_version = bad;
-    assert_eq!(s.validate(&l), Err(ScheduleError::WrongProtocolVersion { found: bad }));
+    assert_eq!(s.validate(&l), Err(ScheduleError::Header(HeaderError::WrongProtocolVersion { found: bad })));
     let mut t = good_telemetry();
     t.protocol_version = bad;
-    assert_eq!(t.validate(&l), Err(TelemetryError::WrongProtocolVersion { found: bad }));
+    assert_eq!(t.validate(&l), Err(TelemetryError::Header(HeaderError::WrongProtocolVersion { found: bad })));
 }
 
 #[test]
@@ -121,14 +130,26 @@ fn count_beyond_capacity_is_rejected_and_accessors_clamp() {
     let l = limits();
     let mut p = good_part_states();
     p.count = MAX_PARTS as u32 + 1;
-    assert_eq!(p.validate(&l), Err(PartStatesError::CountExceedsCapacity { count: MAX_PARTS as u32 + 1 }));
+    assert_eq!(
+        p.validate(&l),
+        Err(PartStatesError::Header(HeaderError::CountExceedsCapacity {
+            count: MAX_PARTS as u32 + 1,
+            capacity: MAX_PARTS
+        }))
+    );
     p.count = u32::MAX;
     assert_eq!(p.parts().len(), MAX_PARTS);
     assert_eq!(p.push(PartState::ZERO), Err(CapacityError::Full { capacity: MAX_PARTS }));
 
     let mut f = good_force_request();
     f.count = u32::MAX;
-    assert_eq!(f.validate(&l), Err(ForceRequestError::CountExceedsCapacity { count: u32::MAX }));
+    assert_eq!(
+        f.validate(&l),
+        Err(ForceRequestError::Header(HeaderError::CountExceedsCapacity {
+            count: u32::MAX,
+            capacity: MAX_PARTS
+        }))
+    );
     assert_eq!(f.entries().len(), MAX_PARTS);
     assert_eq!(f.entries_mut().len(), MAX_PARTS);
 
@@ -136,13 +157,19 @@ fn count_beyond_capacity_is_rejected_and_accessors_clamp() {
     e.count = MAX_SLOTS as u32 + 1;
     assert_eq!(
         e.validate(&l),
-        Err(ExplicitScheduleError::CountExceedsCapacity { count: MAX_SLOTS as u32 + 1 })
+        Err(ExplicitScheduleError::Header(HeaderError::CountExceedsCapacity {
+            count: MAX_SLOTS as u32 + 1,
+            capacity: MAX_SLOTS
+        }))
     );
     assert_eq!(e.slots().len(), MAX_SLOTS);
 
     let mut s = good_schedule();
     s.count = 1 << 31;
-    assert_eq!(s.validate(&l), Err(ScheduleError::CountExceedsCapacity { count: 1 << 31 }));
+    assert_eq!(
+        s.validate(&l),
+        Err(ScheduleError::Header(HeaderError::CountExceedsCapacity { count: 1 << 31, capacity: MAX_SLOTS }))
+    );
     assert_eq!(s.slots().len(), MAX_SLOTS);
 }
 
@@ -254,21 +281,27 @@ fn future_stamps_are_rejected_within_skew_accepted() {
     p.stamp_ns = NOW + l.max_future_skew_ns;
     assert_eq!(p.validate(&l), Ok(()));
     p.stamp_ns += 1;
-    assert_eq!(p.validate(&l), Err(PartStatesError::StampFromFuture { stamp_ns: p.stamp_ns, now_ns: NOW }));
+    assert_eq!(
+        p.validate(&l),
+        Err(PartStatesError::Header(HeaderError::StampFromFuture { stamp_ns: p.stamp_ns, now_ns: NOW }))
+    );
 
     let mut f = good_force_request();
     f.stamp_ns = u64::MAX;
     f.deadline_ns = u64::MAX;
-    assert!(matches!(f.validate(&l), Err(ForceRequestError::StampFromFuture { .. })));
+    assert!(matches!(f.validate(&l), Err(ForceRequestError::Header(HeaderError::StampFromFuture { .. }))));
     let mut e = good_explicit_schedule();
     e.stamp_ns = NOW + 10_000_000;
-    assert!(matches!(e.validate(&l), Err(ExplicitScheduleError::StampFromFuture { .. })));
+    assert!(matches!(
+        e.validate(&l),
+        Err(ExplicitScheduleError::Header(HeaderError::StampFromFuture { .. }))
+    ));
     let mut s = good_schedule();
     s.stamp_ns = NOW + 10_000_000;
-    assert!(matches!(s.validate(&l), Err(ScheduleError::StampFromFuture { .. })));
+    assert!(matches!(s.validate(&l), Err(ScheduleError::Header(HeaderError::StampFromFuture { .. }))));
     let mut t = good_telemetry();
     t.stamp_ns = NOW + 10_000_000;
-    assert!(matches!(t.validate(&l), Err(TelemetryError::StampFromFuture { .. })));
+    assert!(matches!(t.validate(&l), Err(TelemetryError::Header(HeaderError::StampFromFuture { .. }))));
     // now_ns near u64::MAX must not overflow into "everything is future".
     let mut late = l;
     late.now_ns = u64::MAX - 1;

@@ -8,7 +8,6 @@ use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
 use ipc_types::inbox_event::InboxNotifier;
-use ipc_types::ports::open_pub_sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
 
@@ -29,14 +28,8 @@ pub fn run_planner(
         Some(ipc_types::discovery::PLANNER_NODE),
         SignalHandlingMode::HandleTerminationRequests,
     )?;
-    let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)?
-        .subscriber_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("part_states subscriber: {e:?}"))?;
-    let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)?
-        .publisher_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("force_request publisher: {e:?}"))?;
+    let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)?;
+    let requests = ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST)?;
     let mut wake = InboxNotifier::new(&node)?;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);

@@ -6,7 +6,6 @@ use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::open_pub_sub;
 use ipc_types::{ForceRequest, PartState, PartStates, service_names};
 
 /// A service prefix no other test or rig uses.
@@ -51,24 +50,19 @@ fn the_configured_planner_answers_part_states_with_force_requests() {
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<ipc::Service>()
         .expect("node");
-    let states = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
-        .expect("part states service")
-        .publisher_builder()
-        .create()
-        .expect("publisher");
-    let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)
-        .expect("request service")
-        .subscriber_builder()
-        .create()
+    let states =
+        ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES).expect("publisher");
+    let requests = ipc_types::ports::subscriber::<ForceRequest>(&node, service_names::FORCE_REQUEST)
         .expect("subscriber");
     let proc = Proc(planner(&cfg, &["--duration", "60"]).spawn().expect("planner"));
     let start = Instant::now();
     let mut got = Vec::new();
+    let mut m = PartStates::new();
+    m.push(PartState::new(7, 0, 0, [0.0, 0.0, 0.0], [0.0; 3])).expect("capacity");
+    m.push(PartState::new(8, 1, 0, [-0.2, 0.1, 0.0], [0.0; 3])).expect("capacity");
     while got.len() < 10 && start.elapsed() < Duration::from_secs(30) {
-        let mut m = PartStates::new();
+        m.seq += 1;
         m.stamp_ns = ipc_types::monotonic_now_ns();
-        m.push(PartState::new(7, 0, 0, [0.0, 0.0, 0.0], [0.0; 3])).expect("capacity");
-        m.push(PartState::new(8, 1, 0, [-0.2, 0.1, 0.0], [0.0; 3])).expect("capacity");
         states.send_copy(m).expect("send");
         while let Some(s) = requests.receive().expect("receive") {
             got.push(*s.payload());

@@ -5,8 +5,10 @@
 
 mod error;
 mod file;
+mod process_args;
 mod service;
 
 pub use error::ConfigError;
 pub use file::{RigFile, load_toml, parse_toml};
+pub use process_args::ProcessArgs;
 pub use service::ServiceSection;

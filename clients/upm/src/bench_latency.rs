@@ -39,10 +39,18 @@ fn new_histogram() -> anyhow::Result<Histogram<u64>> {
     Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")
 }
 
+/// What one run of the real core measured.
+struct UpmRun {
+    wakeup: Histogram<u64>,
+    tick: Histogram<u64>,
+    pm_qos_held: bool,
+    overruns: u64,
+    ticks: u64,
+}
+
 /// One run of the real core (motor + solver + io threads, simulator driver)
-/// fed with the §3.1 inputs; returns its motor wake-up histogram (ns) and
-/// whether it held its PM QoS request.
-fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<(Histogram<u64>, bool)> {
+/// fed with the §3.1 inputs.
+fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<UpmRun> {
     let prefix = format!("upm_bench_lat_{}_{round}_", std::process::id());
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
@@ -63,7 +71,14 @@ fn run_upm(params: &CoreParams, seconds: f64, round: usize) -> anyhow::Result<(H
     if !report.realtime.motor.fifo {
         eprintln!("upm bench latency: WARNING: the motor thread is not SCHED_FIFO; run as root");
     }
-    Ok((report.histograms.motor_wakeup, report.realtime.pm_qos_held))
+    let c = &report.telemetry.counters;
+    Ok(UpmRun {
+        pm_qos_held: report.realtime.pm_qos_held,
+        overruns: c.overruns,
+        ticks: c.ticks,
+        wakeup: report.histograms.motor_wakeup,
+        tick: report.histograms.motor_tick,
+    })
 }
 
 /// One cyclictest run with the same interval/priority/CPU; its per-µs
@@ -154,28 +169,72 @@ pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
 /// What [`ab_rounds`] measured.
 struct AbRounds {
     upm: Histogram<u64>,
+    upm_tick: Histogram<u64>,
     cyclictest: Histogram<u64>,
     per_round: Vec<Value>,
     /// The core held its PM QoS request in every round.
     upm_pm_qos: bool,
+    upm_overruns: u64,
+    upm_ticks: u64,
 }
 
 /// Merged histograms of `rounds` A/B pairs, and each round's summaries.
 fn ab_rounds(params: &CoreParams, seconds: f64, rounds: usize) -> anyhow::Result<AbRounds> {
     let interval_us = params.tick_ns() / 1000;
     let loops = (seconds * 1e6 / interval_us as f64) as u64;
-    let (mut upm, mut ct) = (new_histogram()?, new_histogram()?);
+    let (mut upm, mut upm_tick, mut ct) = (new_histogram()?, new_histogram()?, new_histogram()?);
     let mut per_round = Vec::new();
-    let mut held = true;
+    let (mut held, mut overruns, mut ticks) = (true, 0, 0);
     for round in 0..rounds {
-        let (a, qos) = run_upm(params, seconds, round)?;
-        held &= qos;
+        let a = run_upm(params, seconds, round)?;
+        held &= a.pm_qos_held;
+        overruns += a.overruns;
+        ticks += a.ticks;
         let b = run_cyclictest(interval_us, params.rt.motor_priority, params.rt.motor_cpu, loops)?;
-        per_round.push(json!({ "upm": summary_ns(&a), "cyclictest": summary_ns(&b) }));
-        upm.add(&a).context("merging")?;
+        per_round.push(json!({
+            "upm": summary_ns(&a.wakeup),
+            "cyclictest": summary_ns(&b),
+            "upm_overruns": a.overruns,
+            "upm_ticks": a.ticks,
+        }));
+        upm.add(&a.wakeup).context("merging")?;
+        upm_tick.add(&a.tick).context("merging")?;
         ct.add(&b).context("merging")?;
     }
-    Ok(AbRounds { upm, cyclictest: ct, per_round, upm_pm_qos: held })
+    Ok(AbRounds {
+        upm,
+        upm_tick,
+        cyclictest: ct,
+        per_round,
+        upm_pm_qos: held,
+        upm_overruns: overruns,
+        upm_ticks: ticks,
+    })
+}
+
+/// Fraction of the samples of `h` above `ns`.
+fn fraction_above(h: &Histogram<u64>, ns: u64) -> f64 {
+    if h.is_empty() { 0.0 } else { h.count_between(ns.saturating_add(1), u64::MAX) as f64 / h.len() as f64 }
+}
+
+/// The host's share of overruns: a tick overruns when its wake-up lateness
+/// plus its own work passes the period. The budget is the period minus the
+/// tick's median work; the fraction of cyclictest's wake-ups past it is
+/// what this host alone would make a motor with that work overrun.
+fn overrun_budget(ab: &AbRounds, period_ns: u64) -> Value {
+    let work_ns = ab.upm_tick.value_at_quantile(0.5);
+    let budget_ns = period_ns.saturating_sub(work_ns);
+    json!({
+        "period_us": period_ns as f64 / 1e3,
+        "tick_work_p50_us": work_ns as f64 / 1e3,
+        "tick_work": summary_ns(&ab.upm_tick),
+        "budget_us": budget_ns as f64 / 1e3,
+        "upm_wakeups_past_budget": fraction_above(&ab.upm, budget_ns),
+        "cyclictest_wakeups_past_budget": fraction_above(&ab.cyclictest, budget_ns),
+        "upm_overruns": ab.upm_overruns,
+        "upm_ticks": ab.upm_ticks,
+        "upm_overrun_fraction": if ab.upm_ticks > 0 { ab.upm_overruns as f64 / ab.upm_ticks as f64 } else { 0.0 },
+    })
 }
 
 /// Summaries and ratios of one A/B comparison.
@@ -214,12 +273,14 @@ pub fn run_with_plot(
     let params = CoreParams::default();
     let ab = ab_rounds(&params, seconds, rounds)?;
     let upm_qos = ab.upm_pm_qos;
-    let mut v = comparison(&ab.upm, &ab.cyclictest, ab.per_round);
+    let mut v = comparison(&ab.upm, &ab.cyclictest, ab.per_round.clone());
+    v["overrun_budget"] = overrun_budget(&ab, params.tick_ns());
     let mut curves = vec![("upm motor loop".to_owned(), ab.upm), ("cyclictest".to_owned(), ab.cyclictest)];
     if stress {
         let load = crate::cpu_load::CpuLoad::start(&crate::cpu_load::other_cpus(params.rt.motor_cpu))?;
         let s = ab_rounds(&params, seconds, rounds)?;
-        let mut stressed = comparison(&s.upm, &s.cyclictest, s.per_round);
+        let mut stressed = comparison(&s.upm, &s.cyclictest, s.per_round.clone());
+        stressed["overrun_budget"] = overrun_budget(&s, params.tick_ns());
         stressed["stressor"] = json!(load.description());
         drop(load);
         v["stressed"] = stressed;
@@ -276,6 +337,7 @@ pub fn to_text(v: &Value) -> String {
         v["ratio_p99"].as_f64().unwrap_or(f64::NAN),
         v["ratio_p999"].as_f64().unwrap_or(f64::NAN),
     );
+    text += &budget_text(&v["overrun_budget"]);
     let s = &v["stressed"];
     if !s.is_null() {
         text += &format!(
@@ -286,6 +348,22 @@ pub fn to_text(v: &Value) -> String {
             s["ratio_p99"].as_f64().unwrap_or(f64::NAN),
             s["ratio_p999"].as_f64().unwrap_or(f64::NAN),
         );
+        text += &budget_text(&s["overrun_budget"]);
     }
     text
+}
+
+/// One line: how often each side woke too late for a tick to fit.
+fn budget_text(b: &Value) -> String {
+    let pct = |k: &str| 100.0 * b[k].as_f64().unwrap_or(f64::NAN);
+    format!(
+        "\n{}\nwake-ups past the overrun budget ({:.1} µs = period − tick work p50 {:.1} µs): upm {:.3} %, cyclictest {:.3} %; upm overran {:.3} % of {} ticks",
+        summary_row("upm tick work", &b["tick_work"]),
+        b["budget_us"].as_f64().unwrap_or(f64::NAN),
+        b["tick_work_p50_us"].as_f64().unwrap_or(f64::NAN),
+        pct("upm_wakeups_past_budget"),
+        pct("cyclictest_wakeups_past_budget"),
+        pct("upm_overrun_fraction"),
+        b["upm_ticks"],
+    )
 }

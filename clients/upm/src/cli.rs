@@ -85,6 +85,15 @@ pub enum Command {
         /// the exit status non-zero.
         #[arg(long)]
         problems: Option<PathBuf>,
+        /// sort: how many seeds.
+        #[arg(long, default_value_t = 32)]
+        seeds: u64,
+        /// sort: the first seed.
+        #[arg(long, default_value_t = 1)]
+        first_seed: u64,
+        /// sort: the scenario (its planner must be sort).
+        #[arg(long, default_value = "sort")]
+        scenario: String,
     },
     /// Snapshot of a running core's telemetry. Without --prefix or
     /// --config it finds the running rig by itself (several: lists them).
@@ -154,6 +163,8 @@ pub enum BenchTarget {
     Latency,
     /// One-way PartStates latency vs raw iceoryx2 ping-pong.
     Ipc,
+    /// Time to sort, lock-step, over many seeds.
+    Sort,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -223,7 +234,19 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
             Ok(())
         }
-        Command::Bench { what, json, quick, seconds, rounds, plot, stress, problems } => {
+        Command::Bench {
+            what,
+            json,
+            quick,
+            seconds,
+            rounds,
+            plot,
+            stress,
+            problems,
+            seeds,
+            first_seed,
+            scenario,
+        } => {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
                 (BenchTarget::Solver, Some(file)) => {
@@ -245,6 +268,16 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Ipc, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
+                }
+                (BenchTarget::Sort, None) => {
+                    // --quick: 30 simulated seconds per seed.
+                    let b = crate::bench_sort::SortBench {
+                        scenario,
+                        seeds,
+                        first_seed,
+                        seconds: quick.then_some(30.0),
+                    };
+                    (crate::bench_sort::run(&b)?, crate::bench_sort::to_text)
                 }
             };
             if json {

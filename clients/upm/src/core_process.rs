@@ -2,7 +2,6 @@
 //! driver (the physics simulator), and run the RT core until SIGINT/SIGTERM.
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use anyhow::Context;
 use clap::Parser;
@@ -15,15 +14,9 @@ use crate::config::Config;
 #[derive(Debug, Parser)]
 #[command(name = "upm-core", version, about = "UPM real-time core: motor loop, solver, iceoryx2 messages")]
 pub struct CoreArgs {
-    /// Rig config (TOML). Without it the built-in defaults are used.
-    #[arg(long)]
-    pub config: Option<PathBuf>,
-    /// Override service.prefix of the config.
-    #[arg(long)]
-    pub prefix: Option<String>,
-    /// Stop by itself after this many seconds (default: run until Ctrl-C).
-    #[arg(long)]
-    pub duration: Option<f64>,
+    /// `--config` is validated whole.
+    #[command(flatten)]
+    pub process: rig_config::ProcessArgs,
     /// Write latency histograms (*.hgrm) here at exit.
     #[arg(long)]
     pub histograms: Option<PathBuf>,
@@ -76,11 +69,11 @@ pub fn report(report: &RunReport) -> anyhow::Result<()> {
 
 /// Run the core; prints one loud warning when it is not real-time.
 pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
-    let (mut config, shown) = match &args.config {
+    let (mut config, shown) = match &args.process.config {
         Some(p) => (Config::load(p)?, p.display().to_string()),
         None => (Config::default(), "built-in defaults".to_string()),
     };
-    if let Some(prefix) = &args.prefix {
+    if let Some(prefix) = &args.process.prefix {
         config.service.prefix.clone_from(prefix);
     }
     let params = config.core_params(&shown)?;
@@ -90,11 +83,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
     if !(args.truth_hz.is_finite() && args.truth_hz >= 0.0 && args.truth_hz <= params.motion.tick_hz) {
         anyhow::bail!("--truth-hz must be in 0..={}, got {}", params.motion.tick_hz, args.truth_hz);
     }
-    let duration = match args.duration {
-        Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s)),
-        Some(s) => anyhow::bail!("--duration must be a positive number of seconds, got {s}"),
-        None => None,
-    };
+    let duration = args.process.duration().map_err(anyhow::Error::msg)?;
     let options = RunOptions {
         prefix: config.service.prefix.clone(),
         histogram_dir: args.histograms.clone().or_else(|| config.histogram_dir().map(Into::into)),

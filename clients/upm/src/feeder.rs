@@ -7,7 +7,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::open_pub_sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{ForceEntry, ForceRequest, PartState, PartStates, monotonic_now_ns, service_names};
 
@@ -39,14 +38,8 @@ pub fn request(seq: u64, stamp_ns: u64, parts: &[(u32, [f64; 2], [f64; 2])], sca
 /// Publish the §3.1 inputs on `prefix` every `period` until `stop`.
 pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result<()> {
     let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
-    let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)?
-        .publisher_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("part_states publisher: {e:?}"))?;
-    let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)?
-        .publisher_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("force_request publisher: {e:?}"))?;
+    let parts = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
+    let requests = ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST)?;
     let mut wake = InboxNotifier::new(&node)?;
     let mut seq = 0;
     while !stop.load(Ordering::Relaxed) {

@@ -138,14 +138,22 @@ impl Scenario {
         let p = &self.planner;
         let mut parts = Vec::new();
         let mut sorted = 0usize;
+        // sort: when the last part reached its side for good (None: one never did).
+        let mut time_to_sort: Option<f64> = Some(0.0);
         let mut rms_sum = 0.0;
         let mut rms_n = 0usize;
         for (id, trail) in &trails.parts {
             let (Some(first), Some(last)) = (trail.points.first(), trail.points.last()) else { continue };
             let goal_met = match p {
                 PlannerConfig::Sort(p) => {
-                    let ok = sort_side(trail.class) * last[1] >= p.sorted_x;
+                    let on_side = |q: &[f64; 4]| sort_side(trail.class) * q[1] >= p.sorted_x;
+                    let ok = on_side(last);
                     sorted += usize::from(ok);
+                    let from = match trail.points.iter().rposition(|q| !on_side(q)) {
+                        None => Some(first[0]),
+                        Some(i) => trail.points.get(i + 1).map(|q| q[0]),
+                    };
+                    time_to_sort = time_to_sort.zip(from).map(|(a, b)| a.max(b));
                     ok
                 }
                 PlannerConfig::Track(p) => match p.rects.get(*id as usize - 1) {
@@ -177,7 +185,11 @@ impl Scenario {
         let n = parts.len().max(1);
         let mut v = json!({ "parts": parts, "collisions": contacts_in_trails(config, trails), "centers": config.plate.centers.len() });
         match p {
-            PlannerConfig::Sort(_) => v["sorted_fraction"] = json!(sorted as f64 / n as f64),
+            PlannerConfig::Sort(_) => {
+                v["sorted_fraction"] = json!(sorted as f64 / n as f64);
+                // Seconds since the trails began; null if not every part is sorted.
+                v["time_to_sort_s"] = json!(time_to_sort.filter(|_| !trails.parts.is_empty()));
+            }
             PlannerConfig::Track(p) => {
                 let path: f64 =
                     p.rects.iter().map(|r| 2.0 * (r[2] + r[3])).sum::<f64>() / p.rects.len().max(1) as f64;

@@ -6,7 +6,6 @@ use std::time::{Duration, Instant};
 use anyhow::bail;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::{NodePresence, running_rigs};
-use ipc_types::ports::open_pub_sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{
     CoreCommand, LatencyPercentiles, RejectReason, Telemetry, ValidationLimits, monotonic_now_ns,
@@ -17,10 +16,7 @@ use serde_json::{Value, json};
 /// Wait up to `timeout` for a telemetry sample of the core on `prefix`.
 pub fn read_telemetry(prefix: &str, timeout: Duration) -> anyhow::Result<Telemetry> {
     let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
-    let sub = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)?
-        .subscriber_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("telemetry subscriber: {e:?}"))?;
+    let sub = ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY)?;
     let start = Instant::now();
     let mut newest: Option<Telemetry> = None;
     while start.elapsed() < timeout {
@@ -52,7 +48,7 @@ fn age_s(started_ns: u64) -> Value {
 }
 
 /// Rejections by reason, only the reasons that occurred.
-fn rejected_by_reason(t: &Telemetry) -> serde_json::Map<String, Value> {
+pub fn rejected_by_reason(t: &Telemetry) -> serde_json::Map<String, Value> {
     RejectReason::ALL
         .iter()
         .filter(|r| t.rejected_by_reason[r.index()] > 0)
@@ -205,10 +201,7 @@ pub fn send_resume(prefix: &str) -> anyhow::Result<()> {
         bail!("no upm-core is running on service prefix {prefix:?}");
     }
     let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
-    let publisher = open_pub_sub::<CoreCommand>(&node, service_names::CORE_COMMAND)?
-        .publisher_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("core command publisher: {e:?}"))?;
+    let publisher = ipc_types::ports::publisher::<CoreCommand>(&node, service_names::CORE_COMMAND)?;
     let mut notifier = ipc_types::inbox_event::InboxNotifier::new(&node)?;
     // The core's subscriber connects to a new publisher on its next look.
     std::thread::sleep(Duration::from_millis(100));

@@ -32,3 +32,32 @@ fn bench_ipc_reports_both_receiver_modes_against_their_references() {
         assert!(v[key].as_f64().is_some_and(|r| r.is_finite() && r > 0.0), "{key}: {v}");
     }
 }
+
+#[test]
+fn bench_sort_reports_time_to_sort_per_seed_and_refuses_other_planners() {
+    let upm = || Command::new(env!("CARGO_BIN_EXE_upm"));
+    let out = upm()
+        .args(["bench", "sort", "--seeds", "3", "--first-seed", "5", "--quick", "--json"])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("upm bench sort");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let runs = v["runs"].as_array().expect("runs");
+    let seeds: Vec<u64> = runs.iter().filter_map(|r| r["seed"].as_u64()).collect();
+    assert_eq!(seeds, [5, 6, 7]);
+    let sorted = runs.iter().filter(|r| r["time_to_sort_s"].is_number()).count();
+    assert_eq!(v["sorted_fraction"].as_f64(), Some(sorted as f64 / 3.0), "{v}");
+    // A seed not sorted in time leaves the percentiles null, never a number.
+    assert_eq!(v["max_s"].is_null(), sorted < 3, "{v}");
+    for r in runs {
+        assert!(r["time_to_sort_s"].as_f64().is_none_or(|t| (0.0..=30.0).contains(&t)), "{r}");
+        assert!(r["collisions"].as_u64().is_some(), "{r}");
+    }
+    let out = upm()
+        .args(["bench", "sort", "--scenario", "track", "--seeds", "1", "--quick"])
+        .output()
+        .expect("upm");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("needs a scenario whose planner is sort"), "{err}");
+}

@@ -57,7 +57,8 @@ fn core_process_round_trip_hold_single_instance_and_clean_stop() {
 
         // Subscribe to schedules, then feed.
         let node = common::plain_node(&prefix);
-        let schedules = common::subscriber::<Schedule>(&node, service_names::SCHEDULE);
+        let schedules =
+            ipc_types::ports::subscriber::<Schedule>(&node, service_names::SCHEDULE).expect("subscriber");
         let (stop, feeder) = start_feeder(&prefix);
         let start = Instant::now();
         let mut got = None;

@@ -7,7 +7,6 @@ mod common;
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
-use ipc_types::ports::open_pub_sub;
 use ipc_types::{
     ForceEntry, ForceRequest, PROTOCOL_VERSION, PartState, PartStates, monotonic_now_ns, service_names,
 };
@@ -36,16 +35,10 @@ fn hostile_messages_are_rejected_counted_and_the_core_survives() {
         assert!(start.elapsed() < Duration::from_secs(20), "core did not come up");
     }
     let node = common::plain_node(&prefix);
-    let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
-        .expect("service")
-        .publisher_builder()
-        .create()
-        .expect("publisher");
-    let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)
-        .expect("service")
-        .publisher_builder()
-        .create()
-        .expect("publisher");
+    let parts =
+        ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES).expect("publisher");
+    let requests =
+        ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST).expect("publisher");
     std::thread::sleep(Duration::from_millis(200));
 
     let now = monotonic_now_ns();

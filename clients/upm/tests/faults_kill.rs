@@ -80,7 +80,8 @@ struct TelemetryWatch {
 impl TelemetryWatch {
     fn new(prefix: &str) -> Self {
         let node = rig_node(prefix, None, SignalHandlingMode::Disabled).expect("node");
-        let sub = common::subscriber::<Telemetry>(&node, service_names::TELEMETRY);
+        let sub =
+            ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY).expect("subscriber");
         Self { sub, _node: node }
     }
 
@@ -350,7 +351,8 @@ fn the_prefix_shared_memory_is_owner_only() {
     // Wait for its telemetry (all its services exist) through a plain node:
     // it joins the core's existing segments and tightens nothing.
     let node = common::plain_node(&prefix);
-    let telemetry = common::subscriber::<Telemetry>(&node, service_names::TELEMETRY);
+    let telemetry =
+        ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY).expect("subscriber");
     let mut up = false;
     while !up && start.elapsed() < Duration::from_secs(30) {
         while let Some(t) = telemetry.receive().expect("receive") {

@@ -42,7 +42,8 @@ impl Rig {
         }
         let core = cmd.spawn().expect("upm-core");
         let node = rig_node(&prefix, None, SignalHandlingMode::Disabled).expect("node");
-        let telemetry = common::subscriber::<Telemetry>(&node, service_names::TELEMETRY);
+        let telemetry =
+            ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY).expect("subscriber");
         let stop_feed = Arc::new(AtomicBool::new(false));
         let feeder = {
             let (p, stop) = (prefix.clone(), stop_feed.clone());

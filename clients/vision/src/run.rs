@@ -6,7 +6,6 @@ use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
 use ipc_types::inbox_event::InboxNotifier;
-use ipc_types::ports::open_pub_sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{PartState, PartStates, monotonic_now_ns, service_names};
 
@@ -37,14 +36,8 @@ pub fn run(
         Some(ipc_types::discovery::VISION_NODE),
         SignalHandlingMode::HandleTerminationRequests,
     )?;
-    let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?
-        .subscriber_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("ground-truth subscriber: {e:?}"))?;
-    let publisher = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)?
-        .publisher_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("part_states publisher: {e:?}"))?;
+    let truth = ipc_types::ports::subscriber::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
+    let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
     let mut wake = InboxNotifier::new(&node)?;
     let period_ns = (1e9 / cam.params().frame_hz) as u64;
     let start = monotonic_now_ns();

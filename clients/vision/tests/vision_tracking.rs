@@ -7,7 +7,6 @@ use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::open_pub_sub;
 use ipc_types::{PartState, PartStates, service_names};
 use upm_vision::{Detection, Tracker, TrackerParams};
 
@@ -82,16 +81,10 @@ fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<ipc::Service>()
         .expect("node");
-    let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
-        .expect("truth service")
-        .publisher_builder()
-        .create()
-        .expect("truth publisher");
-    let sub = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
-        .expect("part states service")
-        .subscriber_builder()
-        .create()
-        .expect("subscriber");
+    let truth =
+        ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH).expect("publisher");
+    let sub =
+        ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES).expect("subscriber");
     let vision = Proc(
         Command::new(env!("CARGO_BIN_EXE_upm-vision"))
             .arg("--config")

@@ -9,7 +9,7 @@
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use ipc_types::inbox_event::inbox_listener;
-use ipc_types::ports::{Sub, open_pub_sub};
+use ipc_types::ports::Sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
 
@@ -35,26 +35,15 @@ impl IpcInbox {
         // The io thread's node handles SIGINT/SIGTERM.
         let node = rig_node(prefix, Some("upm-core-receiver"), SignalHandlingMode::Disabled)
             .map_err(StartError::Node)?;
-        let parts = open_pub_sub::<PartStates>(&node, service_names::PART_STATES)
-            .map_err(|error| StartError::Service { service: service_names::PART_STATES, error })?
-            .subscriber_builder()
-            .create()
-            .map_err(|_| StartError::Port { service: service_names::PART_STATES })?;
-        let requests = open_pub_sub::<ForceRequest>(&node, service_names::FORCE_REQUEST)
-            .map_err(|error| StartError::Service { service: service_names::FORCE_REQUEST, error })?
-            .subscriber_builder()
-            .create()
-            .map_err(|_| StartError::Port { service: service_names::FORCE_REQUEST })?;
-        let explicit = open_pub_sub::<ExplicitSchedule>(&node, service_names::EXPLICIT_SCHEDULE)
-            .map_err(|error| StartError::Service { service: service_names::EXPLICIT_SCHEDULE, error })?
-            .subscriber_builder()
-            .create()
-            .map_err(|_| StartError::Port { service: service_names::EXPLICIT_SCHEDULE })?;
-        let commands = open_pub_sub::<CoreCommand>(&node, service_names::CORE_COMMAND)
-            .map_err(|error| StartError::Service { service: service_names::CORE_COMMAND, error })?
-            .subscriber_builder()
-            .create()
-            .map_err(|_| StartError::Port { service: service_names::CORE_COMMAND })?;
+        let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)
+            .map_err(StartError::Port)?;
+        let requests = ipc_types::ports::subscriber::<ForceRequest>(&node, service_names::FORCE_REQUEST)
+            .map_err(StartError::Port)?;
+        let explicit =
+            ipc_types::ports::subscriber::<ExplicitSchedule>(&node, service_names::EXPLICIT_SCHEDULE)
+                .map_err(StartError::Port)?;
+        let commands = ipc_types::ports::subscriber::<CoreCommand>(&node, service_names::CORE_COMMAND)
+            .map_err(StartError::Port)?;
         let wake = inbox_listener(&node).map_err(StartError::WakeEvent)?;
         Ok(Self { _node: node, parts, requests, explicit, commands, wake, receive_errors: 0 })
     }

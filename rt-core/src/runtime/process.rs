@@ -15,7 +15,7 @@ use std::thread::JoinHandle;
 
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
-use ipc_types::ports::{config_with_prefix, open_pub_sub};
+use ipc_types::ports::config_with_prefix;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{
     CoreState, HealthSource, PartStates, RejectReason, Schedule, Telemetry, monotonic_now_ns, service_names,
@@ -161,8 +161,10 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         .map_err(StartError::Node)?;
     // Seen by `upm status` without a prefix; best effort (a rig runs without).
     let announcement = ipc_types::discovery::announce_rig(&options.prefix).ok();
-    let schedule_pub = publisher::<Schedule>(&node, service_names::SCHEDULE)?;
-    let telemetry_pub = publisher::<Telemetry>(&node, service_names::TELEMETRY)?;
+    let schedule_pub =
+        ipc_types::ports::publisher::<Schedule>(&node, service_names::SCHEDULE).map_err(StartError::Port)?;
+    let telemetry_pub = ipc_types::ports::publisher::<Telemetry>(&node, service_names::TELEMETRY)
+        .map_err(StartError::Port)?;
 
     // Held until this function returns; the kernel drops it if the process dies.
     let pm_qos = params.rt.cpu_dma_latency_us.map(hold_cpu_dma_latency);
@@ -198,7 +200,8 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let (truth_tap, mut truth_rx, truth_pub) = match truth {
         Some(fill) if truth_every > 0 => {
             let (input, output) = triple_buffer::triple_buffer(&PartStates::new());
-            let publisher = publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
+            let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
+                .map_err(StartError::Port)?;
             (Some(TruthTap { every: truth_every, fill, out: input }), Some(output), Some(publisher))
         }
         _ => (None, None, None),
@@ -316,17 +319,6 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
     }
     Ok(RunReport { telemetry, histograms, realtime, dropped_samples, fault })
-}
-
-fn publisher<T: core::fmt::Debug + iceoryx2::prelude::ZeroCopySend>(
-    node: &Node<ipc::Service>,
-    service: &'static str,
-) -> Result<iceoryx2::port::publisher::Publisher<ipc::Service, T, ()>, StartError> {
-    open_pub_sub::<T>(node, service)
-        .map_err(|error| StartError::Service { service, error })?
-        .publisher_builder()
-        .create()
-        .map_err(|_| StartError::Port { service })
 }
 
 /// The vision and planner clients on `prefix` (0 when absent).

@@ -3,7 +3,7 @@
 use core::fmt;
 
 use iceoryx2::node::NodeListFailure;
-use ipc_types::ports::OpenServiceError;
+use ipc_types::ports::PortError;
 use ipc_types::rig_node::RigNodeError;
 
 use super::params::CoreParamsError;
@@ -18,13 +18,8 @@ pub enum StartError {
     WakeEvent(ipc_types::inbox_event::InboxEventError),
     /// The prefix's node list could not be read (to find a running core).
     NodeList(NodeListFailure),
-    Service {
-        service: &'static str,
-        error: OpenServiceError,
-    },
-    Port {
-        service: &'static str,
-    },
+    /// A service could not be opened or a port created on it.
+    Port(PortError),
     /// Another live upm-core owns this prefix.
     AlreadyRunning,
     Thread {
@@ -48,8 +43,7 @@ impl fmt::Display for StartError {
                 "reading the iceoryx2 node list: {e:?}{}",
                 permission_hint(*e == NodeListFailure::InsufficientPermissions)
             ),
-            Self::Service { service, error } => write!(f, "service {service}: {error}"),
-            Self::Port { service } => write!(f, "cannot create a port on {service}"),
+            Self::Port(e) => write!(f, "{e}"),
             Self::AlreadyRunning => f.write_str(
                 "another upm-core is already running on this service prefix (stop it, or use another service.prefix)",
             ),

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::prelude::*;
 use ipc_types::inbox_event::InboxNotifier;
-use ipc_types::ports::{Sub, config_with_prefix, open_pub_sub};
+use ipc_types::ports::{Sub, config_with_prefix};
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, HealthSource,
     MAX_PARTS, MAX_SLOTS, PartState, PartStates, RejectReason, Schedule, Telemetry, monotonic_now_ns,
@@ -60,12 +60,15 @@ impl Drop for Core {
     }
 }
 
-fn publisher<T: core::fmt::Debug + ZeroCopySend>(node: &Node<ipc::Service>, service: &str) -> Pub<T> {
-    open_pub_sub::<T>(node, service).expect("service").publisher_builder().create().expect("publisher")
+fn publisher<T: core::fmt::Debug + ZeroCopySend>(node: &Node<ipc::Service>, service: &'static str) -> Pub<T> {
+    ipc_types::ports::publisher::<T>(node, service).expect("publisher")
 }
 
-fn subscriber<T: core::fmt::Debug + ZeroCopySend>(node: &Node<ipc::Service>, service: &str) -> Sub<T> {
-    open_pub_sub::<T>(node, service).expect("service").subscriber_builder().create().expect("subscriber")
+fn subscriber<T: core::fmt::Debug + ZeroCopySend>(
+    node: &Node<ipc::Service>,
+    service: &'static str,
+) -> Sub<T> {
+    ipc_types::ports::subscriber::<T>(node, service).expect("subscriber")
 }
 
 struct Client {

@@ -189,6 +189,7 @@ pub fn run_plan(
             "rt_thread_allocations": t.counters.rt_thread_allocations,
             "rejected_parts": t.counters.rejected_parts,
             "rejected_requests": t.counters.rejected_requests,
+            "rejected_by_reason": crate::status::rejected_by_reason(&t),
             "realtime_flags": t.realtime_flags,
             "pm_qos_held": t.realtime_flags & ipc_types::Telemetry::RT_PM_QOS_HELD != 0,
             "exit_ok": core_exit.is_some_and(|s| s.success()),

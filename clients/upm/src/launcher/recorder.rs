@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 
 use iceoryx2::prelude::*;
-use ipc_types::ports::{Sub, open_pub_sub};
+use ipc_types::ports::Sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{PartStates, Schedule, Telemetry, service_names};
 use serde::Serialize;
@@ -52,18 +52,9 @@ impl Recorder {
     /// than 1/`frame_hz` makes its frame late.
     pub fn new(prefix: &str, sample_hz: f64, frame_hz: f64) -> anyhow::Result<Self> {
         let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
-        let truth = open_pub_sub::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| anyhow::anyhow!("ground-truth subscriber: {e:?}"))?;
-        let telemetry = open_pub_sub::<Telemetry>(&node, service_names::TELEMETRY)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| anyhow::anyhow!("telemetry subscriber: {e:?}"))?;
-        let schedules = open_pub_sub::<Schedule>(&node, service_names::SCHEDULE)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| anyhow::anyhow!("schedule subscriber: {e:?}"))?;
+        let truth = ipc_types::ports::subscriber::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
+        let telemetry = ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY)?;
+        let schedules = ipc_types::ports::subscriber::<Schedule>(&node, service_names::SCHEDULE)?;
         Ok(Self {
             _node: node,
             truth,

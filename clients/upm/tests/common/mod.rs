@@ -31,15 +31,3 @@ pub fn remove_prefix(prefix: &str) {
 pub fn feed(prefix: &str, period: std::time::Duration, stop: &std::sync::atomic::AtomicBool) {
     upm_cli::feeder::feed(prefix, period, stop).expect("feeder");
 }
-
-/// A subscriber of `T` on `service` (opened with the product's settings).
-pub fn subscriber<T: core::fmt::Debug + iceoryx2::prelude::ZeroCopySend>(
-    node: &iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service>,
-    service: &str,
-) -> ipc_types::ports::Sub<T> {
-    ipc_types::ports::open_pub_sub::<T>(node, service)
-        .expect("service")
-        .subscriber_builder()
-        .create()
-        .expect("subscriber")
-}

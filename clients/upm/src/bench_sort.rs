@@ -1,0 +1,119 @@
+//! `upm bench sort`: how long the sort scenario takes to put every part on
+//! its side, over many seeds, in lock-step (the real core, simulator and
+//! planner on a hand-stepped clock; noise-free camera), so a figure is
+//! bit-reproducible and independent of the host's load.
+
+use serde_json::{Value, json};
+
+use crate::scenario::{Scenario, resolve};
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct SortBench {
+    /// A scenario whose planner is `sort` (name or path).
+    pub scenario: String,
+    pub seeds: u64,
+    pub first_seed: u64,
+    /// Simulated seconds per seed (the scenario's `duration_s` if None).
+    pub seconds: Option<f64>,
+}
+
+/// One seed's outcome.
+fn one_seed(sc: &Scenario, seed: u64, seconds: f64) -> anyhow::Result<Value> {
+    let config = sc.config(seed, "unused_")?;
+    let mut planner = config.planner.build().map_err(anyhow::Error::msg)?;
+    let r = crate::closed_loop::run(&config, planner.as_mut(), seconds)?;
+    let m = sc.evaluate(&config, &r.trails);
+    Ok(json!({
+        "seed": seed,
+        "time_to_sort_s": m["time_to_sort_s"],
+        "sorted_fraction": m["sorted_fraction"],
+        "collisions": m["collisions"],
+        "hold_events": r.hold_events,
+    }))
+}
+
+/// Nearest-rank percentile of sorted `v` (`q` in 0..=1).
+fn percentile(v: &[f64], q: f64) -> Option<f64> {
+    let i = ((q * v.len() as f64).ceil() as usize).clamp(1, v.len().max(1)) - 1;
+    v.get(i).copied()
+}
+
+/// Run every seed (two at a time: the runs are independent and
+/// deterministic) and summarise. A seed that is not sorted in time counts
+/// as not sorted; its time is left out of the percentiles but the maximum
+/// is then null, so an unsorted seed can never pass for a fast one.
+pub fn run(b: &SortBench) -> anyhow::Result<Value> {
+    let sc = Scenario::load(&resolve(&b.scenario))?;
+    if sc.planner.name() != "sort" {
+        anyhow::bail!(
+            "{}: upm bench sort needs a scenario whose planner is sort, not {}",
+            b.scenario,
+            sc.planner.name()
+        );
+    }
+    if b.seeds == 0 {
+        anyhow::bail!("--seeds must be at least 1");
+    }
+    let seconds = b.seconds.unwrap_or(sc.duration_s);
+    let seeds: Vec<u64> = (0..b.seeds).map(|i| b.first_seed.wrapping_add(i)).collect();
+    let mut runs = vec![Value::Null; seeds.len()];
+    let (first, second) = runs.split_at_mut(seeds.len().div_ceil(2));
+    let (first_seeds, second_seeds) = seeds.split_at(first.len());
+    let fill = |slots: &mut [Value], seeds: &[u64]| -> anyhow::Result<()> {
+        for (slot, &seed) in slots.iter_mut().zip(seeds) {
+            *slot = one_seed(&sc, seed, seconds)?;
+        }
+        Ok(())
+    };
+    std::thread::scope(|s| {
+        let other = s.spawn(|| fill(second, second_seeds));
+        let mine = fill(first, first_seeds);
+        other.join().map_err(|_| anyhow::anyhow!("a bench thread panicked"))?.and(mine)
+    })?;
+    let mut times: Vec<f64> = runs.iter().filter_map(|r| r["time_to_sort_s"].as_f64()).collect();
+    times.sort_by(f64::total_cmp);
+    let all_sorted = times.len() == runs.len();
+    let mut collisions: Vec<f64> = runs.iter().filter_map(|r| r["collisions"].as_f64()).collect();
+    collisions.sort_by(f64::total_cmp);
+    Ok(json!({
+        "scenario": sc.name,
+        "planner": sc.planner.name(),
+        "seeds": b.seeds,
+        "first_seed": b.first_seed,
+        "seconds_per_seed": seconds,
+        "median_s": percentile(&times, 0.5).filter(|_| all_sorted),
+        "p90_s": percentile(&times, 0.9).filter(|_| all_sorted),
+        "max_s": times.last().copied().filter(|_| all_sorted),
+        "sorted_fraction": times.len() as f64 / runs.len() as f64,
+        "collisions_median": percentile(&collisions, 0.5),
+        "runs": runs,
+    }))
+}
+
+pub fn to_text(v: &Value) -> String {
+    let s = |x: &Value| x.as_f64().map_or("—".into(), |t| format!("{t:.1} s"));
+    let mut out = format!(
+        "{} ({} planner), {} seeds from {}, {} s each, lock-step\n\
+         time to sort: median {}, p90 {}, max {}; sorted {:.0} % of seeds; collisions median {}\n",
+        v["scenario"].as_str().unwrap_or("?"),
+        v["planner"].as_str().unwrap_or("?"),
+        v["seeds"],
+        v["first_seed"],
+        v["seconds_per_seed"],
+        s(&v["median_s"]),
+        s(&v["p90_s"]),
+        s(&v["max_s"]),
+        100.0 * v["sorted_fraction"].as_f64().unwrap_or(0.0),
+        v["collisions_median"],
+    );
+    for r in v["runs"].as_array().into_iter().flatten() {
+        out += &format!(
+            "  seed {:>4}: {:>8}, collisions {}\n",
+            r["seed"],
+            s(&r["time_to_sort_s"]),
+            r["collisions"]
+        );
+    }
+    out
+}
