@@ -37,12 +37,16 @@ impl fmt::Display for InboxEventError {
 impl core::error::Error for InboxEventError {}
 
 /// Open (or create) the event, with the same settings in every process.
+/// Listeners the inbox event allows: the core's receiver, and one more
+/// while a restarted core takes over.
+pub const MAX_LISTENERS: usize = 2;
+
 fn open(node: &Node<ipc::Service>) -> Result<PortFactory<ipc::Service>, InboxEventError> {
     let name = ServiceName::new(INBOX_EVENT).map_err(|_| InboxEventError::InvalidName)?;
     node.service_builder(&name)
         .event()
         .max_notifiers(MAX_SUBSCRIBERS)
-        .max_listeners(2)
+        .max_listeners(MAX_LISTENERS)
         .max_nodes(MAX_NODES)
         .open_or_create()
         .map_err(InboxEventError::OpenOrCreate)

@@ -57,6 +57,13 @@ pub enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Your own planner instead of upm-planner: a shell command line,
+        /// run with UPM_PREFIX and UPM_CONFIG set, restarted if it dies.
+        #[arg(long)]
+        planner_cmd: Option<String>,
+        /// Your own camera client instead of upm-vision (same rules).
+        #[arg(long)]
+        vision_cmd: Option<String>,
     },
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
@@ -208,7 +215,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm-planner: stopped after {n} requests");
             Ok(())
         }
-        Command::Run { scenario, out, duration, seed, prefix, quiet, stress } => {
+        Command::Run { scenario, out, duration, seed, prefix, quiet, stress, planner_cmd, vision_cmd } => {
             let path = crate::scenario::resolve(&scenario);
             let sc = crate::scenario::Scenario::load(&path)?;
             let seed = seed.unwrap_or(sc.seed);
@@ -226,6 +233,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 duration_s,
                 config: config.clone(),
                 stress,
+                planner_cmd,
+                vision_cmd,
             };
             let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             ipc_types::rig_node::remove_prefix_segment(&prefix);

@@ -196,3 +196,46 @@ fn a_killed_planner_is_restarted() {
     assert_eq!(m["core"]["rt_thread_allocations"], 0);
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `upm run --planner-cmd`: any command line is the planner, with the rig's
+/// prefix and config in its environment; one that dies is restarted.
+#[test]
+fn upm_run_takes_your_own_planner_command() {
+    let out = std::env::temp_dir().join(format!("upm_run_own_{}", std::process::id()));
+    // Your planner here is upm's own, started as a stranger would: from the
+    // environment the launcher sets, not from arguments it chose.
+    let mine = format!(
+        "exec '{}' planner --config \"$UPM_CONFIG\" --prefix \"$UPM_PREFIX\"",
+        env!("CARGO_BIN_EXE_upm")
+    );
+    let o = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(["run", "local", "--duration", "5", "--quiet", "--planner-cmd", &mine, "--out"])
+        .arg(&out)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("upm run");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    assert_eq!(m["processes"]["planner_cmd"].as_str(), Some(mine.as_str()), "{m}");
+    assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no request answered: {m}");
+    assert_eq!(m["core"]["rejected_requests"], 0, "{m}");
+    assert_eq!(m["restarts"]["planner"], 0, "{m}");
+    let _ = std::fs::remove_dir_all(&out);
+
+    // A command that fails at once is restarted with backoff; the run
+    // still ends cleanly and says so.
+    let o = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(["run", "spin", "--duration", "3", "--quiet", "--planner-cmd", "exit 3", "--out"])
+        .arg(&out)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("upm run");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    assert!(m["restarts"]["planner"].as_u64().unwrap_or(0) >= 2, "{m}");
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -30,6 +30,11 @@ pub struct RunPlan {
     /// The rig config all three processes get (with the scenario's parts
     /// and planner).
     pub config: Config,
+    /// Your own planner or camera client instead of upm's: a shell command
+    /// line, started with `UPM_PREFIX` and `UPM_CONFIG` (the rig file) in
+    /// its environment and supervised like upm's own.
+    pub planner_cmd: Option<String>,
+    pub vision_cmd: Option<String>,
     /// Load every CPU but the motor's while the loop runs (see `cpu_load`).
     pub stress: bool,
 }
@@ -94,16 +99,22 @@ pub fn run_plan(
         ],
         Some(logs.join("core.log")),
     );
-    let mut vision = Supervised::new(
-        "upm-vision",
-        exe.clone(),
-        vec!["vision".into(), "--config".into(), cfg.clone()],
-        Some(logs.join("vision.log")),
-    )
-    .avoiding_cpu(plan.config.cpu_to_avoid());
-    let planner_args = vec!["planner".into(), "--config".into(), cfg.clone()];
-    let mut planner = Supervised::new("upm-planner", exe, planner_args, Some(logs.join("planner.log")))
-        .avoiding_cpu(plan.config.cpu_to_avoid());
+    let client = |name: &'static str, own: &Option<String>, log: &str| {
+        match own {
+            Some(command) => Supervised::shell(name, command, Some(logs.join(log))),
+            None => Supervised::new(
+                name,
+                exe.clone(),
+                vec![name.trim_start_matches("upm-").into(), "--config".into(), cfg.clone()],
+                Some(logs.join(log)),
+            ),
+        }
+        .env("UPM_PREFIX", &prefix)
+        .env("UPM_CONFIG", &cfg)
+        .avoiding_cpu(plan.config.cpu_to_avoid())
+    };
+    let mut vision = client("upm-vision", &plan.vision_cmd, "vision.log");
+    let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log");
 
     let mut recorder = Recorder::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
     core.start()?;
@@ -168,7 +179,13 @@ pub fn run_plan(
     let stress = load.as_ref().map(|l| l.description().to_owned());
     drop(load);
     let _ = recorder.poll();
-    let pids = json!({ "core": core.pid(), "vision": vision.pid(), "planner": planner.pid() });
+    let pids = json!({
+        "core": core.pid(),
+        "vision": vision.pid(),
+        "planner": planner.pid(),
+        "vision_cmd": plan.vision_cmd,
+        "planner_cmd": plan.planner_cmd,
+    });
     let restarts = json!({ "vision": vision.restarts, "planner": planner.restarts });
     planner.stop(Duration::from_secs(3));
     vision.stop(Duration::from_secs(3));

@@ -25,6 +25,8 @@ pub struct Supervised {
     /// A CPU the process must not run on (the motor's).
     avoid_cpu: Option<usize>,
     started_at: Option<Instant>,
+    /// Extra environment of every start.
+    envs: Vec<(String, String)>,
 }
 
 impl Supervised {
@@ -40,7 +42,19 @@ impl Supervised {
             restart_at: None,
             avoid_cpu: None,
             started_at: None,
+            envs: Vec::new(),
         }
+    }
+
+    /// A shell command line (`sh -c`), for a user's own client.
+    pub fn shell(name: &'static str, command: &str, log: Option<PathBuf>) -> Self {
+        Self::new(name, PathBuf::from("/bin/sh"), vec!["-c".into(), command.into()], log)
+    }
+
+    /// Set `key=value` in the environment of every start.
+    pub fn env(mut self, key: &str, value: &str) -> Self {
+        self.envs.push((key.into(), value.into()));
+        self
     }
 
     /// Keep the process (each start) off `cpu`.
@@ -52,6 +66,7 @@ impl Supervised {
     pub fn start(&mut self) -> anyhow::Result<()> {
         let mut cmd = Command::new(&self.program);
         cmd.args(&self.args).stdin(Stdio::null());
+        cmd.envs(self.envs.iter().map(|(k, v)| (k, v)));
         // Never orphaned: a launcher killed with SIGKILL still stops its rig.
         crate::die_with_parent::die_with_parent(&mut cmd, libc::SIGTERM);
         if let Some(cpu) = self.avoid_cpu {

@@ -1,0 +1,181 @@
+"""Python client of a UPM rig over iceoryx2 0.10 shared memory.
+
+Mirrors the Rust crate `ipc-types`: the `#[repr(C)]` payloads as
+`ctypes.Structure`s with the same `type_name`, and the services opened with
+exactly the settings of `ipc_types::ports::open_pub_sub` and
+`ipc_types::inbox_event` (iceoryx2 refuses to open a service whose payload
+type or settings differ from the creator's).
+
+    rig = upm_ipc.connect("upm_")
+    states = rig.newest_part_states()      # PartStates or None
+    rig.send_request(req)                  # publish + wake the core
+"""
+
+import ctypes
+import os
+import stat
+
+import iceoryx2 as iox2
+
+from .messages import (  # noqa: F401 (re-exported: the messages are the API)
+    FORCE_REQUEST, HISTORY, INBOX_EVENT, INBOX_EVENT_ID, INBOX_MAX_LISTENERS, MAX_CURLS,
+    MAX_NODES, MAX_PARTS, MAX_PUBLISHERS, MAX_SLOTS, MAX_SUBSCRIBERS, PART_STATES,
+    PROTOCOL_VERSION, REQUEST_LIFETIME_NS, SCHEDULE, SUBSCRIBER_BUFFER, TELEMETRY,
+    ForceEntry, ForceRequest, PartState, PartStates, Schedule, ScheduleSlot, monotonic_now_ns,
+)
+
+__all__ = [
+    "PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "REQUEST_LIFETIME_NS",
+    "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "INBOX_EVENT",
+    "PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule",
+    "monotonic_now_ns", "config_with_prefix", "open_pub_sub", "open_inbox_event", "copy_out",
+    "Rig", "connect",
+]
+
+# --- services --------------------------------------------------------------
+
+def config_with_prefix(prefix):
+    """iceoryx2 config isolated to one rig by its prefix (ports.rs).
+
+    `global_cfg` returns a live reference: assigning its `prefix` changes
+    the config itself."""
+    config = iox2.config.default()
+    config.global_cfg.prefix = iox2.FileName.new(prefix)
+    return config
+
+
+def open_pub_sub(node, name, payload_type):
+    """Open or create `name` with the rig's settings (ports.rs)."""
+    return (
+        node.service_builder(iox2.ServiceName.new(name))
+        .publish_subscribe(payload_type)
+        .max_publishers(MAX_PUBLISHERS)
+        .max_subscribers(MAX_SUBSCRIBERS)
+        .subscriber_max_buffer_size(SUBSCRIBER_BUFFER)
+        .history_size(HISTORY)
+        .enable_safe_overflow(True)
+        .max_nodes(MAX_NODES)
+        .open_or_create()
+    )
+
+
+def open_inbox_event(node):
+    """The core's wake-up event, with the settings of inbox_event.rs."""
+    return (
+        node.service_builder(iox2.ServiceName.new(INBOX_EVENT))
+        .event()
+        .max_notifiers(MAX_SUBSCRIBERS)
+        .max_listeners(INBOX_MAX_LISTENERS)
+        .max_nodes(MAX_NODES)
+        .open_or_create()
+    )
+
+
+def _restrict_to_owner(prefix, shm_dir="/dev/shm"):
+    """As rig_node.rs: iceoryx2 creates the prefix's node-counter segment
+    world-writable; tighten what this user owns to owner-only."""
+    me = os.geteuid()
+    try:
+        names = os.listdir(shm_dir)
+    except OSError:
+        return
+    for name in names:
+        if not name.startswith(prefix):
+            continue
+        path = os.path.join(shm_dir, name)
+        try:
+            st = os.stat(path)
+            if st.st_uid == me and st.st_mode & 0o077:
+                os.chmod(path, stat.S_IMODE(st.st_mode) & 0o700)
+        except OSError:
+            pass  # vanished meanwhile
+
+
+def copy_out(sample, payload_type):
+    """Copy a received sample out of shared memory (the publisher may reuse
+    it) and release the sample at once."""
+    value = payload_type()
+    ctypes.memmove(ctypes.byref(value), sample.payload_ptr, ctypes.sizeof(payload_type))
+    sample.delete()
+    return value
+
+
+class Rig:
+    """A client's ports on one rig: PartStates in, ForceRequest out."""
+
+    def __init__(self, prefix, name="upm-planner-py", schedules=False):
+        self.prefix = prefix
+        self.node = (
+            iox2.NodeBuilder.new()
+            .config(config_with_prefix(prefix))
+            .name(iox2.NodeName.new(name))
+            .signal_handling_mode(iox2.SignalHandlingMode.HandleTerminationRequests)
+            .create(iox2.ServiceType.Ipc)
+        )
+        _restrict_to_owner(prefix)
+        self._parts = open_pub_sub(self.node, PART_STATES, PartStates).subscriber_builder().create()
+        self._requests = open_pub_sub(self.node, FORCE_REQUEST, ForceRequest).publisher_builder().create()
+        self._wake = (
+            open_inbox_event(self.node)
+            .notifier_builder()
+            .default_event_id(iox2.EventId.new(INBOX_EVENT_ID))
+            .create()
+        )
+        self._schedules = None
+        if schedules:
+            self._schedules = open_pub_sub(self.node, SCHEDULE, Schedule).subscriber_builder().create()
+        self.notify_failures = 0
+
+    @staticmethod
+    def _newest(subscriber, payload_type):
+        newest = None
+        while True:
+            sample = subscriber.receive()
+            if sample is None:
+                return newest
+            newest = copy_out(sample, payload_type)
+
+    def newest_part_states(self):
+        """Drain the subscriber; the newest PartStates or None."""
+        return self._newest(self._parts, PartStates)
+
+    def receive_schedules(self):
+        """All Schedules received since the last call, oldest first
+        (only with connect(..., schedules=True))."""
+        out = []
+        while True:
+            sample = self._schedules.receive()
+            if sample is None:
+                return out
+            out.append(copy_out(sample, Schedule))
+
+    def send_request(self, req):
+        """Publish `req` (seq, stamp_ns, deadline_ns already filled), then
+        wake the core's receiver. A lost wake-up costs one receiver poll."""
+        sample = self._requests.loan_uninit()
+        ctypes.memmove(sample.payload_ptr, ctypes.byref(req), ctypes.sizeof(ForceRequest))
+        sample.assume_init().send()
+        try:
+            self._wake.notify()
+        except iox2.NotifierNotifyError:
+            self.notify_failures += 1
+
+    def wait(self, seconds):
+        """Sleep via the node. False on SIGINT/SIGTERM (time to exit)."""
+        try:
+            self.node.wait(iox2.Duration.from_secs_f64(seconds))
+            return True
+        except iox2.NodeWaitFailure:
+            return False
+
+    def close(self):
+        """Release the ports and the node (else the garbage collector does)."""
+        for port in (self._wake, self._requests, self._parts, self._schedules):
+            if port is not None:
+                port.delete()
+        self.node = None
+
+
+def connect(prefix, name="upm-planner-py", schedules=False):
+    """A client on the rig with iceoryx2 prefix `prefix` (e.g. "upm_")."""
+    return Rig(prefix, name=name, schedules=schedules)

@@ -1,0 +1,165 @@
+"""The UPM wire messages as ctypes structures, with no iceoryx2 import (a
+layout test in the Rust workspace checks them against the Rust types:
+ipc-types/tests/python_layout.rs).
+"""
+
+import ctypes
+import time
+
+# ipc-types/src/lib.rs and capacity.rs
+PROTOCOL_VERSION = 2
+MAX_PARTS = 64
+MAX_CURLS = 16
+MAX_SLOTS = 192
+
+# How long a request stays valid (the Rust planners' REQUEST_LIFETIME_NS):
+# the core holds the plate if no newer one arrives.
+REQUEST_LIFETIME_NS = 300_000_000
+
+# ipc-types/src/service_names.rs
+PART_STATES = "upm/part_states"
+FORCE_REQUEST = "upm/force_request"
+SCHEDULE = "upm/schedule"
+TELEMETRY = "upm/telemetry"
+INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
+
+# ipc-types/src/ports.rs (open_pub_sub)
+MAX_PUBLISHERS = 4
+MAX_SUBSCRIBERS = 16
+SUBSCRIBER_BUFFER = 8
+HISTORY = 1
+MAX_NODES = 32
+# ipc-types/src/inbox_event.rs: max_notifiers = MAX_SUBSCRIBERS, 2 listeners;
+# clients call notify() with the notifier's default event id, EventId 0.
+INBOX_MAX_LISTENERS = 2
+INBOX_EVENT_ID = 0
+
+
+def monotonic_now_ns():
+    """CLOCK_MONOTONIC in ns: the time base of every stamp and deadline."""
+    return time.clock_gettime_ns(time.CLOCK_MONOTONIC)
+
+
+# --- payloads (ipc-types/src/*.rs); every field named, no padding ---------
+
+class PartState(ctypes.Structure):
+    """One part as seen by vision: pose (m, rad), velocity (m/s, rad/s)."""
+    _fields_ = [
+        ("id", ctypes.c_uint32),
+        ("class_", ctypes.c_uint32),  # `class` in Rust (a Python keyword)
+        ("friction_class", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("x", ctypes.c_double), ("y", ctypes.c_double), ("theta", ctypes.c_double),
+        ("vx", ctypes.c_double), ("vy", ctypes.c_double), ("omega", ctypes.c_double),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::PartState.v2"
+
+
+class PartStates(ctypes.Structure):
+    """Vision -> core: every part seen in one camera frame."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("count", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("parts", PartState * MAX_PARTS),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::PartStates.v2"
+
+    def used(self):
+        """The used entries (count clamped to the capacity, as in Rust)."""
+        return self.parts[: min(self.count, MAX_PARTS)]
+
+
+class ForceEntry(ctypes.Structure):
+    """What one part should feel: force (N) and/or curl (N/m), by flag."""
+    _fields_ = [
+        ("part_id", ctypes.c_uint32),
+        ("force_flag", ctypes.c_uint32),
+        ("curl_flag", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("fx", ctypes.c_double), ("fy", ctypes.c_double), ("curl", ctypes.c_double),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::ForceEntry.v2"
+
+
+class ForceRequest(ctypes.Structure):
+    """Planner -> core: desired forces for up to MAX_PARTS parts."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("count", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("deadline_ns", ctypes.c_uint64),
+        ("entries", ForceEntry * MAX_PARTS),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::ForceRequest.v2"
+
+    def __init__(self):
+        super().__init__()
+        self.protocol_version = PROTOCOL_VERSION
+
+    def clear(self):
+        self.count = 0
+
+    def push_force(self, part_id, fx, fy):
+        """Append a force entry (curl free); False when full."""
+        if self.count >= MAX_PARTS:
+            return False
+        self.entries[self.count] = ForceEntry(part_id, 1, 0, 0, fx, fy, 0.0)
+        self.count += 1
+        return True
+
+
+class ScheduleSlot(ctypes.Structure):
+    _fields_ = [
+        ("center_index", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("x", ctypes.c_double), ("y", ctypes.c_double), ("k", ctypes.c_double),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::ScheduleSlot.v2"
+
+
+class Schedule(ctypes.Structure):
+    """Core -> all. `seq` is the seq of the request it was solved from."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("count", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("cycle", ctypes.c_uint64),
+        ("solve_time_ns", ctypes.c_uint64),
+        ("residual", ctypes.c_double),
+        ("condition", ctypes.c_double),
+        ("rank", ctypes.c_uint32),
+        ("saturated", ctypes.c_uint32),
+        ("slots", ScheduleSlot * MAX_SLOTS),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::Schedule.v2"
+
+
+# The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
+assert ctypes.sizeof(PartState) == 4 * 4 + 6 * 8
+assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(PartState)
+assert ctypes.sizeof(ForceEntry) == 4 * 4 + 3 * 8
+assert ctypes.sizeof(ForceRequest) == 4 + 4 + 3 * 8 + MAX_PARTS * ctypes.sizeof(ForceEntry)
+assert ctypes.sizeof(ScheduleSlot) == 4 + 4 + 3 * 8
+assert ctypes.sizeof(Schedule) == 4 + 4 + 4 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
