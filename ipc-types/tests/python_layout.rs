@@ -1,23 +1,16 @@
 //! The Python bindings (`clients/python/upm_ipc/messages.py`) against the
-//! Rust types: every mirrored struct's size, type name and field offsets,
-//! and the shared constants. Needs `python3` (ctypes only, no iceoryx2).
+//! Rust types: every mirrored struct's size, type name and field offsets
+//! and sizes, and the shared constants. Needs `python3` (ctypes only, no
+//! iceoryx2).
 
-use core::mem::{offset_of, size_of};
+mod wire_layout;
+
 use std::collections::BTreeMap;
 use std::process::Command;
 
-use iceoryx2::prelude::ZeroCopySend;
-use ipc_types::{
-    ForceEntry, ForceRequest, MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION, PartState, PartStates,
-    Schedule, ScheduleSlot, service_names,
-};
+use ipc_types::{MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION, service_names};
 
-fn type_name<T: ZeroCopySend>() -> &'static str {
-    // SAFETY: only reads the name the derive generated.
-    unsafe { <T as ZeroCopySend>::type_name() }
-}
-
-/// What Python says: `name value` lines (see the script below).
+/// What the Python module says: `name value` lines (see the script below).
 fn python_layout() -> BTreeMap<String, String> {
     let messages = concat!(env!("CARGO_MANIFEST_DIR"), "/../clients/python/upm_ipc/messages.py");
     let script = r#"
@@ -26,6 +19,7 @@ spec = importlib.util.spec_from_file_location("messages", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
 for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule):
     print(f"{s.__name__}.size {ctypes.sizeof(s)}")
+    print(f"{s.__name__}.align {ctypes.alignment(s)}")
     print(f"{s.__name__}.type_name {s.type_name()}")
     for f in s._fields_:
         d = getattr(s, f[0])
@@ -42,47 +36,19 @@ for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATE
         .collect()
 }
 
-/// `Type.field offset+size` for every field (padding can hide a wrong
-/// type from the offsets alone), the type's size and its type name.
-macro_rules! layout {
-    ($into:ident, $t:ident { $($field:ident),* $(,)? }) => {
-        $into.insert(format!("{}.size", stringify!($t)), size_of::<$t>().to_string());
-        $into.insert(format!("{}.type_name", stringify!($t)), type_name::<$t>().to_owned());
-        // SAFETY: every payload is integers and floats, for which zero is valid.
-        let zero: $t = unsafe { core::mem::zeroed() };
-        $(
-            $into.insert(
-                format!("{}.{}", stringify!($t), stringify!($field)),
-                format!("{}+{}", offset_of!($t, $field), core::mem::size_of_val(&zero.$field)),
-            );
-        )*
-    };
-}
-
 #[test]
 fn python_messages_match_the_rust_types_field_by_field() {
+    let mirrored = ["PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule"];
     let mut rust = BTreeMap::new();
-    layout!(rust, PartState { id, class, friction_class, reserved, x, y, theta, vx, vy, omega });
-    layout!(rust, PartStates { protocol_version, count, seq, stamp_ns, parts });
-    layout!(rust, ForceEntry { part_id, force_flag, curl_flag, reserved, fx, fy, curl });
-    layout!(rust, ForceRequest { protocol_version, count, seq, stamp_ns, deadline_ns, entries });
-    layout!(rust, ScheduleSlot { center_index, reserved, x, y, k });
-    layout!(
-        rust,
-        Schedule {
-            protocol_version,
-            count,
-            seq,
-            stamp_ns,
-            cycle,
-            solve_time_ns,
-            residual,
-            condition,
-            rank,
-            saturated,
-            slots
+    for l in wire_layout::all().into_iter().filter(|l| mirrored.contains(&l.rust)) {
+        rust.insert(format!("{}.size", l.rust), l.size.to_string());
+        rust.insert(format!("{}.align", l.rust), l.align.to_string());
+        rust.insert(format!("{}.type_name", l.rust), l.type_name.to_owned());
+        for f in &l.fields {
+            // Padding can hide a wrong type from the offsets alone.
+            rust.insert(format!("{}.{}", l.rust, f.name), format!("{}+{}", f.offset, f.size));
         }
-    );
+    }
     for (name, value) in [
         ("PROTOCOL_VERSION", PROTOCOL_VERSION.to_string()),
         ("MAX_PARTS", MAX_PARTS.to_string()),

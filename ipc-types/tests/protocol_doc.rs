@@ -1,0 +1,128 @@
+//! docs/protocol.md against the code: every payload table (type name, size,
+//! alignment, each field's offset, size and type), the services and their
+//! payloads, the service and inbox settings, the protocol version and the
+//! reject codes. Edit the doc with the code, or this fails.
+
+mod wire_layout;
+
+use iceoryx2::prelude::ZeroCopySend;
+use ipc_types::{
+    CoreCommand, ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, RejectReason, Schedule,
+    Telemetry, service_names,
+};
+
+fn doc() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/protocol.md"))
+        .expect("docs/protocol.md")
+}
+
+/// The cells of a table row (`| a | b |` → ["a", "b"]), backticks removed.
+fn cells(line: &str) -> Vec<String> {
+    line.trim().trim_matches('|').split('|').map(|c| c.trim().trim_matches('`').to_owned()).collect()
+}
+
+/// Rows of the first table after the line that starts with `heading`.
+fn table_after(doc: &str, heading: &str) -> Vec<Vec<String>> {
+    let start = doc.find(heading).unwrap_or_else(|| panic!("docs/protocol.md lacks {heading:?}"));
+    doc[start..]
+        .lines()
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .skip(2) // header and |---|
+        .map(cells)
+        .collect()
+}
+
+fn type_name<T: ZeroCopySend>() -> &'static str {
+    // SAFETY: only reads the name the derive generated.
+    unsafe { <T as ZeroCopySend>::type_name() }
+}
+
+#[test]
+fn every_payload_table_matches_the_rust_layout() {
+    let doc = doc();
+    let layouts = wire_layout::all();
+    let sections = doc.lines().filter(|l| l.starts_with("### `upm::")).count();
+    assert_eq!(sections, layouts.len(), "one section per payload type");
+    for l in &layouts {
+        let heading = format!("### `{}` ({}, {} bytes, align {})", l.type_name, l.rust, l.size, l.align);
+        let rows = table_after(&doc, &heading);
+        let documented: Vec<(String, String, String, String)> =
+            rows.iter().map(|r| (r[0].clone(), r[1].clone(), r[2].clone(), r[3].clone())).collect();
+        let actual: Vec<(String, String, String, String)> = l
+            .fields
+            .iter()
+            .map(|f| (f.name.to_owned(), f.offset.to_string(), f.size.to_string(), f.ty.clone()))
+            .collect();
+        assert_eq!(documented, actual, "{}: (field, offset, size, type) in docs/protocol.md", l.rust);
+    }
+}
+
+#[test]
+fn services_settings_version_and_reject_codes_match() {
+    let doc = doc();
+    assert!(doc.contains(&format!("`PROTOCOL_VERSION` = {PROTOCOL_VERSION}")), "protocol version");
+    let services: Vec<(String, String)> =
+        table_after(&doc, "| service |").into_iter().map(|r| (r[0].clone(), r[1].clone())).collect();
+    let expected: Vec<(String, String)> = [
+        (service_names::PART_STATES, type_name::<PartStates>()),
+        (service_names::FORCE_REQUEST, type_name::<ForceRequest>()),
+        (service_names::EXPLICIT_SCHEDULE, type_name::<ExplicitSchedule>()),
+        (service_names::CORE_COMMAND, type_name::<CoreCommand>()),
+        (service_names::SCHEDULE, type_name::<Schedule>()),
+        (service_names::TELEMETRY, type_name::<Telemetry>()),
+        (service_names::SIM_GROUND_TRUTH, type_name::<PartStates>()),
+    ]
+    .iter()
+    .map(|(s, t)| (s.to_string(), t.to_string()))
+    .collect();
+    assert_eq!(services, expected, "the services table");
+    assert_eq!(services.len(), service_names::ALL.len(), "every service is documented");
+
+    use ipc_types::ports::{HISTORY, MAX_NODES, MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER};
+    let settings = table_after(&doc, "| setting |");
+    let expected = [
+        ("max_publishers", MAX_PUBLISHERS.to_string()),
+        ("max_subscribers", MAX_SUBSCRIBERS.to_string()),
+        ("subscriber_max_buffer_size", SUBSCRIBER_BUFFER.to_string()),
+        ("history_size", HISTORY.to_string()),
+        ("enable_safe_overflow", "true".to_owned()),
+        ("max_nodes", MAX_NODES.to_string()),
+    ];
+    let documented: Vec<(String, String)> = settings.iter().map(|r| (r[0].clone(), r[1].clone())).collect();
+    let expected: Vec<(String, String)> = expected.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+    assert_eq!(documented, expected, "the service settings table");
+    assert!(doc.contains(&format!("event service `{}`", service_names::INBOX_EVENT)), "the inbox event");
+    let inbox: Vec<(String, String)> =
+        table_after(&doc, "| inbox setting |").iter().map(|r| (r[0].clone(), r[1].clone())).collect();
+    let expected: Vec<(String, String)> = [
+        ("max_notifiers", MAX_SUBSCRIBERS.to_string()),
+        ("max_listeners", ipc_types::inbox_event::MAX_LISTENERS.to_string()),
+        ("max_nodes", MAX_NODES.to_string()),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), v.clone()))
+    .collect();
+    assert_eq!(inbox, expected, "the inbox settings table");
+
+    let codes: Vec<(String, String)> =
+        table_after(&doc, "| code | reason |").iter().map(|r| (r[0].clone(), r[1].clone())).collect();
+    let expected: Vec<(String, String)> =
+        RejectReason::ALL.iter().map(|r| (r.index().to_string(), r.as_str().to_owned())).collect();
+    assert_eq!(codes, expected, "the reject codes table");
+}
+
+/// Prints the layout tables docs/protocol.md starts from (a helper, not a
+/// check): `cargo test -p ipc-types --test protocol_doc -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn print_layout_tables() {
+    for l in wire_layout::all() {
+        println!("### `{}` ({}, {} bytes, align {})\n", l.type_name, l.rust, l.size, l.align);
+        println!("| field | offset | size | type | meaning |\n|---|---|---|---|---|");
+        for f in &l.fields {
+            println!("| `{}` | {} | {} | `{}` |  |", f.name, f.offset, f.size, f.ty);
+        }
+        println!();
+    }
+}
