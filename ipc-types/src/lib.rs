@@ -33,6 +33,7 @@ mod latency_percentiles;
 mod part_states;
 pub mod ports;
 mod reject_reason;
+mod rejection;
 pub mod rig_node;
 mod schedule;
 pub mod service_names;
@@ -51,6 +52,7 @@ pub use health::{DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, det
 pub use latency_percentiles::LatencyPercentiles;
 pub use part_states::{PartState, PartStates, PartStatesError};
 pub use reject_reason::{REJECT_REASONS, RejectReason};
+pub use rejection::{RejectedKind, Rejection};
 pub use schedule::{Schedule, ScheduleError, ScheduleSlot};
 pub use telemetry::{CoreCounters, CoreLatencies, Telemetry, TelemetryError};
 pub use validation::ValidationLimits;

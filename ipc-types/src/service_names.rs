@@ -18,6 +18,8 @@ pub const CORE_COMMAND: &str = "upm/core_command";
 pub const SCHEDULE: &str = "upm/schedule";
 /// [`crate::Telemetry`], core → all.
 pub const TELEMETRY: &str = "upm/telemetry";
+/// [`crate::Rejection`], core → the sender of a refused message.
+pub const REJECTION: &str = "upm/rejection";
 
 /// Event: a client published to the core (see [`crate::inbox_event`]).
 pub const INBOX_EVENT: &str = "upm/inbox";
@@ -27,5 +29,13 @@ pub const INBOX_EVENT: &str = "upm/inbox";
 pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 
 /// Every name above, e.g. for tools that list or clean up a rig.
-pub const ALL: [&str; 7] =
-    [PART_STATES, FORCE_REQUEST, EXPLICIT_SCHEDULE, CORE_COMMAND, SCHEDULE, TELEMETRY, SIM_GROUND_TRUTH];
+pub const ALL: [&str; 8] = [
+    PART_STATES,
+    FORCE_REQUEST,
+    EXPLICIT_SCHEDULE,
+    CORE_COMMAND,
+    SCHEDULE,
+    TELEMETRY,
+    REJECTION,
+    SIM_GROUND_TRUTH,
+];

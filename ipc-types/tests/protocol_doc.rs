@@ -7,8 +7,8 @@ mod wire_layout;
 
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, RejectReason, Schedule,
-    Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, RejectReason, RejectedKind,
+    Rejection, Schedule, Telemetry, service_names,
 };
 
 fn doc() -> String {
@@ -71,6 +71,7 @@ fn services_settings_version_and_reject_codes_match() {
         (service_names::CORE_COMMAND, type_name::<CoreCommand>()),
         (service_names::SCHEDULE, type_name::<Schedule>()),
         (service_names::TELEMETRY, type_name::<Telemetry>()),
+        (service_names::REJECTION, type_name::<Rejection>()),
         (service_names::SIM_GROUND_TRUTH, type_name::<PartStates>()),
     ]
     .iter()
@@ -104,6 +105,16 @@ fn services_settings_version_and_reject_codes_match() {
     .map(|(k, v)| (k.to_string(), v.clone()))
     .collect();
     assert_eq!(inbox, expected, "the inbox settings table");
+
+    let kinds: Vec<String> = RejectedKind::ALL
+        .iter()
+        .map(|k| {
+            let name = k.service().trim_start_matches("upm/");
+            let camel: String = name.split('_').map(|w| w[..1].to_uppercase() + &w[1..]).collect();
+            format!("{} `{camel}`", k.code())
+        })
+        .collect();
+    assert!(doc.contains(&kinds.join(", ")), "Rejection.kind codes: {}", kinds.join(", "));
 
     let codes: Vec<(String, String)> =
         table_after(&doc, "| code | reason |").iter().map(|r| (r[0].clone(), r[1].clone())).collect();

@@ -17,16 +17,18 @@ fn python_layout() -> BTreeMap<String, String> {
 import ctypes, importlib.util, sys
 spec = importlib.util.spec_from_file_location("messages", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
-for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule):
+for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection):
     print(f"{s.__name__}.size {ctypes.sizeof(s)}")
     print(f"{s.__name__}.align {ctypes.alignment(s)}")
     print(f"{s.__name__}.type_name {s.type_name()}")
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "INBOX_EVENT",
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "INBOX_EVENT",
           "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS"):
     print(f"{c} {getattr(m, c)}")
+print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
+print("REJECT_REASONS " + ",".join(m.REJECT_REASONS))
 "#;
     let out = Command::new("python3").args(["-c", script, messages]).output().expect("python3 runs");
     assert!(out.status.success(), "python3: {}", String::from_utf8_lossy(&out.stderr));
@@ -38,7 +40,8 @@ for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATE
 
 #[test]
 fn python_messages_match_the_rust_types_field_by_field() {
-    let mirrored = ["PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule"];
+    let mirrored =
+        ["PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule", "Rejection"];
     let mut rust = BTreeMap::new();
     for l in wire_layout::all().into_iter().filter(|l| mirrored.contains(&l.rust)) {
         rust.insert(format!("{}.size", l.rust), l.size.to_string());
@@ -58,6 +61,7 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("FORCE_REQUEST", service_names::FORCE_REQUEST.to_owned()),
         ("SCHEDULE", service_names::SCHEDULE.to_owned()),
         ("TELEMETRY", service_names::TELEMETRY.to_owned()),
+        ("REJECTION", service_names::REJECTION.to_owned()),
         ("INBOX_EVENT", service_names::INBOX_EVENT.to_owned()),
         ("MAX_PUBLISHERS", ipc_types::ports::MAX_PUBLISHERS.to_string()),
         ("MAX_SUBSCRIBERS", ipc_types::ports::MAX_SUBSCRIBERS.to_string()),
@@ -65,6 +69,18 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("HISTORY", ipc_types::ports::HISTORY.to_string()),
         ("MAX_NODES", ipc_types::ports::MAX_NODES.to_string()),
         ("INBOX_MAX_LISTENERS", ipc_types::inbox_event::MAX_LISTENERS.to_string()),
+        (
+            "REJECTED_KINDS",
+            ipc_types::RejectedKind::ALL
+                .iter()
+                .map(|k| k.service().trim_start_matches("upm/"))
+                .collect::<Vec<_>>()
+                .join(","),
+        ),
+        (
+            "REJECT_REASONS",
+            ipc_types::RejectReason::ALL.iter().map(|r| r.as_str()).collect::<Vec<_>>().join(","),
+        ),
     ] {
         rust.insert(name.to_owned(), value);
     }

@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, REJECT_REASONS};
+use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, REJECT_REASONS, RejectedKind};
 use proptest::prelude::*;
 use rt_core::motion::{PlateMotion, Rig};
 use rt_core::runtime::{CoreParams, CoreShared, SolveStage, StagedMotion, motion_handoff};
@@ -17,8 +17,7 @@ const NOW: u64 = 5_000_000_000;
 struct Stage {
     stage: SolveStage,
     shared: Arc<CoreShared>,
-    _schedules: rtrb::Consumer<ipc_types::Schedule>,
-    _samples: rtrb::Consumer<rt_core::runtime::SolverSample>,
+    outputs: rt_core::runtime::StageOutputsRx,
 }
 
 fn stage() -> Stage {
@@ -28,10 +27,9 @@ fn stage() -> Stage {
     let (writer, _reader) =
         motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
     let shared = Arc::new(CoreShared::new());
-    let (schedules, sched_rx) = rtrb::RingBuffer::new(4);
-    let (samples, samples_rx) = rtrb::RingBuffer::new(4);
-    let stage = SolveStage::new(&params, rig, writer, shared.clone(), schedules, samples).expect("stage");
-    Stage { stage, shared, _schedules: sched_rx, _samples: samples_rx }
+    let (out, outputs) = rt_core::runtime::StageOutputs::rings();
+    let stage = SolveStage::new(&params, rig, writer, shared.clone(), out).expect("stage");
+    Stage { stage, shared, outputs }
 }
 
 fn rejected(shared: &CoreShared) -> u64 {
@@ -75,11 +73,28 @@ proptest! {
         if patch[3] {
             c = CoreCommand { stamp_ns: NOW, ..CoreCommand::new(c.command % 3, c.seq, NOW) };
         }
-        let mut refused = 0;
-        refused += u64::from(s.stage.on_part_states(&p, NOW, NOW).is_err());
-        refused += u64::from(s.stage.on_request(&r, NOW, &|| NOW).is_err());
-        refused += u64::from(s.stage.on_explicit(&e, NOW).is_err());
-        refused += u64::from(s.stage.on_command(&c, NOW).is_err());
-        prop_assert_eq!(rejected(&s.shared), refused);
+        // Every refusal is counted once and answered once, to its sender:
+        // its kind, its seq and stamp, a reason and a text naming the field.
+        let mut refused = Vec::new();
+        if s.stage.on_part_states(&p, NOW, NOW).is_err() {
+            refused.push((RejectedKind::PartStates, p.seq, p.stamp_ns));
+        }
+        if s.stage.on_request(&r, NOW, &|| NOW).is_err() {
+            refused.push((RejectedKind::ForceRequest, r.seq, r.stamp_ns));
+        }
+        if s.stage.on_explicit(&e, NOW).is_err() {
+            refused.push((RejectedKind::ExplicitSchedule, e.seq, e.stamp_ns));
+        }
+        if s.stage.on_command(&c, NOW).is_err() {
+            refused.push((RejectedKind::CoreCommand, c.seq, c.stamp_ns));
+        }
+        prop_assert_eq!(rejected(&s.shared), refused.len() as u64);
+        let mut answers = Vec::new();
+        while let Ok(a) = s.outputs.rejections.pop() {
+            prop_assert!(a.reason().is_some() && !a.detail_str().is_empty(), "{a:?}");
+            prop_assert_eq!(a.stamp_ns, NOW);
+            answers.push((a.kind().expect("kind"), a.seq, a.message_stamp_ns));
+        }
+        prop_assert_eq!(answers, refused);
     }
 }

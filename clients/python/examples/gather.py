@@ -45,6 +45,8 @@ def main():
             req.seq, req.stamp_ns = sent, now
             req.deadline_ns = now + upm_ipc.REQUEST_LIFETIME_NS
             rig.send_request(req)
+        for refusal in rig.rejections():  # why the core refused one, if it did
+            print(f"gather.py: {refusal}", flush=True)
         if not rig.wait(0.001):  # SIGINT / SIGTERM
             break
     rig.close()

@@ -20,14 +20,15 @@ import iceoryx2 as iox2
 from .messages import (  # noqa: F401 (re-exported: the messages are the API)
     FORCE_REQUEST, HISTORY, INBOX_EVENT, INBOX_EVENT_ID, INBOX_MAX_LISTENERS, MAX_CURLS,
     MAX_NODES, MAX_PARTS, MAX_PUBLISHERS, MAX_SLOTS, MAX_SUBSCRIBERS, PART_STATES,
-    PROTOCOL_VERSION, REQUEST_LIFETIME_NS, SCHEDULE, SUBSCRIBER_BUFFER, TELEMETRY,
-    ForceEntry, ForceRequest, PartState, PartStates, Schedule, ScheduleSlot, monotonic_now_ns,
+    PROTOCOL_VERSION, REJECTION, REQUEST_LIFETIME_NS, SCHEDULE, SUBSCRIBER_BUFFER, TELEMETRY,
+    ForceEntry, ForceRequest, PartState, PartStates, Rejection, Schedule, ScheduleSlot,
+    monotonic_now_ns,
 )
 
 __all__ = [
     "PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "REQUEST_LIFETIME_NS",
-    "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "INBOX_EVENT",
-    "PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule",
+    "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "INBOX_EVENT",
+    "PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule", "Rejection",
     "monotonic_now_ns", "config_with_prefix", "open_pub_sub", "open_inbox_event", "copy_out",
     "Rig", "connect",
 ]
@@ -121,6 +122,8 @@ class Rig:
             .default_event_id(iox2.EventId.new(INBOX_EVENT_ID))
             .create()
         )
+        # Why the core refused a message of ours (or anyone's: filter by seq).
+        self._rejections = open_pub_sub(self.node, REJECTION, Rejection).subscriber_builder().create()
         self._schedules = None
         if schedules:
             self._schedules = open_pub_sub(self.node, SCHEDULE, Schedule).subscriber_builder().create()
@@ -149,6 +152,16 @@ class Rig:
                 return out
             out.append(copy_out(sample, Schedule))
 
+    def rejections(self):
+        """Rejections received since the last call, oldest first; print
+        one to see why (`force_request seq 7 rejected: stale (...)`)."""
+        out = []
+        while True:
+            sample = self._rejections.receive()
+            if sample is None:
+                return out
+            out.append(copy_out(sample, Rejection))
+
     def send_request(self, req):
         """Publish `req` (seq, stamp_ns, deadline_ns already filled), then
         wake the core's receiver. A lost wake-up costs one receiver poll."""
@@ -170,7 +183,7 @@ class Rig:
 
     def close(self):
         """Release the ports and the node (else the garbage collector does)."""
-        for port in (self._wake, self._requests, self._parts, self._schedules):
+        for port in (self._wake, self._requests, self._parts, self._rejections, self._schedules):
             if port is not None:
                 port.delete()
         self.node = None

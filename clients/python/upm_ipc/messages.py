@@ -21,6 +21,7 @@ PART_STATES = "upm/part_states"
 FORCE_REQUEST = "upm/force_request"
 SCHEDULE = "upm/schedule"
 TELEMETRY = "upm/telemetry"
+REJECTION = "upm/rejection"
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
 
 # ipc-types/src/ports.rs (open_pub_sub)
@@ -156,6 +157,42 @@ class Schedule(ctypes.Structure):
         return "upm::Schedule.v2"
 
 
+# Rejection.kind codes and the reject reasons (docs/protocol.md).
+REJECTED_KINDS = ("part_states", "force_request", "explicit_schedule", "core_command")
+REJECT_REASONS = (
+    "wrong_protocol_version", "count_exceeds_capacity", "empty", "stamp_from_future", "stale",
+    "out_of_order", "duplicate", "non_finite", "off_plate", "unknown_class", "duplicate_id",
+    "not_a_flag", "constrains_nothing", "too_many_curls", "deadline_before_stamp", "unknown_center",
+    "k_out_of_range", "no_part_states", "unknown_part", "unsolvable", "motion_limits",
+    "actuator_limits", "overflow", "receive_error", "unknown_command",
+)
+DETAIL_BYTES = 120
+
+
+class Rejection(ctypes.Structure):
+    """Core -> the sender of a refused message: which, why, in one line."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("kind", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),
+        ("message_stamp_ns", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("reason", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("detail", ctypes.c_uint8 * DETAIL_BYTES),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::Rejection.v2"
+
+    def __str__(self):
+        kind = REJECTED_KINDS[self.kind] if self.kind < len(REJECTED_KINDS) else "unknown"
+        reason = REJECT_REASONS[self.reason] if self.reason < len(REJECT_REASONS) else "unknown"
+        text = bytes(self.detail).split(b"\0", 1)[0].decode("utf-8", "replace")
+        return f"{kind} seq {self.seq} rejected: {reason} ({text})"
+
+
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
 assert ctypes.sizeof(PartState) == 4 * 4 + 6 * 8
 assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(PartState)
@@ -163,3 +200,4 @@ assert ctypes.sizeof(ForceEntry) == 4 * 4 + 3 * 8
 assert ctypes.sizeof(ForceRequest) == 4 + 4 + 3 * 8 + MAX_PARTS * ctypes.sizeof(ForceEntry)
 assert ctypes.sizeof(ScheduleSlot) == 4 + 4 + 3 * 8
 assert ctypes.sizeof(Schedule) == 4 + 4 + 4 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
+assert ctypes.sizeof(Rejection) == 4 + 4 + 8 + 8 + 8 + 4 + 4 + DETAIL_BYTES

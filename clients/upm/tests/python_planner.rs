@@ -1,15 +1,16 @@
 //! A planner written in Python against `clients/python` (iceoryx2's own
 //! Python package and the ctypes mirrors of the messages), run by the
 //! launcher as `upm run --planner-cmd`: its requests are answered and none
-//! is rejected. The test installs what it needs (a venv with the package
-//! and iceoryx2 from PyPI) under target/tmp, or uses `UPM_PYTHON`.
+//! is rejected. The test installs what it needs (a venv with iceoryx2 from
+//! PyPI) under target/tmp, or uses `UPM_PYTHON`; the package itself is taken
+//! from the source tree (PYTHONPATH), so it is always the current one.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
-/// A Python that can `import upm_ipc` (installing it once if needed).
+/// A Python that can `import iceoryx2` (installing it once if needed).
 fn python() -> PathBuf {
     if let Some(p) = std::env::var_os("UPM_PYTHON") {
         return PathBuf::from(p);
@@ -17,7 +18,7 @@ fn python() -> PathBuf {
     let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("upm-python");
     let py = venv.join("bin/python");
     let imports = |py: &Path| {
-        Command::new(py).args(["-c", "import upm_ipc"]).output().is_ok_and(|o| o.status.success())
+        Command::new(py).args(["-c", "import iceoryx2"]).output().is_ok_and(|o| o.status.success())
     };
     if !imports(&py) {
         let run = |cmd: &mut Command| {
@@ -30,31 +31,49 @@ fn python() -> PathBuf {
             );
         };
         run(Command::new("python3").args(["-m", "venv"]).arg(&venv));
-        run(Command::new(venv.join("bin/pip"))
-            .args(["install", "--quiet", "--disable-pip-version-check"])
-            .arg(Path::new(ROOT).join("clients/python")));
+        run(Command::new(venv.join("bin/pip")).args([
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            "iceoryx2==0.10.0",
+        ]));
     }
-    assert!(imports(&py), "{} cannot import upm_ipc", py.display());
+    assert!(imports(&py), "{} cannot import iceoryx2", py.display());
     py
+}
+
+/// What `upm run SCENARIO --planner-cmd CMD` left: its output, metrics.json,
+/// and the planner's and the core's logs.
+struct Run {
+    out: std::process::Output,
+    metrics: serde_json::Value,
+    planner_log: String,
+    core_log: String,
+}
+
+fn upm_run(scenario: &str, seconds: &str, planner: &str, tag: &str) -> Run {
+    let dir = std::env::temp_dir().join(format!("upm_run_{tag}_{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(["run", scenario, "--duration", seconds, "--quiet", "--planner-cmd", planner, "--out"])
+        .arg(&dir)
+        .env("PYTHONPATH", Path::new(ROOT).join("clients/python"))
+        .current_dir(ROOT)
+        .output()
+        .expect("upm run");
+    let read = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap_or_default();
+    let metrics = serde_json::from_str(&read("metrics.json")).unwrap_or(serde_json::Value::Null);
+    let run = Run { out, metrics, planner_log: read("logs/planner.log"), core_log: read("logs/core.log") };
+    let _ = std::fs::remove_dir_all(&dir);
+    run
 }
 
 #[test]
 fn a_python_planner_drives_the_rig_through_upm_run() {
     let py = python();
-    let out = std::env::temp_dir().join(format!("upm_run_python_{}", std::process::id()));
     let planner = format!("exec '{}' clients/python/examples/gather.py", py.display());
-    let o = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", "local", "--duration", "6", "--quiet", "--planner-cmd", &planner, "--out"])
-        .arg(&out)
-        .current_dir(ROOT)
-        .output()
-        .expect("upm run");
-    let log = std::fs::read_to_string(out.join("logs/planner.log")).unwrap_or_default();
-    assert!(o.status.success(), "{}\nplanner.log:\n{log}", String::from_utf8_lossy(&o.stderr));
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
-            .expect("json");
-    let _ = std::fs::remove_dir_all(&out);
+    let r = upm_run("local", "6", &planner, "python");
+    let (m, log) = (&r.metrics, &r.planner_log);
+    assert!(r.out.status.success(), "{}\nplanner.log:\n{log}", String::from_utf8_lossy(&r.out.stderr));
     assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no request answered: {m}\n{log}");
     assert_eq!(m["core"]["rejected_requests"], 0, "{m}\n{log}");
     assert_eq!(m["restarts"]["planner"], 0, "the Python planner died: {m}\n{log}");
@@ -64,4 +83,36 @@ fn a_python_planner_drives_the_rig_through_upm_run() {
         .find_map(|l| l.strip_prefix("gather.py: ")?.strip_suffix(" requests")?.parse().ok())
         .unwrap_or(0);
     assert!(sent > 0, "planner.log: {log}");
+}
+
+/// A refused request is answered to its sender, across languages: a Python
+/// client that sends a request of another protocol version reads why on
+/// `upm/rejection`, and the core's log says it too.
+#[test]
+fn a_python_client_is_told_why_its_request_was_refused() {
+    let py = python();
+    let script = r#"
+import sys, upm_ipc
+rig = upm_ipc.connect(__import__("os").environ["UPM_PREFIX"])
+while rig.newest_part_states() is None:
+    if not rig.wait(0.01): sys.exit(0)
+req = upm_ipc.ForceRequest()
+req.push_force(1, 0.001, 0.0)
+now = upm_ipc.monotonic_now_ns()
+req.protocol_version, req.seq, req.stamp_ns, req.deadline_ns = 1, 42, now, now + upm_ipc.REQUEST_LIFETIME_NS
+rig.send_request(req)
+while rig.wait(0.01):
+    for r in rig.rejections():
+        if r.seq == 42: print(f"told: {r}", flush=True)
+"#;
+    let script_path = std::env::temp_dir().join(format!("upm_refused_{}.py", std::process::id()));
+    std::fs::write(&script_path, script).expect("script");
+    let planner = format!("exec '{}' '{}'", py.display(), script_path.display());
+    let r = upm_run("local", "4", &planner, "refused");
+    let _ = std::fs::remove_file(&script_path);
+    assert!(r.out.status.success(), "{}", String::from_utf8_lossy(&r.out.stderr));
+    let why = "force_request seq 42 rejected: wrong_protocol_version \
+               (force_request.protocol_version is 1, expected 2)";
+    assert!(r.planner_log.contains(&format!("told: {why}")), "planner.log:\n{}", r.planner_log);
+    assert!(r.core_log.contains(why), "core.log:\n{}", r.core_log);
 }

@@ -6,7 +6,7 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
     CoreCommand, CoreCounters, CoreLatencies, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest,
-    LatencyPercentiles, PartState, PartStates, Schedule, ScheduleSlot, Telemetry,
+    LatencyPercentiles, PartState, PartStates, Rejection, Schedule, ScheduleSlot, Telemetry,
 };
 
 /// One field: where it is, how wide, and its Rust type (paths dropped).
@@ -90,6 +90,16 @@ pub fn all() -> Vec<Layout> {
             slots
         }),
         layout!(ScheduleSlot { center_index, reserved, x, y, k }),
+        layout!(Rejection {
+            protocol_version,
+            kind,
+            seq,
+            message_stamp_ns,
+            stamp_ns,
+            reason,
+            reserved,
+            detail
+        }),
         layout!(Telemetry {
             protocol_version,
             state,

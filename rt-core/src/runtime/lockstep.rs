@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use ipc_types::{Schedule, Telemetry};
+use ipc_types::{Rejection, Schedule, Telemetry};
 
 use super::clock::{Clock, ManualClock};
 use super::handoff::{StagedMotion, motion_handoff};
@@ -14,7 +14,7 @@ use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, MotorPolicy};
 use super::params::{CoreParams, CoreParamsError};
 use super::process::fill_telemetry;
-use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
+use super::samples::{MOTOR_RING, MotorSample, StageOutputs, StageOutputsRx};
 use super::shared::CoreShared;
 use super::solve_stage::SolveStage;
 use crate::driver::PlateDriver;
@@ -33,10 +33,10 @@ pub struct Lockstep<D: PlateDriver> {
     buf: InboxBuffers,
     shared: Arc<CoreShared>,
     motor_rx: rtrb::Consumer<MotorSample>,
-    solver_rx: rtrb::Consumer<SolverSample>,
-    schedule_rx: rtrb::Consumer<Schedule>,
+    outputs: StageOutputsRx,
     histograms: LatencyHistograms,
     published: Vec<Schedule>,
+    rejections: Vec<Rejection>,
 }
 
 impl<D: PlateDriver> Lockstep<D> {
@@ -49,9 +49,8 @@ impl<D: PlateDriver> Lockstep<D> {
             motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
         let shared = Arc::new(CoreShared::new());
         let (motor_tx, motor_rx) = rtrb::RingBuffer::new(MOTOR_RING);
-        let (solver_tx, solver_rx) = rtrb::RingBuffer::new(SOLVER_RING);
-        let (schedule_tx, schedule_rx) = rtrb::RingBuffer::new(SCHEDULE_RING);
-        let stage = SolveStage::new(params, rig.clone(), writer, shared.clone(), schedule_tx, solver_tx)?;
+        let (out, outputs) = StageOutputs::rings();
+        let stage = SolveStage::new(params, rig.clone(), writer, shared.clone(), out)?;
         let motor =
             MotorLoop::new(driver, rig, reader, shared.clone(), motor_tx, MotorPolicy::from_params(params));
         Ok(Self {
@@ -66,8 +65,8 @@ impl<D: PlateDriver> Lockstep<D> {
             buf: InboxBuffers::default(),
             shared,
             motor_rx,
-            solver_rx,
-            schedule_rx,
+            outputs,
+            rejections: Vec::new(),
             histograms: LatencyHistograms::default(),
             published: Vec::new(),
         })
@@ -104,6 +103,11 @@ impl<D: PlateDriver> Lockstep<D> {
         &self.published
     }
 
+    /// Rejections the io thread would have sent back, in order.
+    pub fn rejections(&self) -> &[Rejection] {
+        &self.rejections
+    }
+
     pub fn histograms(&self) -> &LatencyHistograms {
         &self.histograms
     }
@@ -129,11 +133,14 @@ impl<D: PlateDriver> Lockstep<D> {
         while let Ok(s) = self.motor_rx.pop() {
             self.histograms.record_motor(&s);
         }
-        while let Ok(s) = self.solver_rx.pop() {
+        while let Ok(s) = self.outputs.samples.pop() {
             self.histograms.record_solver(&s);
         }
-        while let Ok(s) = self.schedule_rx.pop() {
+        while let Ok(s) = self.outputs.schedules.pop() {
             self.published.push(s);
+        }
+        while let Ok(r) = self.outputs.rejections.pop() {
+            self.rejections.push(r);
         }
     }
 

@@ -20,6 +20,7 @@ pub mod lockstep;
 mod motor;
 mod params;
 mod process;
+mod rejection_log;
 pub mod rt_setup;
 mod samples;
 mod shared;
@@ -43,7 +44,7 @@ pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
 };
-pub use samples::{MotorSample, SolverSample};
+pub use samples::{MotorSample, SolverSample, StageOutputs, StageOutputsRx};
 pub use shared::{CoreShared, HealthReport};
 pub use solve_stage::{RequestError, SolveStage};
 pub use start_error::StartError;

@@ -29,11 +29,12 @@ use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, MotorPolicy, TruthFill, TruthTap};
 use super::params::{CoreParams, CoreParamsError, ReceiverWake};
+use super::rejection_log::RejectionLog;
 use super::rt_setup::{
     RT_STACK_BYTES, ThreadPlacement, hold_cpu_dma_latency, keep_current_thread_off, lock_memory,
     make_current_thread_realtime, make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
-use super::samples::{MOTOR_RING, MotorSample, SCHEDULE_RING, SOLVER_RING, SolverSample};
+use super::samples::{MOTOR_RING, MotorSample, StageOutputs};
 use super::shared::{CoreShared, HealthReport};
 use super::solve_stage::SolveStage;
 use super::start_error::StartError;
@@ -165,6 +166,9 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         ipc_types::ports::publisher::<Schedule>(&node, service_names::SCHEDULE).map_err(StartError::Port)?;
     let telemetry_pub = ipc_types::ports::publisher::<Telemetry>(&node, service_names::TELEMETRY)
         .map_err(StartError::Port)?;
+    let rejection_pub = ipc_types::ports::publisher::<ipc_types::Rejection>(&node, service_names::REJECTION)
+        .map_err(StartError::Port)?;
+    let mut rejection_log = RejectionLog::default();
 
     // Held until this function returns; the kernel drops it if the process dies.
     let pm_qos = params.rt.cpu_dma_latency_us.map(hold_cpu_dma_latency);
@@ -190,8 +194,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let (writer, reader) = motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
     let shared = Arc::new(CoreShared::new());
     let (motor_tx, mut motor_rx) = rtrb::RingBuffer::<MotorSample>::new(MOTOR_RING);
-    let (solver_tx, mut solver_rx) = rtrb::RingBuffer::<SolverSample>::new(SOLVER_RING);
-    let (schedule_tx, mut schedule_rx) = rtrb::RingBuffer::<Schedule>::new(SCHEDULE_RING);
+    let (stage_out, mut stage_rx) = StageOutputs::rings();
     let truth_every = if options.truth_hz > 0.0 && options.truth_hz.is_finite() {
         ((params.motion.tick_hz / options.truth_hz).round() as u64).max(1)
     } else {
@@ -214,8 +217,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         spawn_receiver(params, &options.prefix, shared.clone(), inbound_tx, motor_fifo.clone())?;
     threads.receiver = Some(receiver_thread);
     realtime.receiver = placement;
-    let solver =
-        spawn_solver(params, rig.clone(), writer, shared.clone(), inbound_rx, schedule_tx, solver_tx);
+    let solver = spawn_solver(params, rig.clone(), writer, shared.clone(), inbound_rx, stage_out);
     match solver {
         Ok((t, placement)) => {
             threads.solver = Some(t);
@@ -259,11 +261,15 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         while let Ok(s) = motor_rx.pop() {
             hist.record_motor(&s);
         }
-        while let Ok(s) = solver_rx.pop() {
+        while let Ok(s) = stage_rx.samples.pop() {
             hist.record_solver(&s);
         }
-        while let Ok(s) = schedule_rx.pop() {
+        while let Ok(s) = stage_rx.schedules.pop() {
             let _ = schedule_pub.send_copy(s);
+        }
+        while let Ok(r) = stage_rx.rejections.pop() {
+            let _ = rejection_pub.send_copy(r);
+            rejection_log.note(&r, monotonic_now_ns());
         }
         if let (Some(rx), Some(p)) = (truth_rx.as_mut(), truth_pub.as_ref())
             && rx.update()
@@ -460,8 +466,7 @@ fn spawn_solver(
     writer: super::handoff::MotionWriter,
     shared: Arc<CoreShared>,
     inbound: rtrb::Consumer<Received>,
-    schedules: rtrb::Producer<Schedule>,
-    samples: rtrb::Producer<SolverSample>,
+    out: StageOutputs,
 ) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
     let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
     let params = params.clone();
@@ -472,7 +477,7 @@ fn spawn_solver(
             let _guard = CoreThread::enter(HealthSource::SolverThread, shared.clone());
             let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
             prefault_stack();
-            let mut stage = match SolveStage::new(&params, rig, writer, shared.clone(), schedules, samples) {
+            let mut stage = match SolveStage::new(&params, rig, writer, shared.clone(), out) {
                 Ok(s) => s,
                 Err(e) => {
                     let _ = ready_tx.send(Err(StartError::Params(e)));

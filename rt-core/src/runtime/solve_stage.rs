@@ -9,16 +9,16 @@ use core::sync::atomic::Ordering::Relaxed;
 use std::sync::Arc;
 
 use ipc_types::{
-    CoreCommand, CoreCommandError, ExplicitSchedule, ExplicitScheduleError, ForceRequest, ForceRequestError,
-    MAX_CURLS, MAX_PARTS, PartStates, PartStatesError, RejectReason, Schedule, ScheduleSlot,
-    ValidationLimits,
+    CoreCommand, CoreCommandError, DetailText, ExplicitSchedule, ExplicitScheduleError, ForceRequest,
+    ForceRequestError, MAX_CURLS, MAX_PARTS, PartStates, PartStatesError, RejectReason, RejectedKind,
+    Rejection, Schedule, ScheduleSlot, ValidationLimits,
 };
 
 use super::clock::Clock;
 use super::handoff::MotionWriter;
 use super::inbox::{Inbox, InboxBuffers, drain};
 use super::params::CoreParams;
-use super::samples::SolverSample;
+use super::samples::{SolverSample, StageOutputs};
 use super::shared::CoreShared;
 use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry};
 use crate::solver::{
@@ -184,8 +184,7 @@ pub struct SolveStage {
     curls: [CurlConstraint; MAX_CURLS],
     entries: [ScheduleEntry; MAX_SLOTS],
     schedule: Box<Schedule>,
-    schedules: rtrb::Producer<Schedule>,
-    samples: rtrb::Producer<SolverSample>,
+    out: StageOutputs,
 }
 
 impl SolveStage {
@@ -216,8 +215,7 @@ impl SolveStage {
         rig: Rig,
         writer: MotionWriter,
         shared: Arc<CoreShared>,
-        schedules: rtrb::Producer<Schedule>,
-        samples: rtrb::Producer<SolverSample>,
+        out: StageOutputs,
     ) -> Result<Self, super::params::CoreParamsError> {
         params.validate()?;
         let k_max = playable_k_max(params, &rig)?;
@@ -251,8 +249,7 @@ impl SolveStage {
             curls: [CurlConstraint { position: [0.0; 2], curl: 0.0 }; MAX_CURLS],
             entries: [ScheduleEntry::default(); MAX_SLOTS],
             schedule: Box::new(Schedule::new()),
-            schedules,
-            samples,
+            out,
         })
     }
 
@@ -273,7 +270,7 @@ impl SolveStage {
         let r = self.take_part_states(msg, received_ns, now_ns);
         if let Err(e) = r {
             self.shared.rejected_parts.fetch_add(1, Relaxed);
-            self.shared.count_reject(e.reason());
+            self.reject(RejectedKind::PartStates, msg.seq, msg.stamp_ns, now_ns, e.reason(), &e);
         }
         r
     }
@@ -296,7 +293,7 @@ impl SolveStage {
         *self.parts = *msg;
         self.have_parts = true;
         self.shared.parts_stamp_ns.store(msg.stamp_ns.max(1), Relaxed);
-        let _ = self.samples.push(SolverSample {
+        let _ = self.out.samples.push(SolverSample {
             solve_ns: 0,
             ipc_ns: received_ns.saturating_sub(msg.stamp_ns).max(1),
             pickup_ns: now_ns.saturating_sub(received_ns).max(1),
@@ -313,13 +310,13 @@ impl SolveStage {
         clock_ns: &dyn Fn() -> u64,
     ) -> Result<(), RequestError> {
         let r = self.solve_request(msg, now_ns, clock_ns);
-        self.account(r, msg.seq, msg.stamp_ns, msg.deadline_ns)
+        self.account(r, RejectedKind::ForceRequest, (msg.seq, msg.stamp_ns, msg.deadline_ns), now_ns)
     }
 
     /// Validate an explicit schedule and hand it to the motor.
     pub fn on_explicit(&mut self, msg: &ExplicitSchedule, now_ns: u64) -> Result<(), RequestError> {
         let r = self.take_explicit(msg, now_ns);
-        self.account(r, msg.seq, msg.stamp_ns, u64::MAX)
+        self.account(r, RejectedKind::ExplicitSchedule, (msg.seq, msg.stamp_ns, u64::MAX), now_ns)
     }
 
     /// Validate an operator's command and pass it to the motor.
@@ -328,7 +325,7 @@ impl SolveStage {
         self.limits.max_age_ns = self.request_max_age_ns;
         if let Err(e) = msg.validate(&self.limits) {
             self.shared.rejected_requests.fetch_add(1, Relaxed);
-            self.shared.count_reject(e.reason());
+            self.reject(RejectedKind::CoreCommand, msg.seq, msg.stamp_ns, now_ns, e.reason(), &e);
             return Err(e);
         }
         // RESUME is the only command validate() lets through.
@@ -336,25 +333,47 @@ impl SolveStage {
         Ok(())
     }
 
+    /// Count a rejection by reason and answer its sender (through the io
+    /// thread, on `upm/rejection`). Formats into a fixed buffer: no
+    /// allocation.
+    fn reject(
+        &mut self,
+        kind: RejectedKind,
+        seq: u64,
+        message_stamp_ns: u64,
+        now_ns: u64,
+        reason: RejectReason,
+        why: &dyn fmt::Display,
+    ) {
+        self.shared.count_reject(reason);
+        let mut text = DetailText::new();
+        let _ = fmt::write(&mut text, format_args!("{why}"));
+        let answer = Rejection::new(kind, seq, message_stamp_ns, now_ns, reason, text.as_str());
+        // Dropped (still counted) if the io thread is a full ring behind.
+        let _ = self.out.rejections.push(answer);
+    }
+
+    /// `message` is the (seq, stamp_ns, deadline_ns) of what was handled.
     fn account(
         &mut self,
         r: Result<(), RequestError>,
-        seq: u64,
-        stamp_ns: u64,
-        deadline_ns: u64,
+        kind: RejectedKind,
+        message: (u64, u64, u64),
+        now_ns: u64,
     ) -> Result<(), RequestError> {
+        let (seq, stamp_ns, deadline_ns) = message;
         match r {
             Ok(()) => {
                 self.newest_request.accept(seq, stamp_ns);
                 self.shared.request_stamp_ns.store(stamp_ns.max(1), Relaxed);
                 self.shared.request_deadline_ns.store(deadline_ns, Relaxed);
                 // Dropped (not blocked on) if the io thread is a full ring behind.
-                let _ = self.schedules.push(*self.schedule);
+                let _ = self.out.schedules.push(*self.schedule);
                 Ok(())
             }
             Err(e) => {
                 self.shared.rejected_requests.fetch_add(1, Relaxed);
-                self.shared.count_reject(e.reason());
+                self.reject(kind, seq, stamp_ns, now_ns, e.reason(), &e);
                 Err(e)
             }
         }
@@ -428,7 +447,7 @@ impl SolveStage {
             // Capacity equals MAX_SLOTS and n ≤ centers ≤ MAX_SLOTS.
             let _ = m.push(ScheduleSlot::new(j as u32, self.centers[j], s.k()[j]));
         }
-        let _ = self.samples.push(SolverSample { solve_ns, ipc_ns: 0, pickup_ns: 0 });
+        let _ = self.out.samples.push(SolverSample { solve_ns, ipc_ns: 0, pickup_ns: 0 });
         Ok(())
     }
 

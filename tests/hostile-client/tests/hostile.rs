@@ -13,8 +13,8 @@ use ipc_types::inbox_event::InboxNotifier;
 use ipc_types::ports::{Sub, config_with_prefix};
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, HealthSource,
-    MAX_PARTS, MAX_SLOTS, PartState, PartStates, RejectReason, Schedule, Telemetry, monotonic_now_ns,
-    service_names,
+    MAX_PARTS, MAX_SLOTS, PartState, PartStates, RejectReason, RejectedKind, Rejection, Schedule, Telemetry,
+    monotonic_now_ns, service_names,
 };
 
 type Pub<T> = Publisher<ipc::Service, T, ()>;
@@ -80,7 +80,12 @@ struct Client {
     notifier: InboxNotifier,
     schedules: Sub<Schedule>,
     telemetry: Sub<Telemetry>,
+    rejections: Sub<Rejection>,
     answered: HashSet<u64>,
+    /// Every rejection the core sent back, in order.
+    refusals: Vec<Rejection>,
+    /// What was sent last: its kind and seq (a refusal must name them).
+    last_sent: (RejectedKind, u64),
     newest_telemetry: Option<Telemetry>,
     seq: u64,
     /// Stamps of the newest good part states and request the core took.
@@ -156,7 +161,10 @@ impl Client {
             notifier: InboxNotifier::new(&node).expect("notifier"),
             schedules: subscriber(&node, service_names::SCHEDULE),
             telemetry: subscriber(&node, service_names::TELEMETRY),
+            rejections: subscriber(&node, service_names::REJECTION),
             answered: HashSet::new(),
+            refusals: Vec::new(),
+            last_sent: (RejectedKind::PartStates, 0),
             newest_telemetry: None,
             seq: 0,
             parts_stamp: 0,
@@ -181,21 +189,25 @@ impl Client {
     }
 
     fn send_parts(&mut self, m: PartStates) {
+        self.last_sent = (RejectedKind::PartStates, m.seq);
         self.parts.send_copy(m).expect("send");
         self.notifier.notify();
     }
 
     fn send_request(&mut self, m: ForceRequest) {
+        self.last_sent = (RejectedKind::ForceRequest, m.seq);
         self.requests.send_copy(m).expect("send");
         self.notifier.notify();
     }
 
     fn send_explicit(&mut self, m: ExplicitSchedule) {
+        self.last_sent = (RejectedKind::ExplicitSchedule, m.seq);
         self.explicit.send_copy(m).expect("send");
         self.notifier.notify();
     }
 
     fn send_command(&mut self, m: CoreCommand) {
+        self.last_sent = (RejectedKind::CoreCommand, m.seq);
         self.commands.send_copy(m).expect("send");
         self.notifier.notify();
     }
@@ -203,6 +215,9 @@ impl Client {
     fn poll(&mut self) {
         while let Some(s) = self.schedules.receive().expect("receive schedule") {
             self.answered.insert(s.payload().seq);
+        }
+        while let Some(r) = self.rejections.receive().expect("receive rejection") {
+            self.refusals.push(*r.payload());
         }
         self.poll_telemetry();
     }
@@ -274,6 +289,18 @@ impl Client {
                     rejected(&before),
                     rejected(&t)
                 );
+                // ... and answered to the sender: its kind, its seq, why.
+                let (kind, seq) = self.last_sent;
+                let told = self.wait_for(|c| {
+                    c.refusals.iter().any(|a| a.kind() == Some(kind) && a.seq == seq && a.reason() == Some(r))
+                });
+                assert!(
+                    told,
+                    "{label}: no Rejection {r} for {kind:?} seq {seq} on {}",
+                    service_names::REJECTION
+                );
+                let a = self.refusals.iter().rev().find(|a| a.seq == seq).expect("found above");
+                assert!(!a.detail_str().is_empty(), "{label}: a rejection without a reason text");
             }
             None => {
                 let t = self.fresh_telemetry();

@@ -1,0 +1,122 @@
+//! Rejection: core → the sender of a refused message, on `upm/rejection`.
+//! Every inbound message the core refuses is answered here with its `seq`,
+//! the reason code and a one-line text naming the field, so a client learns
+//! why, not only that telemetry's counter rose.
+
+use core::fmt;
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::PROTOCOL_VERSION;
+use crate::health::{HEALTH_DETAIL_BYTES, detail_str};
+use crate::reject_reason::RejectReason;
+
+/// Which kind of message a [`Rejection`] answers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RejectedKind {
+    PartStates = 0,
+    ForceRequest = 1,
+    ExplicitSchedule = 2,
+    CoreCommand = 3,
+}
+
+impl RejectedKind {
+    pub const ALL: [Self; 4] =
+        [Self::PartStates, Self::ForceRequest, Self::ExplicitSchedule, Self::CoreCommand];
+
+    pub const fn code(self) -> u32 {
+        self as u32
+    }
+
+    pub const fn from_code(code: u32) -> Option<Self> {
+        match code {
+            0 => Some(Self::PartStates),
+            1 => Some(Self::ForceRequest),
+            2 => Some(Self::ExplicitSchedule),
+            3 => Some(Self::CoreCommand),
+            _ => None,
+        }
+    }
+
+    /// The service the rejected message came on.
+    pub const fn service(self) -> &'static str {
+        match self {
+            Self::PartStates => crate::service_names::PART_STATES,
+            Self::ForceRequest => crate::service_names::FORCE_REQUEST,
+            Self::ExplicitSchedule => crate::service_names::EXPLICIT_SCHEDULE,
+            Self::CoreCommand => crate::service_names::CORE_COMMAND,
+        }
+    }
+}
+
+/// Core → sender: one refused message.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[type_name("upm::Rejection.v2")]
+pub struct Rejection {
+    pub protocol_version: u32,
+    /// [`RejectedKind`] code of the refused message.
+    pub kind: u32,
+    /// The refused message's `seq` (as sent, whatever it was).
+    pub seq: u64,
+    /// The refused message's `stamp_ns` (as sent).
+    pub message_stamp_ns: u64,
+    /// CLOCK_MONOTONIC ns when the core refused it.
+    pub stamp_ns: u64,
+    /// [`RejectReason`] code.
+    pub reason: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
+    /// Why, one line naming the field, UTF-8, NUL-padded.
+    pub detail: [u8; HEALTH_DETAIL_BYTES],
+}
+
+const _: () = assert!(size_of::<Rejection>() == 4 + 4 + 8 + 8 + 8 + 4 + 4 + HEALTH_DETAIL_BYTES);
+
+impl Rejection {
+    /// A rejection of a `kind` message with `seq` and `message_stamp_ns`,
+    /// refused at `stamp_ns` for `reason`; `detail` is cut to fit.
+    pub fn new(
+        kind: RejectedKind,
+        seq: u64,
+        message_stamp_ns: u64,
+        stamp_ns: u64,
+        reason: RejectReason,
+        detail: &str,
+    ) -> Self {
+        let mut text = crate::health::DetailText::new();
+        let _ = fmt::Write::write_str(&mut text, detail);
+        Self {
+            protocol_version: PROTOCOL_VERSION,
+            kind: kind.code(),
+            seq,
+            message_stamp_ns,
+            stamp_ns,
+            reason: reason.index() as u32,
+            reserved: 0,
+            detail: text.bytes,
+        }
+    }
+
+    pub fn kind(&self) -> Option<RejectedKind> {
+        RejectedKind::from_code(self.kind)
+    }
+
+    pub fn reason(&self) -> Option<RejectReason> {
+        RejectReason::ALL.get(self.reason as usize).copied()
+    }
+
+    /// The text, up to the first NUL (invalid UTF-8 is cut).
+    pub fn detail_str(&self) -> &str {
+        detail_str(&self.detail)
+    }
+}
+
+impl fmt::Display for Rejection {
+    /// `force_request seq 42 rejected: wrong_protocol_version (force_request.protocol_version is 1, expected 2)`
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let kind = self.kind().map_or("unknown", |k| k.service().trim_start_matches("upm/"));
+        let reason = self.reason().map_or("unknown", RejectReason::as_str);
+        write!(f, "{kind} seq {} rejected: {reason} ({})", self.seq, self.detail_str())
+    }
+}
