@@ -4,11 +4,13 @@
 
 use core::fmt;
 
+use iceoryx2::node::NodeView;
 use iceoryx2::port::publisher::{Publisher, PublisherCreateError};
 use iceoryx2::port::subscriber::{Subscriber, SubscriberCreateError};
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenOrCreateError;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
+use iceoryx2::service::static_config::message_type_details::TypeDetail;
 
 /// Publishers per service: a restarted client may overlap its predecessor.
 pub const MAX_PUBLISHERS: usize = 4;
@@ -25,6 +27,28 @@ pub const MAX_NODES: usize = 32;
 pub enum OpenServiceError {
     InvalidName,
     OpenOrCreate(PublishSubscribeOpenOrCreateError),
+    /// The service exists, created with other settings or another payload
+    /// (by a client that did not use these settings): what it has, and who
+    /// is on it.
+    Mismatch {
+        error: PublishSubscribeOpenOrCreateError,
+        found: FoundService,
+    },
+}
+
+/// An existing service's settings and the processes attached to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FoundService {
+    pub payload: TypeDetail,
+    pub max_publishers: usize,
+    pub max_subscribers: usize,
+    pub subscriber_buffer: usize,
+    pub history: usize,
+    pub safe_overflow: bool,
+    pub max_nodes: usize,
+    /// Up to four pids of live nodes on the service (its creator among them).
+    pub pids: [u32; 4],
+    pub pid_count: usize,
 }
 
 impl fmt::Display for OpenServiceError {
@@ -32,8 +56,85 @@ impl fmt::Display for OpenServiceError {
         match self {
             Self::InvalidName => f.write_str("invalid iceoryx2 service name"),
             Self::OpenOrCreate(e) => write!(f, "opening iceoryx2 service: {e:?}"),
+            Self::Mismatch { error, found: s } => {
+                write!(
+                    f,
+                    "opening iceoryx2 service: {error:?}; it exists with payload {} ({} bytes), \
+                     max_publishers {}, max_subscribers {}, subscriber buffer {}, history {}, safe overflow {}, \
+                     max_nodes {}, where UPM needs {MAX_PUBLISHERS}, {MAX_SUBSCRIBERS}, {SUBSCRIBER_BUFFER}, \
+                     {HISTORY}, true, {MAX_NODES} (docs/protocol.md); ",
+                    s.payload.type_name(),
+                    s.payload.size(),
+                    s.max_publishers,
+                    s.max_subscribers,
+                    s.subscriber_buffer,
+                    s.history,
+                    s.safe_overflow,
+                    s.max_nodes
+                )?;
+                match &s.pids[..s.pid_count.min(4)] {
+                    [] => f.write_str("no live process holds it (a stale service: remove the rig's files)"),
+                    pids => {
+                        f.write_str("created by a client still running: pid")?;
+                        for (i, p) in pids.iter().enumerate() {
+                            write!(f, "{}{p}", if i == 0 { " " } else { ", " })?;
+                        }
+                        Ok(())
+                    }
+                }
+            }
         }
     }
+}
+
+impl FoundService {
+    /// True unless it has exactly the rig's settings and payload `T`.
+    #[allow(unsafe_code)]
+    fn differs<T: ZeroCopySend>(&self) -> bool {
+        // SAFETY: only reads the name the derive generated.
+        let wanted = unsafe { <T as ZeroCopySend>::type_name() };
+        self.payload.type_name().to_string() != wanted
+            || self.payload.size() != size_of::<T>()
+            || (
+                self.max_publishers,
+                self.max_subscribers,
+                self.subscriber_buffer,
+                self.history,
+                self.max_nodes,
+            ) != (MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER, HISTORY, MAX_NODES)
+            || !self.safe_overflow
+    }
+}
+
+/// What the existing service `name` was created with (None if it cannot be
+/// read). Start-up only: it walks iceoryx2's files.
+fn found_service(node: &Node<ipc::Service>, name: &ServiceName) -> Option<FoundService> {
+    let details =
+        ipc::Service::details(name, node.config(), MessagingPattern::PublishSubscribe).ok().flatten()?;
+    let ps = details.static_details.publish_subscribe();
+    let mut found = FoundService {
+        payload: ps.message_type_details().payload,
+        max_publishers: ps.max_publishers(),
+        max_subscribers: ps.max_subscribers(),
+        subscriber_buffer: ps.subscriber_max_buffer_size(),
+        history: ps.history_size(),
+        safe_overflow: ps.has_safe_overflow(),
+        max_nodes: ps.max_nodes(),
+        pids: [0; 4],
+        pid_count: 0,
+    };
+    let own = std::process::id();
+    for state in details.dynamic_details.iter().flat_map(|d| d.nodes.iter()) {
+        if let NodeState::Alive(view) = state
+            && let Ok(pid) = view.id().pid::<ipc::Service>()
+            && pid.value() as u32 != own
+            && found.pid_count < found.pids.len()
+        {
+            found.pids[found.pid_count] = pid.value() as u32;
+            found.pid_count += 1;
+        }
+    }
+    Some(found)
 }
 
 impl core::error::Error for OpenServiceError {}
@@ -53,7 +154,10 @@ pub fn open_pub_sub<T: core::fmt::Debug + ZeroCopySend>(
         .enable_safe_overflow(true)
         .max_nodes(MAX_NODES)
         .open_or_create()
-        .map_err(OpenServiceError::OpenOrCreate)
+        .map_err(|error| match found_service(node, &name) {
+            Some(found) if found.differs::<T>() => OpenServiceError::Mismatch { error, found },
+            _ => OpenServiceError::OpenOrCreate(error),
+        })
 }
 
 /// A subscriber of payload `T` on `name`.

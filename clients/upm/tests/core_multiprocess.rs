@@ -138,3 +138,38 @@ fn core_process_round_trip_hold_single_instance_and_clean_stop() {
     }
     let _ = std::fs::remove_dir_all(&hgrm);
 }
+
+/// A client that created a service with iceoryx2's default settings before
+/// the core started keeps the core from starting; the core's one line names
+/// the service, what it found, what it needs, and the client's pid.
+#[test]
+fn a_service_created_with_other_settings_is_named_with_its_creator() {
+    use iceoryx2::prelude::*;
+    let prefix = common::unique_prefix("mismatch");
+    let node = common::plain_node(&prefix);
+    let _squatter = node
+        .service_builder(&ServiceName::new(service_names::SCHEDULE).expect("name"))
+        .publish_subscribe::<Schedule>()
+        .open_or_create()
+        .expect("a service with iceoryx2's defaults");
+    let out = Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        .args(["--prefix", &prefix, "--duration", "5"])
+        .stderr(Stdio::piped())
+        .output()
+        .expect("upm-core");
+    drop(_squatter);
+    drop(node);
+    common::remove_prefix(&prefix);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "the core started: {err}");
+    let line = err.lines().find(|l| l.contains("error")).unwrap_or_default();
+    eprintln!("{line}");
+    for want in [
+        "service upm/schedule",
+        "it exists with payload upm::Schedule.v2",
+        "where UPM needs 4, 16, 8, 1, true, 32",
+        &format!("created by a client still running: pid {}", std::process::id()),
+    ] {
+        assert!(line.contains(want), "{want:?} missing from: {line}");
+    }
+}

@@ -99,9 +99,14 @@ fn external_planner_gathers_parts() {
 }
 
 fn upm_run(scenario: &str, seconds: &str, out: &std::path::Path) -> std::process::Child {
+    upm_run_with(scenario, seconds, out, &[])
+}
+
+fn upm_run_with(scenario: &str, seconds: &str, out: &std::path::Path, extra: &[&str]) -> std::process::Child {
     Command::new(env!("CARGO_BIN_EXE_upm"))
         .args(["run", scenario, "--duration", seconds, "--quiet", "--out"])
         .arg(out)
+        .args(extra)
         .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -208,34 +213,25 @@ fn upm_run_takes_your_own_planner_command() {
         "exec '{}' planner --config \"$UPM_CONFIG\" --prefix \"$UPM_PREFIX\"",
         env!("CARGO_BIN_EXE_upm")
     );
-    let o = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", "local", "--duration", "5", "--quiet", "--planner-cmd", &mine, "--out"])
-        .arg(&out)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("upm run");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
-            .expect("json");
+    // metrics.json of a finished run into `out`.
+    let metrics = |o: std::process::Output| -> serde_json::Value {
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let m = std::fs::read_to_string(out.join("metrics.json")).expect("metrics");
+        let _ = std::fs::remove_dir_all(&out);
+        serde_json::from_str(&m).expect("json")
+    };
+    let m = metrics(
+        upm_run_with("local", "5", &out, &["--planner-cmd", &mine]).wait_with_output().expect("wait"),
+    );
     assert_eq!(m["processes"]["planner_cmd"].as_str(), Some(mine.as_str()), "{m}");
     assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no request answered: {m}");
     assert_eq!(m["core"]["rejected_requests"], 0, "{m}");
     assert_eq!(m["restarts"]["planner"], 0, "{m}");
-    let _ = std::fs::remove_dir_all(&out);
 
     // A command that fails at once is restarted with backoff; the run
     // still ends cleanly and says so.
-    let o = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", "spin", "--duration", "3", "--quiet", "--planner-cmd", "exit 3", "--out"])
-        .arg(&out)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("upm run");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
-            .expect("json");
+    let m = metrics(
+        upm_run_with("spin", "3", &out, &["--planner-cmd", "exit 3"]).wait_with_output().expect("wait"),
+    );
     assert!(m["restarts"]["planner"].as_u64().unwrap_or(0) >= 2, "{m}");
-    let _ = std::fs::remove_dir_all(&out);
 }
