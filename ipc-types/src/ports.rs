@@ -10,7 +10,6 @@ use iceoryx2::port::subscriber::{Subscriber, SubscriberCreateError};
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenOrCreateError;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
-use iceoryx2::service::static_config::message_type_details::TypeDetail;
 
 /// Publishers per service: a restarted client may overlap its predecessor.
 pub const MAX_PUBLISHERS: usize = 4;
@@ -39,16 +38,19 @@ pub enum OpenServiceError {
 /// An existing service's settings and the processes attached to it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FoundService {
-    pub payload: TypeDetail,
-    pub max_publishers: usize,
-    pub max_subscribers: usize,
-    pub subscriber_buffer: usize,
-    pub history: usize,
+    /// The payload's type name (cut to 32 bytes) and size. Small fields:
+    /// this travels in an error, by value.
+    pub payload_name: [u8; 32],
+    pub payload_size: u32,
+    pub max_publishers: u32,
+    pub max_subscribers: u32,
+    pub subscriber_buffer: u32,
+    pub history: u32,
+    pub max_nodes: u32,
     pub safe_overflow: bool,
-    pub max_nodes: usize,
-    /// Up to four pids of live nodes on the service (its creator among them).
-    pub pids: [u32; 4],
-    pub pid_count: usize,
+    /// Up to three pids of live nodes on the service (its creator among them).
+    pub pid_count: u8,
+    pub pids: [u32; 3],
 }
 
 impl fmt::Display for OpenServiceError {
@@ -63,8 +65,8 @@ impl fmt::Display for OpenServiceError {
                      max_publishers {}, max_subscribers {}, subscriber buffer {}, history {}, safe overflow {}, \
                      max_nodes {}, where UPM needs {MAX_PUBLISHERS}, {MAX_SUBSCRIBERS}, {SUBSCRIBER_BUFFER}, \
                      {HISTORY}, true, {MAX_NODES} (docs/protocol.md); ",
-                    s.payload.type_name(),
-                    s.payload.size(),
+                    crate::detail_str(&s.payload_name),
+                    s.payload_size,
                     s.max_publishers,
                     s.max_subscribers,
                     s.subscriber_buffer,
@@ -72,7 +74,7 @@ impl fmt::Display for OpenServiceError {
                     s.safe_overflow,
                     s.max_nodes
                 )?;
-                match &s.pids[..s.pid_count.min(4)] {
+                match &s.pids[..usize::from(s.pid_count).min(3)] {
                     [] => f.write_str("no live process holds it (a stale service: remove the rig's files)"),
                     pids => {
                         f.write_str("created by a client still running: pid")?;
@@ -93,17 +95,24 @@ impl FoundService {
     fn differs<T: ZeroCopySend>(&self) -> bool {
         // SAFETY: only reads the name the derive generated.
         let wanted = unsafe { <T as ZeroCopySend>::type_name() };
-        self.payload.type_name().to_string() != wanted
-            || self.payload.size() != size_of::<T>()
-            || (
+        crate::detail_str(&self.payload_name) != wanted
+            || self.payload_size as usize != size_of::<T>()
+            || [
                 self.max_publishers,
                 self.max_subscribers,
                 self.subscriber_buffer,
                 self.history,
                 self.max_nodes,
-            ) != (MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER, HISTORY, MAX_NODES)
+            ]
+            .map(|v| v as usize)
+                != [MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER, HISTORY, MAX_NODES]
             || !self.safe_overflow
     }
+}
+
+/// A count from iceoryx2 as u32 (saturating: only shown and compared).
+fn small(v: usize) -> u32 {
+    u32::try_from(v).unwrap_or(u32::MAX)
 }
 
 /// What the existing service `name` was created with (None if it cannot be
@@ -112,25 +121,32 @@ fn found_service(node: &Node<ipc::Service>, name: &ServiceName) -> Option<FoundS
     let details =
         ipc::Service::details(name, node.config(), MessagingPattern::PublishSubscribe).ok().flatten()?;
     let ps = details.static_details.publish_subscribe();
+    let payload = ps.message_type_details().payload;
+    let mut payload_name = [0u8; 32];
+    let mut text = crate::DetailText::new();
+    let _ = fmt::write(&mut text, format_args!("{}", payload.type_name()));
+    let n = text.len.min(payload_name.len());
+    payload_name[..n].copy_from_slice(&text.bytes[..n]);
     let mut found = FoundService {
-        payload: ps.message_type_details().payload,
-        max_publishers: ps.max_publishers(),
-        max_subscribers: ps.max_subscribers(),
-        subscriber_buffer: ps.subscriber_max_buffer_size(),
-        history: ps.history_size(),
+        payload_name,
+        payload_size: small(payload.size()),
+        max_publishers: small(ps.max_publishers()),
+        max_subscribers: small(ps.max_subscribers()),
+        subscriber_buffer: small(ps.subscriber_max_buffer_size()),
+        history: small(ps.history_size()),
+        max_nodes: small(ps.max_nodes()),
         safe_overflow: ps.has_safe_overflow(),
-        max_nodes: ps.max_nodes(),
-        pids: [0; 4],
         pid_count: 0,
+        pids: [0; 3],
     };
     let own = std::process::id();
     for state in details.dynamic_details.iter().flat_map(|d| d.nodes.iter()) {
         if let NodeState::Alive(view) = state
             && let Ok(pid) = view.id().pid::<ipc::Service>()
             && pid.value() as u32 != own
-            && found.pid_count < found.pids.len()
+            && usize::from(found.pid_count) < found.pids.len()
         {
-            found.pids[found.pid_count] = pid.value() as u32;
+            found.pids[usize::from(found.pid_count)] = pid.value() as u32;
             found.pid_count += 1;
         }
     }
