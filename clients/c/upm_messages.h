@@ -1,0 +1,344 @@
+/* UPM wire messages for C and C++ (iceoryx2's C/C++ bindings).
+ * GENERATED from the Rust types by ipc-types/tests/c_header.rs: do not edit.
+ * The contract around them (services, settings, units, ranges): docs/protocol.md. */
+#ifndef UPM_MESSAGES_H
+#define UPM_MESSAGES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+#define UPM_STATIC_ASSERT static_assert
+#define UPM_ALIGNOF alignof
+#else
+#define UPM_STATIC_ASSERT _Static_assert
+#define UPM_ALIGNOF _Alignof
+#endif
+
+#define UPM_PROTOCOL_VERSION 2u
+#define UPM_MAX_PARTS 64
+#define UPM_MAX_CURLS 16
+#define UPM_MAX_SLOTS 192
+#define UPM_SERVICE_PART_STATES "upm/part_states"
+#define UPM_SERVICE_FORCE_REQUEST "upm/force_request"
+#define UPM_SERVICE_EXPLICIT_SCHEDULE "upm/explicit_schedule"
+#define UPM_SERVICE_CORE_COMMAND "upm/core_command"
+#define UPM_SERVICE_SCHEDULE "upm/schedule"
+#define UPM_SERVICE_TELEMETRY "upm/telemetry"
+#define UPM_SERVICE_REJECTION "upm/rejection"
+#define UPM_SERVICE_SIM_GROUND_TRUTH "upm/sim/ground_truth"
+#define UPM_SERVICE_INBOX "upm/inbox"
+
+/* iceoryx2 type name "upm::PartState.v2", 64 bytes, align 8 */
+#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v2"
+typedef struct {
+    uint32_t id;
+    uint32_t class_;
+    uint32_t friction_class;
+    uint32_t reserved;
+    double x;
+    double y;
+    double theta;
+    double vx;
+    double vy;
+    double omega;
+} upm_PartState;
+UPM_STATIC_ASSERT(sizeof(upm_PartState) == 64, "upm_PartState size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PartState) == 8, "upm_PartState align");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, id) == 0, "upm_PartState.id offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, class_) == 4, "upm_PartState.class_ offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, friction_class) == 8, "upm_PartState.friction_class offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, reserved) == 12, "upm_PartState.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, x) == 16, "upm_PartState.x offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, y) == 24, "upm_PartState.y offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, theta) == 32, "upm_PartState.theta offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, vx) == 40, "upm_PartState.vx offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, vy) == 48, "upm_PartState.vy offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, omega) == 56, "upm_PartState.omega offset");
+
+/* iceoryx2 type name "upm::PartStates.v2", 4120 bytes, align 8 */
+#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t count;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    upm_PartState parts[64];
+} upm_PartStates;
+UPM_STATIC_ASSERT(sizeof(upm_PartStates) == 4120, "upm_PartStates size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PartStates) == 8, "upm_PartStates align");
+UPM_STATIC_ASSERT(offsetof(upm_PartStates, protocol_version) == 0, "upm_PartStates.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartStates, count) == 4, "upm_PartStates.count offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartStates, seq) == 8, "upm_PartStates.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartStates, stamp_ns) == 16, "upm_PartStates.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartStates, parts) == 24, "upm_PartStates.parts offset");
+
+/* iceoryx2 type name "upm::ForceEntry.v2", 40 bytes, align 8 */
+#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v2"
+typedef struct {
+    uint32_t part_id;
+    uint32_t force_flag;
+    uint32_t curl_flag;
+    uint32_t reserved;
+    double fx;
+    double fy;
+    double curl;
+} upm_ForceEntry;
+UPM_STATIC_ASSERT(sizeof(upm_ForceEntry) == 40, "upm_ForceEntry size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_ForceEntry) == 8, "upm_ForceEntry align");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, part_id) == 0, "upm_ForceEntry.part_id offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, force_flag) == 4, "upm_ForceEntry.force_flag offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, curl_flag) == 8, "upm_ForceEntry.curl_flag offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, reserved) == 12, "upm_ForceEntry.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fx) == 16, "upm_ForceEntry.fx offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fy) == 24, "upm_ForceEntry.fy offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, curl) == 32, "upm_ForceEntry.curl offset");
+
+/* iceoryx2 type name "upm::ForceRequest.v2", 2592 bytes, align 8 */
+#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t count;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint64_t deadline_ns;
+    upm_ForceEntry entries[64];
+} upm_ForceRequest;
+UPM_STATIC_ASSERT(sizeof(upm_ForceRequest) == 2592, "upm_ForceRequest size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_ForceRequest) == 8, "upm_ForceRequest align");
+UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, protocol_version) == 0, "upm_ForceRequest.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, count) == 4, "upm_ForceRequest.count offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, seq) == 8, "upm_ForceRequest.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, stamp_ns) == 16, "upm_ForceRequest.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, deadline_ns) == 24, "upm_ForceRequest.deadline_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, entries) == 32, "upm_ForceRequest.entries offset");
+
+/* iceoryx2 type name "upm::ExplicitSlot.v2", 16 bytes, align 8 */
+#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v2"
+typedef struct {
+    uint32_t center_index;
+    uint32_t reserved;
+    double k;
+} upm_ExplicitSlot;
+UPM_STATIC_ASSERT(sizeof(upm_ExplicitSlot) == 16, "upm_ExplicitSlot size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_ExplicitSlot) == 8, "upm_ExplicitSlot align");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, center_index) == 0, "upm_ExplicitSlot.center_index offset");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, reserved) == 4, "upm_ExplicitSlot.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, k) == 8, "upm_ExplicitSlot.k offset");
+
+/* iceoryx2 type name "upm::ExplicitSchedule.v2", 3096 bytes, align 8 */
+#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t count;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    upm_ExplicitSlot slots[192];
+} upm_ExplicitSchedule;
+UPM_STATIC_ASSERT(sizeof(upm_ExplicitSchedule) == 3096, "upm_ExplicitSchedule size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_ExplicitSchedule) == 8, "upm_ExplicitSchedule align");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, protocol_version) == 0, "upm_ExplicitSchedule.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, count) == 4, "upm_ExplicitSchedule.count offset");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, seq) == 8, "upm_ExplicitSchedule.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, stamp_ns) == 16, "upm_ExplicitSchedule.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, slots) == 24, "upm_ExplicitSchedule.slots offset");
+
+/* iceoryx2 type name "upm::CoreCommand.v2", 24 bytes, align 8 */
+#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t command;
+    uint64_t seq;
+    uint64_t stamp_ns;
+} upm_CoreCommand;
+UPM_STATIC_ASSERT(sizeof(upm_CoreCommand) == 24, "upm_CoreCommand size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_CoreCommand) == 8, "upm_CoreCommand align");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, protocol_version) == 0, "upm_CoreCommand.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, command) == 4, "upm_CoreCommand.command offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, seq) == 8, "upm_CoreCommand.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, stamp_ns) == 16, "upm_CoreCommand.stamp_ns offset");
+
+/* iceoryx2 type name "upm::ScheduleSlot.v2", 32 bytes, align 8 */
+#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v2"
+typedef struct {
+    uint32_t center_index;
+    uint32_t reserved;
+    double x;
+    double y;
+    double k;
+} upm_ScheduleSlot;
+UPM_STATIC_ASSERT(sizeof(upm_ScheduleSlot) == 32, "upm_ScheduleSlot size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_ScheduleSlot) == 8, "upm_ScheduleSlot align");
+UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, center_index) == 0, "upm_ScheduleSlot.center_index offset");
+UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, reserved) == 4, "upm_ScheduleSlot.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, x) == 8, "upm_ScheduleSlot.x offset");
+UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, y) == 16, "upm_ScheduleSlot.y offset");
+UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, k) == 24, "upm_ScheduleSlot.k offset");
+
+/* iceoryx2 type name "upm::Schedule.v2", 6208 bytes, align 8 */
+#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t count;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint64_t cycle;
+    uint64_t solve_time_ns;
+    double residual;
+    double condition;
+    uint32_t rank;
+    uint32_t saturated;
+    upm_ScheduleSlot slots[192];
+} upm_Schedule;
+UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6208, "upm_Schedule size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Schedule) == 8, "upm_Schedule align");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, protocol_version) == 0, "upm_Schedule.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, count) == 4, "upm_Schedule.count offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, seq) == 8, "upm_Schedule.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, stamp_ns) == 16, "upm_Schedule.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, cycle) == 24, "upm_Schedule.cycle offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, solve_time_ns) == 32, "upm_Schedule.solve_time_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, residual) == 40, "upm_Schedule.residual offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, condition) == 48, "upm_Schedule.condition offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 56, "upm_Schedule.rank offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 60, "upm_Schedule.saturated offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 64, "upm_Schedule.slots offset");
+
+/* iceoryx2 type name "upm::Rejection.v2", 160 bytes, align 8 */
+#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t kind;
+    uint64_t seq;
+    uint64_t message_stamp_ns;
+    uint64_t stamp_ns;
+    uint32_t reason;
+    uint32_t reserved;
+    uint8_t detail[120];
+} upm_Rejection;
+UPM_STATIC_ASSERT(sizeof(upm_Rejection) == 160, "upm_Rejection size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Rejection) == 8, "upm_Rejection align");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, protocol_version) == 0, "upm_Rejection.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, kind) == 4, "upm_Rejection.kind offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, seq) == 8, "upm_Rejection.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, message_stamp_ns) == 16, "upm_Rejection.message_stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, stamp_ns) == 24, "upm_Rejection.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 32, "upm_Rejection.reason offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 36, "upm_Rejection.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 40, "upm_Rejection.detail offset");
+
+/* iceoryx2 type name "upm::CoreCounters.v2", 96 bytes, align 8 */
+#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v2"
+typedef struct {
+    uint64_t ticks;
+    uint64_t overruns;
+    uint64_t hold_events;
+    uint64_t schedule_swaps;
+    uint64_t rejected_parts;
+    uint64_t rejected_requests;
+    uint64_t rt_thread_allocations;
+    uint64_t driver_faults;
+    uint64_t driver_clamped;
+    uint64_t driver_rejected;
+    uint64_t fault_holds;
+    uint64_t resumes;
+} upm_CoreCounters;
+UPM_STATIC_ASSERT(sizeof(upm_CoreCounters) == 96, "upm_CoreCounters size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_CoreCounters) == 8, "upm_CoreCounters align");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, ticks) == 0, "upm_CoreCounters.ticks offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, overruns) == 8, "upm_CoreCounters.overruns offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, hold_events) == 16, "upm_CoreCounters.hold_events offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, schedule_swaps) == 24, "upm_CoreCounters.schedule_swaps offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, rejected_parts) == 32, "upm_CoreCounters.rejected_parts offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, rejected_requests) == 40, "upm_CoreCounters.rejected_requests offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, rt_thread_allocations) == 48, "upm_CoreCounters.rt_thread_allocations offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_faults) == 56, "upm_CoreCounters.driver_faults offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_clamped) == 64, "upm_CoreCounters.driver_clamped offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_rejected) == 72, "upm_CoreCounters.driver_rejected offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, fault_holds) == 80, "upm_CoreCounters.fault_holds offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, resumes) == 88, "upm_CoreCounters.resumes offset");
+
+/* iceoryx2 type name "upm::LatencyPercentiles.v2", 40 bytes, align 8 */
+#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v2"
+typedef struct {
+    uint64_t samples;
+    uint64_t p50_ns;
+    uint64_t p99_ns;
+    uint64_t p999_ns;
+    uint64_t max_ns;
+} upm_LatencyPercentiles;
+UPM_STATIC_ASSERT(sizeof(upm_LatencyPercentiles) == 40, "upm_LatencyPercentiles size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_LatencyPercentiles) == 8, "upm_LatencyPercentiles align");
+UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, samples) == 0, "upm_LatencyPercentiles.samples offset");
+UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p50_ns) == 8, "upm_LatencyPercentiles.p50_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p99_ns) == 16, "upm_LatencyPercentiles.p99_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p999_ns) == 24, "upm_LatencyPercentiles.p999_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, max_ns) == 32, "upm_LatencyPercentiles.max_ns offset");
+
+/* iceoryx2 type name "upm::CoreLatencies.v2", 160 bytes, align 8 */
+#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v2"
+typedef struct {
+    upm_LatencyPercentiles motor_wakeup;
+    upm_LatencyPercentiles solver;
+    upm_LatencyPercentiles ipc_vision_to_core;
+    upm_LatencyPercentiles frame_to_schedule;
+} upm_CoreLatencies;
+UPM_STATIC_ASSERT(sizeof(upm_CoreLatencies) == 160, "upm_CoreLatencies size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_CoreLatencies) == 8, "upm_CoreLatencies align");
+UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, motor_wakeup) == 0, "upm_CoreLatencies.motor_wakeup offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, solver) == 40, "upm_CoreLatencies.solver offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, ipc_vision_to_core) == 80, "upm_CoreLatencies.ipc_vision_to_core offset");
+UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, frame_to_schedule) == 120, "upm_CoreLatencies.frame_to_schedule offset");
+
+/* iceoryx2 type name "upm::Telemetry.v2", 744 bytes, align 8 */
+#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t state;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint64_t cycle;
+    double plate_x;
+    double plate_y;
+    double plate_theta;
+    upm_CoreCounters counters;
+    double parts_age_ms;
+    double request_age_ms;
+    upm_CoreLatencies latency;
+    uint32_t core_pid;
+    uint32_t vision_pid;
+    uint32_t planner_pid;
+    uint32_t realtime_flags;
+    uint64_t vision_started_ns;
+    uint64_t planner_started_ns;
+    uint64_t rejected_by_reason[32];
+    uint32_t health_source;
+    uint32_t health_cause;
+    uint8_t health_detail[120];
+} upm_Telemetry;
+UPM_STATIC_ASSERT(sizeof(upm_Telemetry) == 744, "upm_Telemetry size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Telemetry) == 8, "upm_Telemetry align");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, protocol_version) == 0, "upm_Telemetry.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, state) == 4, "upm_Telemetry.state offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, seq) == 8, "upm_Telemetry.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, stamp_ns) == 16, "upm_Telemetry.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, cycle) == 24, "upm_Telemetry.cycle offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, plate_x) == 32, "upm_Telemetry.plate_x offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, plate_y) == 40, "upm_Telemetry.plate_y offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, plate_theta) == 48, "upm_Telemetry.plate_theta offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, counters) == 56, "upm_Telemetry.counters offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, parts_age_ms) == 152, "upm_Telemetry.parts_age_ms offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, request_age_ms) == 160, "upm_Telemetry.request_age_ms offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, latency) == 168, "upm_Telemetry.latency offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, core_pid) == 328, "upm_Telemetry.core_pid offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, vision_pid) == 332, "upm_Telemetry.vision_pid offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, planner_pid) == 336, "upm_Telemetry.planner_pid offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, realtime_flags) == 340, "upm_Telemetry.realtime_flags offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, vision_started_ns) == 344, "upm_Telemetry.vision_started_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, planner_started_ns) == 352, "upm_Telemetry.planner_started_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, rejected_by_reason) == 360, "upm_Telemetry.rejected_by_reason offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_source) == 616, "upm_Telemetry.health_source offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_cause) == 620, "upm_Telemetry.health_cause offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_detail) == 624, "upm_Telemetry.health_detail offset");
+
+#endif /* UPM_MESSAGES_H */
