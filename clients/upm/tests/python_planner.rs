@@ -10,8 +10,15 @@ use std::process::Command;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
-/// A Python that can `import iceoryx2` (installing it once if needed).
+/// A Python that can `import iceoryx2` (installing it once if needed; the
+/// tests of this file run in parallel, so one of them installs and the
+/// others wait for it).
 fn python() -> PathBuf {
+    static PYTHON: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    PYTHON.get_or_init(install_python).clone()
+}
+
+fn install_python() -> PathBuf {
     if let Some(p) = std::env::var_os("UPM_PYTHON") {
         return PathBuf::from(p);
     }
@@ -30,7 +37,8 @@ fn python() -> PathBuf {
                 String::from_utf8_lossy(&o.stderr)
             );
         };
-        run(Command::new("python3").args(["-m", "venv"]).arg(&venv));
+        // --clear: a venv left half-made by an interrupted run starts over.
+        run(Command::new("python3").args(["-m", "venv", "--clear"]).arg(&venv));
         run(Command::new(venv.join("bin/pip")).args([
             "install",
             "--quiet",
