@@ -6,7 +6,7 @@ use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
 use rt_core::motion::Rig;
 
-use rt_core::runtime::alloc_count::{RtAllocCounter, mark_rt_thread, rt_allocations};
+use rt_core::runtime::alloc_count::{RtAllocCounter, allocations_in};
 
 #[global_allocator]
 static A: RtAllocCounter = RtAllocCounter;
@@ -27,15 +27,13 @@ fn lockstep_loop_does_not_allocate() {
     let mut m = demo_motion();
     let mut st = PlateState::default();
     assert!(rt_core::runtime::alloc_count::counter_installed(), "the counter must see allocations");
-    mark_rt_thread(true);
-    let before = rt_allocations();
-    for c in 0..20 {
-        play(&mut s, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut st).expect("read");
-    }
-    let entries = [rt_core::motion::ScheduleEntry { center: [1.0, 0.5], k: 0.3 }];
-    m.set_schedule(&entries).expect("playable");
-    let _ = m.sample_tick(3);
-    let allocated = rt_allocations() - before;
-    mark_rt_thread(false);
+    let ((), allocated) = allocations_in(|| {
+        for c in 0..20 {
+            play(&mut s, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut st).expect("read");
+        }
+        let entries = [rt_core::motion::ScheduleEntry { center: [1.0, 0.5], k: 0.3 }];
+        m.set_schedule(&entries).expect("playable");
+        let _ = m.sample_tick(3);
+    });
     assert_eq!(allocated, 0, "hot path allocated");
 }

@@ -76,11 +76,8 @@ fn all_finite(i: &Input) -> bool {
 fn check(solver: &mut Solver, out: &mut rt_core::Solution, i: &Input) -> Result<bool, TestCaseError> {
     let problem =
         Problem { mu_m_g: i.mu_m_g, k_max: i.k_max, centers: &i.centers, parts: &i.parts, curls: &i.curls };
-    let before = alloc_count::rt_allocations();
-    alloc_count::mark_rt_thread(true);
-    let verdict = solver.solve(&problem, out);
-    alloc_count::mark_rt_thread(false);
-    prop_assert_eq!(alloc_count::rt_allocations() - before, 0, "the solve allocated");
+    let (verdict, allocated) = alloc_count::allocations_in(|| solver.solve(&problem, out));
+    prop_assert_eq!(allocated, 0, "the solve allocated");
     if let Err(e) = verdict {
         prop_assert!(!e.to_string().is_empty() && !e.to_string().contains('\n'));
         return Ok(false);

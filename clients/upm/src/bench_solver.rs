@@ -82,13 +82,12 @@ fn timed_solve(
     sol: &mut rt_core::Solution,
     allocations: &mut u64,
 ) -> (Result<(), rt_core::SolveError>, f64) {
-    alloc_count::mark_rt_thread(true);
-    let before = alloc_count::rt_allocations();
-    let t = Instant::now();
-    let r = solver.solve(p, sol);
-    let us = t.elapsed().as_secs_f64() * 1e6;
-    *allocations += alloc_count::rt_allocations() - before;
-    alloc_count::mark_rt_thread(false);
+    let ((r, us), n) = alloc_count::allocations_in(|| {
+        let t = Instant::now();
+        let r = solver.solve(p, sol);
+        (r, t.elapsed().as_secs_f64() * 1e6)
+    });
+    *allocations += n;
     std::hint::black_box(sol.k());
     (r, us)
 }

@@ -22,13 +22,9 @@ static ALLOC: RtAllocCounter = RtAllocCounter;
 /// is process-wide, and a parallel test would pollute the core's count.)
 fn counter_catches_an_allocation_on_a_marked_thread() {
     std::thread::spawn(|| {
-        alloc_count::mark_rt_thread(true);
-        let before = alloc_count::rt_allocations();
-        let v = std::hint::black_box(vec![1u8; 64]);
-        let after = alloc_count::rt_allocations();
-        alloc_count::mark_rt_thread(false);
+        let (v, counted) = alloc_count::allocations_in(|| std::hint::black_box(vec![1u8; 64]));
         drop(v);
-        assert!(after > before);
+        assert!(counted > 0);
     })
     .join()
     .expect("thread");

@@ -15,6 +15,9 @@ thread_local! {
     // const-initialised Cell<bool>: no destructor, no lazy init, so it is
     // safe to read from inside the allocator.
     static IS_RT: Cell<bool> = const { Cell::new(false) };
+    // This thread's share of the count, so a measurement on one thread is
+    // not disturbed by another marked thread running at the same time.
+    static THREAD_RT_ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
 }
 
 /// System allocator plus a count of allocations on RT-marked threads.
@@ -25,6 +28,7 @@ pub struct RtAllocCounter;
 fn count() {
     if IS_RT.with(Cell::get) {
         RT_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        THREAD_RT_ALLOCATIONS.with(|c| c.set(c.get() + 1));
         if ABORT_ON_RT_ALLOCATION.load(Ordering::Relaxed) {
             std::process::abort();
         }
@@ -68,24 +72,28 @@ pub fn rt_allocations() -> u64 {
     RT_ALLOCATIONS.load(Ordering::Relaxed)
 }
 
+/// Run `f` with this thread marked real-time; returns its result and the
+/// allocations this thread made meanwhile (other threads never count in).
+pub fn allocations_in<R>(f: impl FnOnce() -> R) -> (R, u64) {
+    let was = IS_RT.with(Cell::get);
+    mark_rt_thread(true);
+    let before = THREAD_RT_ALLOCATIONS.with(Cell::get);
+    let r = f();
+    let after = THREAD_RT_ALLOCATIONS.with(Cell::get);
+    mark_rt_thread(was);
+    (r, after - before)
+}
+
 /// True if [`RtAllocCounter`] is the global allocator (checked by
 /// allocating once on a marked thread); if false, the count means nothing.
+/// The probe is taken back out of the process-wide count.
 pub fn counter_installed() -> bool {
-    let was = IS_RT.with(Cell::get);
     let trap = ABORT_ON_RT_ALLOCATION.swap(false, Ordering::Relaxed);
-    mark_rt_thread(true);
-    let before = rt_allocations();
-    let probe = std::hint::black_box(Box::new(0u64));
-    let after = rt_allocations();
+    let (probe, counted) = allocations_in(|| std::hint::black_box(Box::new(0u64)));
     drop(probe);
-    mark_rt_thread(was);
     ABORT_ON_RT_ALLOCATION.store(trap, Ordering::Relaxed);
-    if after > before {
-        RT_ALLOCATIONS.fetch_sub(after - before, Ordering::Relaxed);
-        true
-    } else {
-        false
-    }
+    RT_ALLOCATIONS.fetch_sub(counted, Ordering::Relaxed);
+    counted > 0
 }
 
 /// Debugging aid: abort the process at the first allocation on an RT-marked
