@@ -112,11 +112,6 @@ impl CoreWatch {
         let alive = core_running(&self.prefix).unwrap_or(false);
         (self.alive.replace(alive) != Some(alive)).then_some(CoreNews { alive, prefix: &self.prefix })
     }
-
-    /// Whether a core was alive at the last check.
-    pub fn alive(&self) -> bool {
-        self.alive.unwrap_or(false)
-    }
 }
 
 /// A change [`CoreWatch::poll`] saw; shown as one line for a client's stderr.

@@ -89,28 +89,28 @@ impl fmt::Display for OpenServiceError {
     }
 }
 
-impl FoundService {
-    /// True unless it has exactly the rig's settings and payload `T`.
-    #[allow(unsafe_code)]
-    fn differs<T: ZeroCopySend>(&self) -> bool {
-        // SAFETY: only reads the name the derive generated.
-        let wanted = unsafe { <T as ZeroCopySend>::type_name() };
-        crate::detail_str(&self.payload_name) != wanted
-            || self.payload_size as usize != size_of::<T>()
-            || [
-                self.max_publishers,
-                self.max_subscribers,
-                self.subscriber_buffer,
-                self.history,
-                self.max_nodes,
-            ]
-            .map(|v| v as usize)
-                != [MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER, HISTORY, MAX_NODES]
-            || !self.safe_overflow
-    }
+/// True when iceoryx2 refused the open because the existing service does
+/// not fit what was asked (payload, settings, overflow): then what it has is
+/// worth showing.
+fn is_mismatch(error: &PublishSubscribeOpenOrCreateError) -> bool {
+    use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError as E;
+    matches!(
+        error,
+        PublishSubscribeOpenOrCreateError::PublishSubscribeOpenError(
+            E::IncompatibleTypes
+                | E::IncompatibleAttributes
+                | E::IncompatibleOverflowBehavior
+                | E::DoesNotSupportRequestedMinBufferSize
+                | E::DoesNotSupportRequestedMinHistorySize
+                | E::DoesNotSupportRequestedMinSubscriberBorrowedSamples
+                | E::DoesNotSupportRequestedAmountOfPublishers
+                | E::DoesNotSupportRequestedAmountOfSubscribers
+                | E::DoesNotSupportRequestedAmountOfNodes
+        )
+    )
 }
 
-/// A count from iceoryx2 as u32 (saturating: only shown and compared).
+/// A count from iceoryx2 as u32 (saturating: only shown).
 fn small(v: usize) -> u32 {
     u32::try_from(v).unwrap_or(u32::MAX)
 }
@@ -170,9 +170,9 @@ pub fn open_pub_sub<T: core::fmt::Debug + ZeroCopySend>(
         .enable_safe_overflow(true)
         .max_nodes(MAX_NODES)
         .open_or_create()
-        .map_err(|error| match found_service(node, &name) {
-            Some(found) if found.differs::<T>() => OpenServiceError::Mismatch { error, found },
-            _ => OpenServiceError::OpenOrCreate(error),
+        .map_err(|error| match is_mismatch(&error).then(|| found_service(node, &name)).flatten() {
+            Some(found) => OpenServiceError::Mismatch { error, found },
+            None => OpenServiceError::OpenOrCreate(error),
         })
 }
 

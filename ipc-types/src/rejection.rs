@@ -38,6 +38,11 @@ impl RejectedKind {
         }
     }
 
+    /// The message's name on the wire and in docs (`force_request`).
+    pub fn name(self) -> &'static str {
+        self.service().trim_start_matches("upm/")
+    }
+
     /// The service the rejected message came on.
     pub const fn service(self) -> &'static str {
         match self {
@@ -75,17 +80,18 @@ const _: () = assert!(size_of::<Rejection>() == 4 + 4 + 8 + 8 + 8 + 4 + 4 + HEAL
 
 impl Rejection {
     /// A rejection of a `kind` message with `seq` and `message_stamp_ns`,
-    /// refused at `stamp_ns` for `reason`; `detail` is cut to fit.
+    /// refused at `stamp_ns` for `reason`; `detail` is written straight into
+    /// the message (cut to fit; no allocation).
     pub fn new(
         kind: RejectedKind,
         seq: u64,
         message_stamp_ns: u64,
         stamp_ns: u64,
         reason: RejectReason,
-        detail: &str,
+        detail: fmt::Arguments<'_>,
     ) -> Self {
         let mut text = crate::health::DetailText::new();
-        let _ = fmt::Write::write_str(&mut text, detail);
+        let _ = fmt::write(&mut text, detail);
         Self {
             protocol_version: PROTOCOL_VERSION,
             kind: kind.code(),
@@ -115,7 +121,7 @@ impl Rejection {
 impl fmt::Display for Rejection {
     /// `force_request seq 42 rejected: wrong_protocol_version (force_request.protocol_version is 1, expected 2)`
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let kind = self.kind().map_or("unknown", |k| k.service().trim_start_matches("upm/"));
+        let kind = self.kind().map_or("unknown", RejectedKind::name);
         let reason = self.reason().map_or("unknown", RejectReason::as_str);
         write!(f, "{kind} seq {} rejected: {reason} ({})", self.seq, self.detail_str())
     }

@@ -104,17 +104,20 @@ pub fn files_open_to_others(prefix: &str) -> Vec<(String, u32)> {
 #[allow(unsafe_code)]
 pub fn remove_prefix_segment(prefix: &str) -> bool {
     let Ok(config) = config_with_prefix(prefix) else { return false };
-    let mut alive = 0;
-    let listed = Node::<ipc::Service>::list(&config, |state| {
-        if let NodeState::Alive(_) = state {
-            alive += 1;
-        }
-        CallbackProgression::Continue
-    });
-    if listed.is_err() || alive > 0 {
+    // Every live node counts (dead nodes' files are cleaned up on the way).
+    if !crate::discovery::live_nodes(prefix, "").is_ok_and(|nodes| nodes.is_empty()) {
         return false;
     }
     // SAFETY: no node on this prefix is alive (checked just above); the
     // prefix is one per rig, test or bench run, so no new node joins it.
     unsafe { iceoryx2::testing::remove_global_mgmt_segment::<ipc::Service>(&config) }.unwrap_or(false)
+}
+
+/// A service prefix no other rig, test or bench run uses at the same time:
+/// `head`, this process's id and the clock's nanoseconds
+/// (`upmt_vision_4242_123456789_`). Pair it with [`remove_prefix_segment`].
+pub fn unique_prefix(head: &str) -> String {
+    let nanos =
+        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
+    format!("{head}_{}_{nanos}_", std::process::id())
 }

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use ipc_types::{Rejection, Schedule, Telemetry};
+use ipc_types::{Schedule, Telemetry};
 
 use super::clock::{Clock, ManualClock};
 use super::handoff::{StagedMotion, motion_handoff};
@@ -36,7 +36,6 @@ pub struct Lockstep<D: PlateDriver> {
     outputs: StageOutputsRx,
     histograms: LatencyHistograms,
     published: Vec<Schedule>,
-    rejections: Vec<Rejection>,
 }
 
 impl<D: PlateDriver> Lockstep<D> {
@@ -66,7 +65,6 @@ impl<D: PlateDriver> Lockstep<D> {
             shared,
             motor_rx,
             outputs,
-            rejections: Vec::new(),
             histograms: LatencyHistograms::default(),
             published: Vec::new(),
         })
@@ -103,11 +101,6 @@ impl<D: PlateDriver> Lockstep<D> {
         &self.published
     }
 
-    /// Rejections the io thread would have sent back, in order.
-    pub fn rejections(&self) -> &[Rejection] {
-        &self.rejections
-    }
-
     pub fn histograms(&self) -> &LatencyHistograms {
         &self.histograms
     }
@@ -139,9 +132,8 @@ impl<D: PlateDriver> Lockstep<D> {
         while let Ok(s) = self.outputs.schedules.pop() {
             self.published.push(s);
         }
-        while let Ok(r) = self.outputs.rejections.pop() {
-            self.rejections.push(r);
-        }
+        // Counted by reason in `shared`; nobody subscribes in lock-step.
+        while self.outputs.rejections.pop().is_ok() {}
     }
 
     /// Telemetry as the io thread would publish it now.

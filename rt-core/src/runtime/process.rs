@@ -269,7 +269,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
         while let Ok(r) = stage_rx.rejections.pop() {
             let _ = rejection_pub.send_copy(r);
-            rejection_log.note(&r, monotonic_now_ns());
+            rejection_log.note(&r, r.stamp_ns);
         }
         if let (Some(rx), Some(p)) = (truth_rx.as_mut(), truth_pub.as_ref())
             && rx.update()

@@ -15,7 +15,8 @@ pub struct RejectionLog {
 }
 
 impl RejectionLog {
-    /// Log `r` (refused at `now_ns`) if a line is due, else count it.
+    /// Log `r` (refused at `now_ns`, its `stamp_ns`) if a line is due, else
+    /// count it.
     pub fn note(&mut self, r: &Rejection, now_ns: u64) {
         if self.last_ns.is_some_and(|t| now_ns.saturating_sub(t) < EVERY_NS) {
             self.not_shown += 1;

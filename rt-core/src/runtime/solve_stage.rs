@@ -9,9 +9,9 @@ use core::sync::atomic::Ordering::Relaxed;
 use std::sync::Arc;
 
 use ipc_types::{
-    CoreCommand, CoreCommandError, DetailText, ExplicitSchedule, ExplicitScheduleError, ForceRequest,
-    ForceRequestError, MAX_CURLS, MAX_PARTS, PartStates, PartStatesError, RejectReason, RejectedKind,
-    Rejection, Schedule, ScheduleSlot, ValidationLimits,
+    CoreCommand, CoreCommandError, ExplicitSchedule, ExplicitScheduleError, ForceRequest, ForceRequestError,
+    MAX_CURLS, MAX_PARTS, PartStates, PartStatesError, RejectReason, RejectedKind, Rejection, Schedule,
+    ScheduleSlot, ValidationLimits,
 };
 
 use super::clock::Clock;
@@ -346,9 +346,7 @@ impl SolveStage {
         why: &dyn fmt::Display,
     ) {
         self.shared.count_reject(reason);
-        let mut text = DetailText::new();
-        let _ = fmt::write(&mut text, format_args!("{why}"));
-        let answer = Rejection::new(kind, seq, message_stamp_ns, now_ns, reason, text.as_str());
+        let answer = Rejection::new(kind, seq, message_stamp_ns, now_ns, reason, format_args!("{why}"));
         // Dropped (still counted) if the io thread is a full ring behind.
         let _ = self.out.rejections.push(answer);
     }

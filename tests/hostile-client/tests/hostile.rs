@@ -7,17 +7,14 @@ use std::path::PathBuf;
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
-use iceoryx2::port::publisher::Publisher;
 use iceoryx2::prelude::*;
 use ipc_types::inbox_event::InboxNotifier;
-use ipc_types::ports::{Sub, config_with_prefix};
+use ipc_types::ports::{Pub, Sub, config_with_prefix};
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, HealthSource,
     MAX_PARTS, MAX_SLOTS, PartState, PartStates, RejectReason, RejectedKind, Rejection, Schedule, Telemetry,
     monotonic_now_ns, service_names,
 };
-
-type Pub<T> = Publisher<ipc::Service, T, ()>;
 
 /// The workspace's upm-core (next to this test's own build), or `UPM_CORE_EXE`.
 fn core_exe() -> PathBuf {
@@ -327,9 +324,7 @@ impl Client {
 }
 
 fn unique_prefix(tag: &str) -> String {
-    let nanos =
-        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
-    format!("upmh_{tag}_{}_{nanos}_", std::process::id())
+    ipc_types::rig_node::unique_prefix(&format!("upmh_{tag}"))
 }
 
 /// A named way to spoil a good message, and the reason it must be rejected for.
