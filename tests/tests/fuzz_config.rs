@@ -137,6 +137,7 @@ fn validate(text: &str) -> Result<Option<Config>, TestCaseError> {
         config.sim_config(PATH).map(drop),
         config.sim_parts(PATH).map(drop),
         config.vision_params(PATH).map(drop),
+        config.planner.build().map(drop).map_err(|m| upm_cli::config::ConfigError::invalid(PATH, m)),
     ] {
         if let Err(e) = verdict {
             one_line(&e)?;

@@ -10,9 +10,7 @@ use ipc_types::{ForceRequest, PartState, PartStates, service_names};
 
 /// A service prefix no other test or rig uses.
 fn unique_prefix(tag: &str) -> String {
-    let nanos =
-        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
-    format!("upmt_{tag}_{}_{nanos}_", std::process::id())
+    ipc_types::rig_node::unique_prefix(&format!("upmt_{tag}"))
 }
 
 struct Proc(Child);

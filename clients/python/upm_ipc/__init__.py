@@ -130,37 +130,28 @@ class Rig:
         self.notify_failures = 0
 
     @staticmethod
-    def _newest(subscriber, payload_type):
-        newest = None
-        while True:
-            sample = subscriber.receive()
-            if sample is None:
-                return newest
-            newest = copy_out(sample, payload_type)
+    def _received(subscriber):
+        """Every sample waiting on `subscriber`, oldest first (each must be
+        copied out or deleted by the caller)."""
+        while (sample := subscriber.receive()) is not None:
+            yield sample
 
     def newest_part_states(self):
         """Drain the subscriber; the newest PartStates or None."""
-        return self._newest(self._parts, PartStates)
+        newest = None
+        for sample in self._received(self._parts):
+            newest = copy_out(sample, PartStates)
+        return newest
 
     def receive_schedules(self):
         """All Schedules received since the last call, oldest first
         (only with connect(..., schedules=True))."""
-        out = []
-        while True:
-            sample = self._schedules.receive()
-            if sample is None:
-                return out
-            out.append(copy_out(sample, Schedule))
+        return [copy_out(s, Schedule) for s in self._received(self._schedules)]
 
     def rejections(self):
         """Rejections received since the last call, oldest first; print
         one to see why (`force_request seq 7 rejected: stale (...)`)."""
-        out = []
-        while True:
-            sample = self._rejections.receive()
-            if sample is None:
-                return out
-            out.append(copy_out(sample, Rejection))
+        return [copy_out(s, Rejection) for s in self._received(self._rejections)]
 
     def send_request(self, req):
         """Publish `req` (seq, stamp_ns, deadline_ns already filled), then

@@ -9,22 +9,40 @@ use crate::error::{ConfigError, one_line};
 pub fn parse_toml<T: DeserializeOwned>(text: &str, shown: &str) -> Result<T, ConfigError> {
     let de = toml::Deserializer::parse(text)
         .map_err(|e| ConfigError::Parse { path: shown.into(), message: one_line(&e.to_string()) })?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let field = e.path().to_string();
-        let message = one_line(&e.into_inner().to_string());
-        ConfigError::Parse {
-            path: shown.into(),
-            message: if field == "." { message } else { format!("{field}: {message}") },
-        }
-    })
+    serde_path_to_error::deserialize(de).map_err(|e| field_error(e, None, shown))
 }
 
 /// Read and parse a whole TOML file into `T` (see [`parse_toml`]).
 pub fn load_toml<T: DeserializeOwned>(path: &Path) -> Result<T, ConfigError> {
-    let shown = path.display().to_string();
-    let text =
-        std::fs::read_to_string(path).map_err(|source| ConfigError::Read { path: shown.clone(), source })?;
+    let (text, shown) = read(path)?;
     parse_toml(&text, &shown)
+}
+
+/// The file's text and how errors name it.
+fn read(path: &Path) -> Result<(String, String), ConfigError> {
+    let shown = path.display().to_string();
+    match std::fs::read_to_string(path) {
+        Ok(text) => Ok((text, shown)),
+        Err(source) => Err(ConfigError::Read { path: shown, source }),
+    }
+}
+
+/// A deserialisation error as one line naming the field, within `section`
+/// if given (`vision.noise_mm: invalid type …`).
+fn field_error<E: ToString>(
+    e: serde_path_to_error::Error<E>,
+    section: Option<&str>,
+    shown: &str,
+) -> ConfigError {
+    let field = e.path().to_string();
+    let message = one_line(&e.into_inner().to_string());
+    let at = match (section, field.as_str()) {
+        (None, ".") => return ConfigError::Parse { path: shown.into(), message },
+        (None, _) => field,
+        (Some(name), ".") => name.to_owned(),
+        (Some(name), _) => format!("{name}.{field}"),
+    };
+    ConfigError::Parse { path: shown.into(), message: format!("{at}: {message}") }
 }
 
 /// A rig config file, parsed as TOML but not yet interpreted.
@@ -45,9 +63,7 @@ impl RigFile {
     }
 
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
-        let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| ConfigError::Read { path: shown.clone(), source })?;
+        let (text, shown) = read(path)?;
         Self::parse(&text, &shown)
     }
 
@@ -68,12 +84,7 @@ impl RigFile {
     /// the field with its section (`vision.noise_mm: invalid type …`).
     pub fn section<T: DeserializeOwned + Default>(&self, name: &str) -> Result<T, ConfigError> {
         let Some(value) = self.table.get(name) else { return Ok(T::default()) };
-        serde_path_to_error::deserialize(value.clone()).map_err(|e| {
-            let field = e.path().to_string();
-            let message = one_line(&e.into_inner().to_string());
-            let at = if field == "." { name.to_owned() } else { format!("{name}.{field}") };
-            ConfigError::Parse { path: self.shown.clone(), message: format!("{at}: {message}") }
-        })
+        serde_path_to_error::deserialize(value.clone()).map_err(|e| field_error(e, Some(name), &self.shown))
     }
 }
 

@@ -226,6 +226,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             };
             let prefix = prefix.unwrap_or_else(|| format!("upm_run_{}_", std::process::id()));
             let config = sc.config(seed, &prefix)?;
+            // Every section, as each process will check its own: a bad one
+            // stops the run here, not in a client restarted over and over.
+            config.validate(&path.display().to_string())?;
             eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");
             let plan = crate::launcher::RunPlan {
                 scenario: sc.name.clone(),

@@ -70,6 +70,11 @@ impl Scenario {
         if !(s.duration_s.is_finite() && s.duration_s > 0.0) {
             anyhow::bail!("{}: duration_s must be positive", path.display());
         }
+        // One planner per scenario: `[planner]` (`config` copies it into
+        // the rig config every process gets).
+        if s.rig.planner != PlannerConfig::default() {
+            anyhow::bail!("{}: the planner goes in [planner], not [rig.planner]", path.display());
+        }
         Ok(s)
     }
 
@@ -77,9 +82,6 @@ impl Scenario {
     /// placed with `seed`), part mass consistent with μmg, the planner with
     /// that mass and μmg, and `prefix`.
     pub fn config(&self, seed: u64, prefix: &str) -> anyhow::Result<Config> {
-        if self.rig.planner != PlannerConfig::default() {
-            anyhow::bail!("{}: the planner goes in [planner], not [rig.planner]", self.name);
-        }
         let mut c = self.rig.clone();
         c.service.prefix = prefix.to_owned();
         c.sim.seed = seed;

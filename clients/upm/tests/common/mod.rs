@@ -5,9 +5,7 @@ pub use upm_cli::feeder::{PAPER_PARTS, part_states, request};
 
 /// A service prefix no other test or rig uses.
 pub fn unique_prefix(tag: &str) -> String {
-    let nanos =
-        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
-    format!("upmt_{tag}_{}_{nanos}_", std::process::id())
+    ipc_types::rig_node::unique_prefix(&format!("upmt_{tag}"))
 }
 
 /// A plain iceoryx2 node on `prefix`: no signal handling, and unlike
