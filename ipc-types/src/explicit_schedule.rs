@@ -1,12 +1,11 @@
 //! ExplicitSchedule: planner → core, a cycle given slot by slot, for
 //! planners that bypass the solver.
 
-use crate::header::{HeaderError, OldStamps, check_header};
+use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use crate::PROTOCOL_VERSION;
 use crate::capacity::MAX_SLOTS;
 use crate::reject_reason::RejectReason;
 use crate::validation::ValidationLimits;
@@ -105,33 +104,17 @@ impl ExplicitScheduleError {
     }
 }
 
+crate::counted_message::counted_message!(
+    ExplicitSchedule,
+    slots / slots_mut: [ExplicitSlot; MAX_SLOTS],
+    new {}
+);
+
 impl ExplicitSchedule {
-    pub const CAPACITY: usize = MAX_SLOTS;
-
-    /// Current protocol version, seq/stamp 0, no slots.
-    pub const fn new() -> Self {
-        Self {
-            protocol_version: PROTOCOL_VERSION,
-            count: 0,
-            seq: 0,
-            stamp_ns: 0,
-            slots: [ExplicitSlot::ZERO; MAX_SLOTS],
-        }
-    }
-
-    crate::used_entries::used_entries!(slots, slots_mut, ExplicitSlot, MAX_SLOTS);
-
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count).
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ExplicitScheduleError> {
-        check_header(
-            self.protocol_version,
-            Some((self.count, MAX_SLOTS)),
-            self.stamp_ns,
-            OldStamps::Reject,
-            limits,
-        )
-        .map_err(ExplicitScheduleError::Header)?;
+        self.check_counted_header(OldStamps::Reject, limits).map_err(ExplicitScheduleError::Header)?;
         if self.count == 0 {
             return Err(ExplicitScheduleError::Empty);
         }
@@ -147,11 +130,5 @@ impl ExplicitSchedule {
             }
         }
         Ok(())
-    }
-}
-
-impl Default for ExplicitSchedule {
-    fn default() -> Self {
-        Self::new()
     }
 }

@@ -1,12 +1,11 @@
 //! ForceRequest: planner → core, the average force (and optional curl) each
 //! part should feel during the next cycles.
 
-use crate::header::{HeaderError, OldStamps, check_header};
+use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use crate::PROTOCOL_VERSION;
 use crate::capacity::{CapacityError, MAX_CURLS, MAX_PARTS};
 use crate::reject_reason::RejectReason;
 use crate::validation::{ValidationLimits, first_non_finite, is_flag};
@@ -167,23 +166,14 @@ impl ForceRequestError {
     }
 }
 
+crate::counted_message::counted_message!(
+    ForceRequest,
+    entries / entries_mut: [ForceEntry; MAX_PARTS],
+    new { deadline_ns: 0 },
+    own_push
+);
+
 impl ForceRequest {
-    pub const CAPACITY: usize = MAX_PARTS;
-
-    /// Current protocol version, seq/stamp/deadline 0, no entries.
-    pub const fn new() -> Self {
-        Self {
-            protocol_version: PROTOCOL_VERSION,
-            count: 0,
-            seq: 0,
-            stamp_ns: 0,
-            deadline_ns: 0,
-            entries: [ForceEntry::ZERO; MAX_PARTS],
-        }
-    }
-
-    crate::used_entries::used_entries!(entries, entries_mut, ForceEntry, MAX_PARTS, own_push);
-
     /// Number of used entries whose `curl_flag` is 1.
     pub fn curl_count(&self) -> usize {
         self.entries().iter().filter(|e| e.curl_flag == 1).count()
@@ -206,14 +196,7 @@ impl ForceRequest {
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count²) for the duplicate-id check.
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ForceRequestError> {
-        check_header(
-            self.protocol_version,
-            Some((self.count, MAX_PARTS)),
-            self.stamp_ns,
-            OldStamps::Reject,
-            limits,
-        )
-        .map_err(ForceRequestError::Header)?;
+        self.check_counted_header(OldStamps::Reject, limits).map_err(ForceRequestError::Header)?;
         if self.deadline_ns < self.stamp_ns {
             return Err(ForceRequestError::DeadlineBeforeStamp {
                 deadline_ns: self.deadline_ns,
@@ -246,11 +229,5 @@ impl ForceRequest {
             }
         }
         Ok(())
-    }
-}
-
-impl Default for ForceRequest {
-    fn default() -> Self {
-        Self::new()
     }
 }

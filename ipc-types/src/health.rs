@@ -5,85 +5,29 @@
 
 use core::fmt;
 
-/// Which part of the core reports a problem.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum HealthSource {
-    Ok = 0,
-    MotorThread = 1,
-    SolverThread = 2,
-    ReceiverThread = 3,
-    Driver = 4,
-}
-
-/// What happened to it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum HealthCause {
-    None = 0,
-    /// The thread panicked (the detail names where).
-    Panicked = 1,
-    /// The thread ended while the core was not stopping.
-    Exited = 2,
-    /// The driver's read reported a hardware fault.
-    DriverReadFault = 3,
-    /// The driver's write reported a hardware fault.
-    DriverWriteFault = 4,
-}
-
-impl HealthSource {
-    pub const fn from_code(code: u32) -> Option<Self> {
-        Some(match code {
-            0 => Self::Ok,
-            1 => Self::MotorThread,
-            2 => Self::SolverThread,
-            3 => Self::ReceiverThread,
-            4 => Self::Driver,
-            _ => return None,
-        })
-    }
-
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::Ok => "ok",
-            Self::MotorThread => "motor_thread",
-            Self::SolverThread => "solver_thread",
-            Self::ReceiverThread => "receiver_thread",
-            Self::Driver => "driver",
-        }
+crate::wire_code::wire_code! {
+    /// Which part of the core reports a problem.
+    pub enum HealthSource {
+        Ok = 0 => "ok",
+        MotorThread = 1 => "motor_thread",
+        SolverThread = 2 => "solver_thread",
+        ReceiverThread = 3 => "receiver_thread",
+        Driver = 4 => "driver",
     }
 }
 
-impl HealthCause {
-    pub const fn from_code(code: u32) -> Option<Self> {
-        Some(match code {
-            0 => Self::None,
-            1 => Self::Panicked,
-            2 => Self::Exited,
-            3 => Self::DriverReadFault,
-            4 => Self::DriverWriteFault,
-            _ => return None,
-        })
-    }
-
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::None => "none",
-            Self::Panicked => "panicked",
-            Self::Exited => "exited",
-            Self::DriverReadFault => "driver_read_fault",
-            Self::DriverWriteFault => "driver_write_fault",
-        }
-    }
-}
-
-impl fmt::Display for HealthSource {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl fmt::Display for HealthCause {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
+crate::wire_code::wire_code! {
+    /// What happened to it.
+    pub enum HealthCause {
+        None = 0 => "none",
+        /// The thread panicked (the detail names where).
+        Panicked = 1 => "panicked",
+        /// The thread ended while the core was not stopping.
+        Exited = 2 => "exited",
+        /// The driver's read reported a hardware fault.
+        DriverReadFault = 3 => "driver_read_fault",
+        /// The driver's write reported a hardware fault.
+        DriverWriteFault = 4 => "driver_write_fault",
     }
 }
 

@@ -23,6 +23,7 @@ mod capacity;
 mod clock;
 mod core_command;
 mod core_state;
+mod counted_message;
 pub mod discovery;
 mod explicit_schedule;
 mod force_request;
@@ -38,8 +39,8 @@ pub mod rig_node;
 mod schedule;
 pub mod service_names;
 mod telemetry;
-mod used_entries;
 mod validation;
+mod wire_code;
 
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;

@@ -1,11 +1,10 @@
 //! PartStates: vision → core, the pose and velocity of every part seen.
 
-use crate::header::{HeaderError, OldStamps, check_header};
+use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use crate::PROTOCOL_VERSION;
 use crate::capacity::MAX_PARTS;
 use crate::reject_reason::RejectReason;
 use crate::validation::{ValidationLimits, first_non_finite};
@@ -138,33 +137,17 @@ impl PartStatesError {
     }
 }
 
+crate::counted_message::counted_message!(
+    PartStates,
+    parts / parts_mut: [PartState; MAX_PARTS],
+    new {}
+);
+
 impl PartStates {
-    pub const CAPACITY: usize = MAX_PARTS;
-
-    /// Current protocol version, seq 0, stamp 0, no parts.
-    pub const fn new() -> Self {
-        Self {
-            protocol_version: PROTOCOL_VERSION,
-            count: 0,
-            seq: 0,
-            stamp_ns: 0,
-            parts: [PartState::ZERO; MAX_PARTS],
-        }
-    }
-
-    crate::used_entries::used_entries!(parts, parts_mut, PartState, MAX_PARTS);
-
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count²) for the duplicate-id check (≤ 2016 compares).
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), PartStatesError> {
-        check_header(
-            self.protocol_version,
-            Some((self.count, MAX_PARTS)),
-            self.stamp_ns,
-            OldStamps::Reject,
-            limits,
-        )
-        .map_err(PartStatesError::Header)?;
+        self.check_counted_header(OldStamps::Reject, limits).map_err(PartStatesError::Header)?;
         let parts = self.parts();
         for (index, p) in parts.iter().enumerate() {
             let floats =
@@ -192,11 +175,5 @@ impl PartStates {
             }
         }
         Ok(())
-    }
-}
-
-impl Default for PartStates {
-    fn default() -> Self {
-        Self::new()
     }
 }

@@ -3,124 +3,57 @@
 //! an operator (or the sender) sees *why* messages are refused, not only
 //! how many.
 
-use core::fmt;
-
-/// Why an inbound message was rejected. The discriminant is the index into
-/// [`crate::Telemetry::rejected_by_reason`]; codes are never reused.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RejectReason {
-    WrongProtocolVersion = 0,
-    CountExceedsCapacity = 1,
-    /// A schedule with no slot.
-    Empty = 2,
-    StampFromFuture = 3,
-    /// Older than the configured maximum age (a zero stamp included).
-    Stale = 4,
-    /// Older than a message of the same kind already accepted.
-    OutOfOrder = 5,
-    /// Same `seq` and stamp as the newest accepted message of its kind.
-    Duplicate = 6,
-    NonFinite = 7,
-    OffPlate = 8,
-    UnknownClass = 9,
-    DuplicateId = 10,
-    NotAFlag = 11,
-    ConstrainsNothing = 12,
-    TooManyCurls = 13,
-    DeadlineBeforeStamp = 14,
-    UnknownCenter = 15,
-    KOutOfRange = 16,
-    /// A request before any valid part states.
-    NoPartStates = 17,
-    /// A request names a part the newest part states do not contain.
-    UnknownPart = 18,
-    /// The solver refused the problem (out of its numeric range).
-    Unsolvable = 19,
-    /// The schedule cannot be played within the motion limits.
-    MotionLimits = 20,
-    /// The motion would exceed an actuator limit.
-    ActuatorLimits = 21,
-    /// The core's inbound ring was full (the solver fell behind a flood).
-    Overflow = 22,
-    /// iceoryx2 failed to deliver a sample.
-    ReceiveError = 23,
-    /// A core command with an unknown code.
-    UnknownCommand = 24,
+crate::wire_code::wire_code! {
+    /// Why an inbound message was rejected. The discriminant is the index into
+    /// [`crate::Telemetry::rejected_by_reason`]; codes are never reused.
+    pub enum RejectReason {
+        WrongProtocolVersion = 0 => "wrong_protocol_version",
+        CountExceedsCapacity = 1 => "count_exceeds_capacity",
+        /// A schedule with no slot.
+        Empty = 2 => "empty",
+        StampFromFuture = 3 => "stamp_from_future",
+        /// Older than the configured maximum age (a zero stamp included).
+        Stale = 4 => "stale",
+        /// Older than a message of the same kind already accepted.
+        OutOfOrder = 5 => "out_of_order",
+        /// Same `seq` and stamp as the newest accepted message of its kind.
+        Duplicate = 6 => "duplicate",
+        NonFinite = 7 => "non_finite",
+        OffPlate = 8 => "off_plate",
+        UnknownClass = 9 => "unknown_class",
+        DuplicateId = 10 => "duplicate_id",
+        NotAFlag = 11 => "not_a_flag",
+        ConstrainsNothing = 12 => "constrains_nothing",
+        TooManyCurls = 13 => "too_many_curls",
+        DeadlineBeforeStamp = 14 => "deadline_before_stamp",
+        UnknownCenter = 15 => "unknown_center",
+        KOutOfRange = 16 => "k_out_of_range",
+        /// A request before any valid part states.
+        NoPartStates = 17 => "no_part_states",
+        /// A request names a part the newest part states do not contain.
+        UnknownPart = 18 => "unknown_part",
+        /// The solver refused the problem (out of its numeric range).
+        Unsolvable = 19 => "unsolvable",
+        /// The schedule cannot be played within the motion limits.
+        MotionLimits = 20 => "motion_limits",
+        /// The motion would exceed an actuator limit.
+        ActuatorLimits = 21 => "actuator_limits",
+        /// The core's inbound ring was full (the solver fell behind a flood).
+        Overflow = 22 => "overflow",
+        /// iceoryx2 failed to deliver a sample.
+        ReceiveError = 23 => "receive_error",
+        /// A core command with an unknown code.
+        UnknownCommand = 24 => "unknown_command",
+    }
 }
 
 /// Length of [`crate::Telemetry::rejected_by_reason`] (room to grow).
 pub const REJECT_REASONS: usize = 32;
 
 impl RejectReason {
-    /// Every reason, in code order.
-    pub const ALL: [Self; 25] = [
-        Self::WrongProtocolVersion,
-        Self::CountExceedsCapacity,
-        Self::Empty,
-        Self::StampFromFuture,
-        Self::Stale,
-        Self::OutOfOrder,
-        Self::Duplicate,
-        Self::NonFinite,
-        Self::OffPlate,
-        Self::UnknownClass,
-        Self::DuplicateId,
-        Self::NotAFlag,
-        Self::ConstrainsNothing,
-        Self::TooManyCurls,
-        Self::DeadlineBeforeStamp,
-        Self::UnknownCenter,
-        Self::KOutOfRange,
-        Self::NoPartStates,
-        Self::UnknownPart,
-        Self::Unsolvable,
-        Self::MotionLimits,
-        Self::ActuatorLimits,
-        Self::Overflow,
-        Self::ReceiveError,
-        Self::UnknownCommand,
-    ];
-
     /// Index into the per-reason counters.
     pub const fn index(self) -> usize {
         self as usize
-    }
-
-    /// The name `upm status --json` uses.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::WrongProtocolVersion => "wrong_protocol_version",
-            Self::CountExceedsCapacity => "count_exceeds_capacity",
-            Self::Empty => "empty",
-            Self::StampFromFuture => "stamp_from_future",
-            Self::Stale => "stale",
-            Self::OutOfOrder => "out_of_order",
-            Self::Duplicate => "duplicate",
-            Self::NonFinite => "non_finite",
-            Self::OffPlate => "off_plate",
-            Self::UnknownClass => "unknown_class",
-            Self::DuplicateId => "duplicate_id",
-            Self::NotAFlag => "not_a_flag",
-            Self::ConstrainsNothing => "constrains_nothing",
-            Self::TooManyCurls => "too_many_curls",
-            Self::DeadlineBeforeStamp => "deadline_before_stamp",
-            Self::UnknownCenter => "unknown_center",
-            Self::KOutOfRange => "k_out_of_range",
-            Self::NoPartStates => "no_part_states",
-            Self::UnknownPart => "unknown_part",
-            Self::Unsolvable => "unsolvable",
-            Self::MotionLimits => "motion_limits",
-            Self::ActuatorLimits => "actuator_limits",
-            Self::Overflow => "overflow",
-            Self::ReceiveError => "receive_error",
-            Self::UnknownCommand => "unknown_command",
-        }
-    }
-}
-
-impl fmt::Display for RejectReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
     }
 }
 

@@ -11,38 +11,18 @@ use crate::PROTOCOL_VERSION;
 use crate::health::{HEALTH_DETAIL_BYTES, detail_str};
 use crate::reject_reason::RejectReason;
 
-/// Which kind of message a [`Rejection`] answers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RejectedKind {
-    PartStates = 0,
-    ForceRequest = 1,
-    ExplicitSchedule = 2,
-    CoreCommand = 3,
+crate::wire_code::wire_code! {
+    /// Which kind of message a [`Rejection`] answers; its name is the
+    /// message's service without `upm/`.
+    pub enum RejectedKind {
+        PartStates = 0 => "part_states",
+        ForceRequest = 1 => "force_request",
+        ExplicitSchedule = 2 => "explicit_schedule",
+        CoreCommand = 3 => "core_command",
+    }
 }
 
 impl RejectedKind {
-    pub const ALL: [Self; 4] =
-        [Self::PartStates, Self::ForceRequest, Self::ExplicitSchedule, Self::CoreCommand];
-
-    pub const fn code(self) -> u32 {
-        self as u32
-    }
-
-    pub const fn from_code(code: u32) -> Option<Self> {
-        match code {
-            0 => Some(Self::PartStates),
-            1 => Some(Self::ForceRequest),
-            2 => Some(Self::ExplicitSchedule),
-            3 => Some(Self::CoreCommand),
-            _ => None,
-        }
-    }
-
-    /// The message's name on the wire and in docs (`force_request`).
-    pub fn name(self) -> &'static str {
-        self.service().trim_start_matches("upm/")
-    }
-
     /// The service the rejected message came on.
     pub const fn service(self) -> &'static str {
         match self {
@@ -121,8 +101,20 @@ impl Rejection {
 impl fmt::Display for Rejection {
     /// `force_request seq 42 rejected: wrong_protocol_version (force_request.protocol_version is 1, expected 2)`
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let kind = self.kind().map_or("unknown", RejectedKind::name);
+        let kind = self.kind().map_or("unknown", RejectedKind::as_str);
         let reason = self.reason().map_or("unknown", RejectReason::as_str);
         write!(f, "{kind} seq {} rejected: {reason} ({})", self.seq, self.detail_str())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kind_is_named_after_its_service() {
+        for k in RejectedKind::ALL {
+            assert_eq!(k.service(), format!("upm/{}", k.as_str()));
+        }
     }
 }

@@ -1,11 +1,10 @@
 //! Schedule: core → all, the closed plate motion the core plays next.
 
-use crate::header::{HeaderError, OldStamps, check_header};
+use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use crate::PROTOCOL_VERSION;
 use crate::capacity::MAX_SLOTS;
 use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag};
 
@@ -118,28 +117,13 @@ impl fmt::Display for ScheduleError {
 
 impl core::error::Error for ScheduleError {}
 
+crate::counted_message::counted_message!(
+    Schedule,
+    slots / slots_mut: [ScheduleSlot; MAX_SLOTS],
+    new { cycle: 0, solve_time_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0 }
+);
+
 impl Schedule {
-    pub const CAPACITY: usize = MAX_SLOTS;
-
-    /// Current protocol version, everything else 0 (condition 1), no slots.
-    pub const fn new() -> Self {
-        Self {
-            protocol_version: PROTOCOL_VERSION,
-            count: 0,
-            seq: 0,
-            stamp_ns: 0,
-            cycle: 0,
-            solve_time_ns: 0,
-            residual: 0.0,
-            condition: 1.0,
-            rank: 0,
-            saturated: 0,
-            slots: [ScheduleSlot::ZERO; MAX_SLOTS],
-        }
-    }
-
-    crate::used_entries::used_entries!(slots, slots_mut, ScheduleSlot, MAX_SLOTS);
-
     /// True only if `saturated` is exactly 1.
     pub const fn is_saturated(&self) -> bool {
         self.saturated == 1
@@ -148,14 +132,7 @@ impl Schedule {
     /// Check the whole message; the first problem found is returned.
     /// Allocation-free, O(count).
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), ScheduleError> {
-        check_header(
-            self.protocol_version,
-            Some((self.count, MAX_SLOTS)),
-            self.stamp_ns,
-            OldStamps::Accept,
-            limits,
-        )
-        .map_err(ScheduleError::Header)?;
+        self.check_counted_header(OldStamps::Accept, limits).map_err(ScheduleError::Header)?;
         if !(self.residual.is_finite() && self.residual >= 0.0) {
             return Err(ScheduleError::InvalidResidual);
         }
@@ -180,11 +157,5 @@ impl Schedule {
             }
         }
         Ok(())
-    }
-}
-
-impl Default for Schedule {
-    fn default() -> Self {
-        Self::new()
     }
 }

@@ -186,7 +186,7 @@ impl Telemetry {
     pub const fn new() -> Self {
         Self {
             protocol_version: PROTOCOL_VERSION,
-            state: CoreState::IDLE_CODE,
+            state: CoreState::Idle.code(),
             seq: 0,
             stamp_ns: 0,
             cycle: 0,

@@ -109,7 +109,7 @@ fn services_settings_version_and_reject_codes_match() {
     let kinds: Vec<String> = RejectedKind::ALL
         .iter()
         .map(|k| {
-            let name = k.name();
+            let name = k.as_str();
             let camel: String = name.split('_').map(|w| w[..1].to_uppercase() + &w[1..]).collect();
             format!("{} `{camel}`", k.code())
         })

@@ -71,7 +71,7 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("INBOX_MAX_LISTENERS", ipc_types::inbox_event::MAX_LISTENERS.to_string()),
         (
             "REJECTED_KINDS",
-            ipc_types::RejectedKind::ALL.iter().map(|k| k.name()).collect::<Vec<_>>().join(","),
+            ipc_types::RejectedKind::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(","),
         ),
         (
             "REJECT_REASONS",

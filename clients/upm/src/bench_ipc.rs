@@ -312,16 +312,12 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
 pub fn to_text(v: &Value) -> String {
     let row = summary_row;
     format!(
-        "{}\nPM QoS held: upm {}, raw {}\none-way PartStates latency (µs), payload {} B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (futex wake):\n{}",
+        "{}\nPM QoS held: upm {}, raw {}\none-way PartStates latency (µs), payload {} B\n{}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (futex wake):\n{}",
         crate::host_facts::to_text(&v["host"]),
         v["pm_qos"]["upm"],
         v["pm_qos"]["raw_iceoryx2"],
         v["payload_bytes"],
-        "",
-        "p50",
-        "p99",
-        "p99.9",
-        "max",
+        crate::bench_latency::summary_header(),
         row("upm, event", &v["upm_event"]),
         row("raw iceoryx2, event", &v["raw_iceoryx2_event"]),
         row("  round trip / 2", &v["raw_iceoryx2_event_half_round_trip"]),

@@ -307,6 +307,11 @@ pub fn run_with_plot(
     Ok(v)
 }
 
+/// The head of a table of [`summary_row`]s.
+pub fn summary_header() -> String {
+    format!("{:<22} {:>9} {:>9} {:>9} {:>9}", "", "p50", "p99", "p99.9", "max")
+}
+
 /// One table row of a [`Summary`] in JSON form.
 pub fn summary_row(name: &str, s: &Value) -> String {
     format!(
@@ -321,17 +326,13 @@ pub fn summary_row(name: &str, s: &Value) -> String {
 /// Human-readable table.
 pub fn to_text(v: &Value) -> String {
     let mut text = format!(
-        "{}\nPM QoS held: upm {}, cyclictest {}\nmotor wake-up latency (µs), interval {} µs, {} rounds A/B\n{:<22} {:>9} {:>9} {:>9} {:>9}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
+        "{}\nPM QoS held: upm {}, cyclictest {}\nmotor wake-up latency (µs), interval {} µs, {} rounds A/B\n{}\n{}\n{}\nratio p99 {:.2}, p99.9 {:.2}",
         crate::host_facts::to_text(&v["host"]),
         v["pm_qos"]["upm"],
         v["pm_qos"]["cyclictest"],
         v["interval_us"],
         v["rounds"],
-        "",
-        "p50",
-        "p99",
-        "p99.9",
-        "max",
+        summary_header(),
         summary_row("upm", &v["upm"]),
         summary_row("cyclictest", &v["cyclictest"]),
         v["ratio_p99"].as_f64().unwrap_or(f64::NAN),

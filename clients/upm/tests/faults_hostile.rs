@@ -4,27 +4,19 @@
 
 mod common;
 
-use std::process::{Child, Command};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use ipc_types::{
     ForceEntry, ForceRequest, PROTOCOL_VERSION, PartState, PartStates, monotonic_now_ns, service_names,
 };
 use upm_cli::status::read_telemetry;
-
-struct Core(Child);
-impl Drop for Core {
-    fn drop(&mut self) {
-        // SAFETY: kill(2) on our own child.
-        unsafe { libc::kill(self.0.id() as libc::pid_t, libc::SIGINT) };
-        let _ = self.0.wait();
-    }
-}
+use upm_test_harness::Running;
 
 #[test]
 fn hostile_messages_are_rejected_counted_and_the_core_survives() {
     let prefix = common::unique_prefix("hostile");
-    let core = Core(
+    let core = Running(
         Command::new(env!("CARGO_BIN_EXE_upm-core"))
             .args(["--prefix", &prefix, "--duration", "60"])
             .spawn()

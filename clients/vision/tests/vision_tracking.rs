@@ -3,17 +3,12 @@
 //! plays the core's part (it publishes the ground truth), so vision is
 //! tested through its services alone.
 
-use std::process::{Child, Command};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
-use iceoryx2::prelude::*;
 use ipc_types::{PartState, PartStates, service_names};
+use upm_test_harness::{Running, TestRig};
 use upm_vision::{Detection, Tracker, TrackerParams};
-
-/// A service prefix no other test or rig uses.
-fn unique_prefix(tag: &str) -> String {
-    ipc_types::rig_node::unique_prefix(&format!("upmt_{tag}"))
-}
 
 #[test]
 fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
@@ -51,65 +46,35 @@ fn tracker_drops_lost_tracks_and_starts_new_ones() {
     assert_eq!(t.tracks()[0].id, 2);
 }
 
-struct Proc(Child);
-impl Drop for Proc {
-    fn drop(&mut self) {
-        // SAFETY: plain kill(2) on our own child.
-        unsafe { libc::kill(self.0.id() as libc::pid_t, libc::SIGINT) };
-        let _ = self.0.wait();
-    }
-}
-
 #[test]
 fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
-    let prefix = unique_prefix("vision");
-    let dir = std::env::temp_dir().join(format!("{prefix}cfg"));
-    std::fs::create_dir_all(&dir).expect("dir");
-    let cfg = dir.join("rig.toml");
     // Sections vision does not read (here [sim]) are left to other processes.
-    std::fs::write(
-        &cfg,
+    let rig = TestRig::new("vision", |prefix| {
         format!(
             "[service]\nprefix = \"{prefix}\"\n[vision]\nframe_hz = 50.0\nlatency_ms = 5.0\n[sim]\nseed = 3\n"
-        ),
-    )
-    .expect("config");
-    let node = NodeBuilder::new()
-        .config(&ipc_types::ports::config_with_prefix(&prefix).expect("prefix"))
-        .signal_handling_mode(SignalHandlingMode::Disabled)
-        .create::<ipc::Service>()
-        .expect("node");
-    let truth =
-        ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH).expect("publisher");
-    let sub =
-        ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES).expect("subscriber");
-    let vision = Proc(
+        )
+    });
+    let truth = ipc_types::ports::publisher::<PartStates>(rig.node(), service_names::SIM_GROUND_TRUTH)
+        .expect("publisher");
+    let sub = ipc_types::ports::subscriber::<PartStates>(rig.node(), service_names::PART_STATES)
+        .expect("subscriber");
+    let _vision = Running(
         Command::new(env!("CARGO_BIN_EXE_upm-vision"))
             .arg("--config")
-            .arg(&cfg)
+            .arg(&rig.config)
             .args(["--duration", "60"])
             .spawn()
             .expect("vision"),
     );
     let truth_parts = [(1, 0, [0.5, 0.0]), (2, 1, [-0.75, 0.25])];
-    let start = Instant::now();
-    let mut frames = Vec::new();
-    while frames.len() < 20 && start.elapsed() < Duration::from_secs(30) {
+    let frames = TestRig::exchange(&sub, 20, Duration::from_secs(30), Duration::from_millis(1), || {
         let mut m = PartStates::new();
         m.stamp_ns = ipc_types::monotonic_now_ns();
         for (id, class, [x, y]) in truth_parts {
             m.push(PartState::new(id, class, 0, [x, y, 0.0], [0.0; 3])).expect("capacity");
         }
         truth.send_copy(m).expect("truth");
-        while let Some(s) = sub.receive().expect("receive") {
-            frames.push(*s.payload());
-        }
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    drop(vision);
-    drop((truth, sub, node));
-    ipc_types::rig_node::remove_prefix_segment(&prefix);
-    let _ = std::fs::remove_dir_all(&dir);
+    });
     assert!(frames.len() >= 20, "got {} frames", frames.len());
     let last = frames.last().expect("frame");
     assert_eq!(last.len(), 2);
@@ -125,19 +90,17 @@ fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
 
 #[test]
 fn a_bad_vision_section_is_one_line_naming_the_field() {
-    let dir = std::env::temp_dir().join(unique_prefix("visioncfg"));
-    std::fs::create_dir_all(&dir).expect("dir");
+    let rig = TestRig::new("visioncfg", |_| String::new());
     for (text, expect) in [
         ("[vision]\nframe_hz = \"fast\"\n", "vision.frame_hz: invalid type"),
         ("[vision]\nframe_hz = 0.0\n", "vision.frame_hz must be in (0, 1000]"),
         ("[vision]\nnoise = 1.0\n", "unknown field `noise`"),
         ("[service]\nprefix = \"a b\"\n", "service.prefix \"a b\" must be"),
     ] {
-        let cfg = dir.join("rig.toml");
-        std::fs::write(&cfg, text).expect("config");
+        std::fs::write(&rig.config, text).expect("config");
         let out = Command::new(env!("CARGO_BIN_EXE_upm-vision"))
             .arg("--config")
-            .arg(&cfg)
+            .arg(&rig.config)
             .args(["--duration", "1"])
             .output()
             .expect("vision");
@@ -146,5 +109,4 @@ fn a_bad_vision_section_is_one_line_naming_the_field() {
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(err.contains(expect), "{text}: {err}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -216,12 +216,7 @@ mod tests {
     /// the scalar routine, bit for bit; unused lanes never move.
     #[test]
     fn groups_match_discs_stepped_one_by_one() {
-        let pl = PlateNow {
-            x: 1e-4,
-            y: -2e-4,
-            vel: Twist { x: 0.05, y: -0.02, theta: 0.3 },
-            acc: Twist { x: 30.0, y: -12.0, theta: 80.0 },
-        };
+        let pl = PlateNow::SHAKING;
         let n = 6;
         let radius: Vec<f64> = (0..n).map(|i| 0.01 + 0.01 * i as f64).collect();
         let bodies: Vec<Body> = radius.iter().map(|&r| disc(r)).collect();

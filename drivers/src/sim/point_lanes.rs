@@ -19,6 +19,18 @@ pub(crate) struct PlateNow {
     pub acc: Twist,
 }
 
+#[cfg(test)]
+impl PlateNow {
+    /// A plate off its origin, moving and accelerating on every axis, hard
+    /// enough that parts slide: the lanes' tests step parts against it.
+    pub const SHAKING: Self = Self {
+        x: 1e-4,
+        y: -2e-4,
+        vel: Twist { x: 0.05, y: -0.02, theta: 0.3 },
+        acc: Twist { x: 30.0, y: -12.0, theta: 80.0 },
+    };
+}
+
 /// (a, ξ) of one point part at `pos` moving at `v`: the plate's
 /// acceleration along the part's path and plate − part velocity at the part
 /// (the inputs of `step_point`).
@@ -330,12 +342,7 @@ mod tests {
     /// bit for bit; the unused lane never moves.
     #[test]
     fn groups_match_lanes_stepped_one_by_one() {
-        let pl = PlateNow {
-            x: 1e-4,
-            y: -2e-4,
-            vel: Twist { x: 0.05, y: -0.02, theta: 0.3 },
-            acc: Twist { x: 30.0, y: -12.0, theta: 80.0 },
-        };
+        let pl = PlateNow::SHAKING;
         let parts: Vec<PartState> = (0..7)
             .map(|i| PartState {
                 position: [0.1 * i as f64 - 0.3, 0.05 * i as f64],
