@@ -27,6 +27,7 @@
 #define UPM_SERVICE_TELEMETRY "upm/telemetry"
 #define UPM_SERVICE_REJECTION "upm/rejection"
 #define UPM_SERVICE_SIM_GROUND_TRUTH "upm/sim/ground_truth"
+#define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
 /* iceoryx2 type name "upm::PartState.v2", 64 bytes, align 8 */
@@ -226,6 +227,31 @@ UPM_STATIC_ASSERT(offsetof(upm_Rejection, stamp_ns) == 24, "upm_Rejection.stamp_
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 32, "upm_Rejection.reason offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 36, "upm_Rejection.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 40, "upm_Rejection.detail offset");
+
+/* iceoryx2 type name "upm::FrameHeader.v2", 48 bytes, align 8 */
+#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v2"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t pixel_format;
+    uint32_t width;
+    uint32_t height;
+    uint32_t stride;
+    uint32_t reserved;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint64_t exposure_ns;
+} upm_FrameHeader;
+UPM_STATIC_ASSERT(sizeof(upm_FrameHeader) == 48, "upm_FrameHeader size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_FrameHeader) == 8, "upm_FrameHeader align");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, protocol_version) == 0, "upm_FrameHeader.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, pixel_format) == 4, "upm_FrameHeader.pixel_format offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, width) == 8, "upm_FrameHeader.width offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, height) == 12, "upm_FrameHeader.height offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stride) == 16, "upm_FrameHeader.stride offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, reserved) == 20, "upm_FrameHeader.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, seq) == 24, "upm_FrameHeader.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stamp_ns) == 32, "upm_FrameHeader.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, exposure_ns) == 40, "upm_FrameHeader.exposure_ns offset");
 
 /* iceoryx2 type name "upm::CoreCounters.v2", 96 bytes, align 8 */
 #define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v2"

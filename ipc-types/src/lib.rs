@@ -19,6 +19,7 @@
 
 #![deny(unsafe_code)]
 
+mod camera_frame;
 mod capacity;
 mod clock;
 mod core_command;
@@ -42,6 +43,7 @@ mod telemetry;
 mod validation;
 mod wire_code;
 
+pub use camera_frame::{FrameError, FrameHeader};
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;
 pub use core_command::{CoreCommand, CoreCommandError};

@@ -235,3 +235,49 @@ pub fn config_with_prefix(prefix: &str) -> Result<Config, OpenServiceError> {
     config.global.prefix = FileName::new(prefix.as_bytes()).map_err(|_| OpenServiceError::InvalidName)?;
     Ok(config)
 }
+
+/// Subscribers of camera frames (vision, a recorder, a viewer, …).
+pub const FRAME_SUBSCRIBERS: usize = 4;
+/// Frames a slow subscriber keeps: the newest two (each may be megabytes).
+pub const FRAME_BUFFER: usize = 2;
+
+/// A publisher of camera frames: [`crate::FrameHeader`] and the pixels.
+pub type FramePub = Publisher<ipc::Service, [u8], crate::FrameHeader>;
+/// A subscriber of camera frames.
+pub type FrameSub = Subscriber<ipc::Service, [u8], crate::FrameHeader>;
+
+fn open_frames(
+    node: &Node<ipc::Service>,
+) -> Result<PortFactory<ipc::Service, [u8], crate::FrameHeader>, PortError> {
+    let service = crate::service_names::CAMERA_FRAME;
+    let name = ServiceName::new(service)
+        .map_err(|_| PortError::Service { service, error: OpenServiceError::InvalidName })?;
+    node.service_builder(&name)
+        .publish_subscribe::<[u8]>()
+        .user_header::<crate::FrameHeader>()
+        .max_publishers(MAX_PUBLISHERS)
+        .max_subscribers(FRAME_SUBSCRIBERS)
+        .subscriber_max_buffer_size(FRAME_BUFFER)
+        .history_size(0)
+        .enable_safe_overflow(true)
+        .max_nodes(MAX_NODES)
+        .open_or_create()
+        .map_err(|error| PortError::Service { service, error: OpenServiceError::OpenOrCreate(error) })
+}
+
+/// A publisher of frames up to `max_bytes` of pixels each (the memory is
+/// set aside at creation; a larger loan fails).
+pub fn frame_publisher(node: &Node<ipc::Service>, max_bytes: usize) -> Result<FramePub, PortError> {
+    let service = crate::service_names::CAMERA_FRAME;
+    open_frames(node)?
+        .publisher_builder()
+        .initial_max_slice_len(max_bytes)
+        .create()
+        .map_err(|error| PortError::Publisher { service, error })
+}
+
+/// A subscriber of camera frames.
+pub fn frame_subscriber(node: &Node<ipc::Service>) -> Result<FrameSub, PortError> {
+    let service = crate::service_names::CAMERA_FRAME;
+    open_frames(node)?.subscriber_builder().create().map_err(|error| PortError::Subscriber { service, error })
+}

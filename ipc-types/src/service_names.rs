@@ -28,8 +28,12 @@ pub const INBOX_EVENT: &str = "upm/inbox";
 /// simulated camera. Only published when the driver is a simulator.
 pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 
+/// Camera frames ([`crate::FrameHeader`] user header, `[u8]` pixels), frame
+/// source → vision.
+pub const CAMERA_FRAME: &str = "upm/camera/frame";
+
 /// Every name above, e.g. for tools that list or clean up a rig.
-pub const ALL: [&str; 8] = [
+pub const ALL: [&str; 9] = [
     PART_STATES,
     FORCE_REQUEST,
     EXPLICIT_SCHEDULE,
@@ -38,4 +42,5 @@ pub const ALL: [&str; 8] = [
     TELEMETRY,
     REJECTION,
     SIM_GROUND_TRUTH,
+    CAMERA_FRAME,
 ];

@@ -7,8 +7,8 @@ mod wire_layout;
 
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, RejectReason, RejectedKind,
-    Rejection, Schedule, Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PROTOCOL_VERSION, PartStates, RejectReason,
+    RejectedKind, Rejection, Schedule, Telemetry, service_names,
 };
 
 fn doc() -> String {
@@ -78,7 +78,27 @@ fn services_settings_version_and_reject_codes_match() {
     .map(|(s, t)| (s.to_string(), t.to_string()))
     .collect();
     assert_eq!(services, expected, "the services table");
-    assert_eq!(services.len(), service_names::ALL.len(), "every service is documented");
+    let frames: Vec<(String, String)> =
+        table_after(&doc, "| frame service |").into_iter().map(|r| (r[0].clone(), r[1].clone())).collect();
+    let expected_frames =
+        vec![(service_names::CAMERA_FRAME.to_owned(), type_name::<FrameHeader>().to_owned())];
+    assert_eq!(frames, expected_frames, "the frame services table");
+    assert_eq!(services.len() + frames.len(), service_names::ALL.len(), "every service is documented");
+    use ipc_types::ports::{FRAME_BUFFER, FRAME_SUBSCRIBERS};
+    let frame_settings: Vec<(String, String)> =
+        table_after(&doc, "| frame setting |").iter().map(|r| (r[0].clone(), r[1].clone())).collect();
+    let expected_frame_settings: Vec<(String, String)> = [
+        ("max_publishers", ipc_types::ports::MAX_PUBLISHERS.to_string()),
+        ("max_subscribers", FRAME_SUBSCRIBERS.to_string()),
+        ("subscriber_max_buffer_size", FRAME_BUFFER.to_string()),
+        ("history_size", "0".to_owned()),
+        ("enable_safe_overflow", "true".to_owned()),
+        ("max_nodes", ipc_types::ports::MAX_NODES.to_string()),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), v.clone()))
+    .collect();
+    assert_eq!(frame_settings, expected_frame_settings, "the frame service settings table");
 
     use ipc_types::ports::{HISTORY, MAX_NODES, MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER};
     let settings = table_after(&doc, "| setting |");

@@ -17,15 +17,15 @@ fn python_layout() -> BTreeMap<String, String> {
 import ctypes, importlib.util, sys
 spec = importlib.util.spec_from_file_location("messages", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
-for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection):
+for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader):
     print(f"{s.__name__}.size {ctypes.sizeof(s)}")
     print(f"{s.__name__}.align {ctypes.alignment(s)}")
     print(f"{s.__name__}.type_name {s.type_name()}")
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "INBOX_EVENT",
-          "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS"):
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "CAMERA_FRAME", "INBOX_EVENT",
+          "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER"):
     print(f"{c} {getattr(m, c)}")
 print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
 print("REJECT_REASONS " + ",".join(m.REJECT_REASONS))
@@ -40,8 +40,16 @@ print("REJECT_REASONS " + ",".join(m.REJECT_REASONS))
 
 #[test]
 fn python_messages_match_the_rust_types_field_by_field() {
-    let mirrored =
-        ["PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule", "Rejection"];
+    let mirrored = [
+        "PartState",
+        "PartStates",
+        "ForceEntry",
+        "ForceRequest",
+        "ScheduleSlot",
+        "Schedule",
+        "Rejection",
+        "FrameHeader",
+    ];
     let mut rust = BTreeMap::new();
     for l in wire_layout::all().into_iter().filter(|l| mirrored.contains(&l.rust)) {
         rust.insert(format!("{}.size", l.rust), l.size.to_string());
@@ -62,7 +70,10 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("SCHEDULE", service_names::SCHEDULE.to_owned()),
         ("TELEMETRY", service_names::TELEMETRY.to_owned()),
         ("REJECTION", service_names::REJECTION.to_owned()),
+        ("CAMERA_FRAME", service_names::CAMERA_FRAME.to_owned()),
         ("INBOX_EVENT", service_names::INBOX_EVENT.to_owned()),
+        ("FRAME_SUBSCRIBERS", ipc_types::ports::FRAME_SUBSCRIBERS.to_string()),
+        ("FRAME_BUFFER", ipc_types::ports::FRAME_BUFFER.to_string()),
         ("MAX_PUBLISHERS", ipc_types::ports::MAX_PUBLISHERS.to_string()),
         ("MAX_SUBSCRIBERS", ipc_types::ports::MAX_SUBSCRIBERS.to_string()),
         ("SUBSCRIBER_BUFFER", ipc_types::ports::SUBSCRIBER_BUFFER.to_string()),

@@ -22,6 +22,7 @@ FORCE_REQUEST = "upm/force_request"
 SCHEDULE = "upm/schedule"
 TELEMETRY = "upm/telemetry"
 REJECTION = "upm/rejection"
+CAMERA_FRAME = "upm/camera/frame"  # [u8] pixels, FrameHeader user header
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
 
 # ipc-types/src/ports.rs (open_pub_sub)
@@ -30,6 +31,9 @@ MAX_SUBSCRIBERS = 16
 SUBSCRIBER_BUFFER = 8
 HISTORY = 1
 MAX_NODES = 32
+# ipc-types/src/ports.rs (frame_publisher / frame_subscriber): history 0
+FRAME_SUBSCRIBERS = 4
+FRAME_BUFFER = 2
 # ipc-types/src/inbox_event.rs: max_notifiers = MAX_SUBSCRIBERS, 2 listeners;
 # clients call notify() with the notifier's default event id, EventId 0.
 INBOX_MAX_LISTENERS = 2
@@ -191,6 +195,26 @@ class Rejection(ctypes.Structure):
         reason = REJECT_REASONS[self.reason] if self.reason < len(REJECT_REASONS) else "unknown"
         text = bytes(self.detail).split(b"\0", 1)[0].decode("utf-8", "replace")
         return f"{kind} seq {self.seq} rejected: {reason} ({text})"
+
+
+class FrameHeader(ctypes.Structure):
+    """Frame source -> vision: the user header of one camera frame; the
+    payload is stride * height bytes of mono8 pixels."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("pixel_format", ctypes.c_uint32),
+        ("width", ctypes.c_uint32),
+        ("height", ctypes.c_uint32),
+        ("stride", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("exposure_ns", ctypes.c_uint64),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::FrameHeader.v2"
 
 
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.

@@ -6,7 +6,7 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
     CoreCommand, CoreCounters, CoreLatencies, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest,
-    LatencyPercentiles, PartState, PartStates, Rejection, Schedule, ScheduleSlot, Telemetry,
+    FrameHeader, LatencyPercentiles, PartState, PartStates, Rejection, Schedule, ScheduleSlot, Telemetry,
 };
 
 /// One field: where it is, how wide, and its Rust type (paths dropped).
@@ -99,6 +99,17 @@ pub fn all() -> Vec<Layout> {
             reason,
             reserved,
             detail
+        }),
+        layout!(FrameHeader {
+            protocol_version,
+            pixel_format,
+            width,
+            height,
+            stride,
+            reserved,
+            seq,
+            stamp_ns,
+            exposure_ns
         }),
         layout!(Telemetry {
             protocol_version,
