@@ -7,8 +7,11 @@
 //! PartStates.
 
 pub mod args;
+pub mod blobs;
 pub mod camera;
 pub mod config;
+pub mod detect;
+pub mod lens;
 pub mod run;
 pub mod tracker;
 

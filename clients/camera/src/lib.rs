@@ -1,0 +1,8 @@
+//! `upm-camera`: frame sources. Each publishes camera frames
+//! ([`ipc_types::FrameHeader`] over `[u8]` pixels on `upm/camera/frame`)
+//! for `upm-vision`. The rendered camera may read the simulator's ground
+//! truth; vision never does when it works from frames.
+
+pub mod render;
+
+pub use render::{ClassLook, Renderer, Scene};

@@ -1,0 +1,402 @@
+//! Dark blobs on a bright plate, in one pass over a mono8 frame, into
+//! buffers sized at start-up.
+//!
+//! 1. **Background model.** The plate's brightness under uneven light:
+//!    per 64 × 64 tile, a high percentile of the plate's pixels (parts
+//!    cover a small share of a tile, so the percentile is the plate), then
+//!    bilinear between tile centres.
+//! 2. **Threshold** relative to that background (`threshold` × local
+//!    plate brightness), only inside the plate's outline as the
+//!    calibration sees it (the region of interest, one span per row).
+//! 3. **Labelling** of dark runs with union-find (8-connected), and the
+//!    **moments** of each blob (area, centroid, second central moments,
+//!    mean brightness relative to the plate) summed per run in closed form.
+//!
+//! Written by hand because the crates at hand (imageproc's
+//! `connected_components`) return a freshly allocated label image per
+//! call and no moments; here a frame allocates nothing.
+
+use crate::lens::CameraModel;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentParams {
+    /// A pixel is dark when below `threshold` × the local plate brightness.
+    pub threshold: f64,
+    /// Background tile side, px.
+    pub tile: usize,
+    /// Percentile of a tile's plate pixels taken as its background.
+    pub percentile: f64,
+    /// Runs a frame may hold; more (a frame of noise) skips the frame.
+    pub max_runs: usize,
+}
+
+impl Default for SegmentParams {
+    fn default() -> Self {
+        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17 }
+    }
+}
+
+/// One dark blob: pixel moments and how it sits.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Blob {
+    pub area: f64,
+    /// Centroid, px.
+    pub u: f64,
+    pub v: f64,
+    /// Second central moments, px².
+    pub mu20: f64,
+    pub mu02: f64,
+    pub mu11: f64,
+    /// Mean brightness of its pixels relative to the local plate.
+    pub ratio: f64,
+    /// Touches the region of interest's edge (cut by it, not whole).
+    pub cut: bool,
+}
+
+/// Why a frame gave no blobs at all.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BadFrame {
+    /// The plate reads almost black (no light, lens cap, a black frame).
+    TooDark,
+    /// Most of the plate is saturated (a white frame, overexposure).
+    TooBright,
+    /// More dark runs than [`SegmentParams::max_runs`] (noise, not parts).
+    TooManyRuns,
+    /// The frame's size is not the calibration's.
+    WrongSize,
+}
+
+impl core::fmt::Display for BadFrame {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::TooDark => "too dark",
+            Self::TooBright => "saturated",
+            Self::TooManyRuns => "too many dark runs",
+            Self::WrongSize => "size differs from the calibration",
+        })
+    }
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Run {
+    v: u32,
+    u0: u32,
+    u1: u32,
+    ratio_sum: f32,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    n: f64,
+    su: f64,
+    sv: f64,
+    suu: f64,
+    svv: f64,
+    suv: f64,
+    ratio: f64,
+    cut: bool,
+}
+
+#[derive(Debug)]
+pub struct Segmenter {
+    params: SegmentParams,
+    width: usize,
+    height: usize,
+    /// Columns `[start, end)` of the region of interest on each row.
+    roi: Vec<(u32, u32)>,
+    roi_rows: (usize, usize),
+    tiles: (usize, usize),
+    tile_bg: Vec<f32>,
+    tile_ok: Vec<bool>,
+    row_bg: Vec<f32>,
+    runs: Vec<Run>,
+    parent: Vec<u32>,
+    slot: Vec<u32>,
+    sums: Vec<Sums>,
+    blobs: Vec<Blob>,
+}
+
+fn find(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let p = parent[i as usize];
+        parent[i as usize] = parent[p as usize];
+        i = p;
+    }
+    i
+}
+
+impl Segmenter {
+    /// The region of interest is the plate `[-hx, hx] × [-hy, hy]` as
+    /// `model` sees it, shrunk by `margin` m. Allocates every buffer.
+    pub fn new(model: &CameraModel, half_extent: [f64; 2], margin: f64, params: SegmentParams) -> Self {
+        let (w, h) = (model.width as usize, model.height as usize);
+        let inside = |u: usize, v: usize| {
+            model.unproject(u as f64, v as f64).is_some_and(|[x, y]| {
+                x.abs() <= half_extent[0] - margin && y.abs() <= half_extent[1] - margin
+            })
+        };
+        // The plate's image is convex but for the lens's slight bend: one
+        // span per row, from the first to the last pixel inside.
+        let roi: Vec<(u32, u32)> = (0..h)
+            .map(|v| match (0..w).find(|&u| inside(u, v)) {
+                Some(first) => {
+                    let last = (first..w).rev().find(|&u| inside(u, v)).unwrap_or(first);
+                    (first as u32, last as u32 + 1)
+                }
+                None => (0, 0),
+            })
+            .collect();
+        let first = roi.iter().position(|r| r.1 > r.0).unwrap_or(0);
+        let last = roi.iter().rposition(|r| r.1 > r.0).map_or(0, |l| l + 1);
+        let t = params.tile.max(8);
+        let tiles = (w.div_ceil(t), h.div_ceil(t));
+        Self {
+            params: SegmentParams { tile: t, ..params },
+            width: w,
+            height: h,
+            roi,
+            roi_rows: (first, last),
+            tiles,
+            tile_bg: vec![0.0; tiles.0 * tiles.1],
+            tile_ok: vec![false; tiles.0 * tiles.1],
+            row_bg: vec![0.0; w],
+            runs: Vec::with_capacity(params.max_runs),
+            parent: Vec::with_capacity(params.max_runs),
+            slot: Vec::with_capacity(params.max_runs),
+            sums: Vec::with_capacity(params.max_runs),
+            blobs: Vec::with_capacity(params.max_runs),
+        }
+    }
+
+    /// Pixels in the region of interest.
+    pub fn roi_pixels(&self) -> usize {
+        self.roi.iter().map(|r| (r.1 - r.0) as usize).sum()
+    }
+
+    /// The blobs of one frame (`stride` bytes per row).
+    pub fn segment(
+        &mut self,
+        pixels: &[u8],
+        width: u32,
+        height: u32,
+        stride: usize,
+    ) -> Result<&[Blob], BadFrame> {
+        if width as usize != self.width
+            || height as usize != self.height
+            || pixels.len() < stride * self.height
+        {
+            return Err(BadFrame::WrongSize);
+        }
+        self.background(pixels, stride)?;
+        self.label(pixels, stride)?;
+        Ok(&self.blobs)
+    }
+
+    fn background(&mut self, pixels: &[u8], stride: usize) -> Result<(), BadFrame> {
+        let t = self.params.tile;
+        let (tx, ty) = self.tiles;
+        let (mut saturated, mut total) = (0usize, 0usize);
+        for j in 0..ty {
+            for i in 0..tx {
+                let mut hist = [0u32; 256];
+                let mut n = 0u32;
+                for v in j * t..((j + 1) * t).min(self.height) {
+                    let (a, b) = self.roi[v];
+                    let (a, b) = ((a as usize).max(i * t), (b as usize).min((i + 1) * t));
+                    for &p in pixels[v * stride..].get(a..b).unwrap_or(&[]) {
+                        hist[p as usize] += 1;
+                        n += 1;
+                    }
+                }
+                saturated += hist[255] as usize;
+                total += n as usize;
+                let k = j * tx + i;
+                self.tile_ok[k] = n >= (t * t / 8) as u32;
+                if self.tile_ok[k] {
+                    let want = (self.params.percentile * n as f64) as u32;
+                    let mut seen = 0;
+                    let level = hist.iter().position(|&c| {
+                        seen += c;
+                        seen > want
+                    });
+                    self.tile_bg[k] = level.unwrap_or(255) as f32;
+                }
+            }
+        }
+        if total == 0 || saturated * 2 > total {
+            return Err(BadFrame::TooBright);
+        }
+        // Tiles with too little plate take their nearest good neighbour's.
+        for _ in 0..tx.max(ty) {
+            let mut missing = false;
+            for k in 0..tx * ty {
+                if self.tile_ok[k] {
+                    continue;
+                }
+                let (i, j) = (k % tx, k / tx);
+                let near = [(i.wrapping_sub(1), j), (i + 1, j), (i, j.wrapping_sub(1)), (i, j + 1)];
+                match near
+                    .iter()
+                    .filter(|&&(a, b)| a < tx && b < ty)
+                    .map(|&(a, b)| b * tx + a)
+                    .find(|&n| self.tile_ok[n])
+                {
+                    Some(n) => {
+                        self.tile_bg[k] = self.tile_bg[n];
+                        self.tile_ok[k] = true;
+                    }
+                    None => missing = true,
+                }
+            }
+            if !missing {
+                break;
+            }
+        }
+        let mut levels: [u32; 256] = [0; 256];
+        for &b in &self.tile_bg {
+            levels[b as usize] += 1;
+        }
+        let half = self.tile_bg.len() as u32 / 2;
+        let mut seen = 0;
+        let median = levels.iter().position(|&c| {
+            seen += c;
+            seen > half
+        });
+        if median.unwrap_or(0) < 16 {
+            return Err(BadFrame::TooDark);
+        }
+        Ok(())
+    }
+
+    /// Background of every pixel of row `v`, bilinear between tile centres.
+    fn fill_row_background(&mut self, v: usize) {
+        let t = self.params.tile as f32;
+        let (tx, ty) = self.tiles;
+        let fy = ((v as f32 + 0.5) / t - 0.5).clamp(0.0, (ty - 1) as f32);
+        let (j0, wy) = (fy.floor() as usize, fy - fy.floor());
+        let j1 = (j0 + 1).min(ty - 1);
+        for (u, bg) in self.row_bg.iter_mut().enumerate() {
+            let fx = ((u as f32 + 0.5) / t - 0.5).clamp(0.0, (tx - 1) as f32);
+            let (i0, wx) = (fx.floor() as usize, fx - fx.floor());
+            let i1 = (i0 + 1).min(tx - 1);
+            let top = self.tile_bg[j0 * tx + i0] * (1.0 - wx) + self.tile_bg[j0 * tx + i1] * wx;
+            let bottom = self.tile_bg[j1 * tx + i0] * (1.0 - wx) + self.tile_bg[j1 * tx + i1] * wx;
+            *bg = top * (1.0 - wy) + bottom * wy;
+        }
+    }
+
+    fn label(&mut self, pixels: &[u8], stride: usize) -> Result<(), BadFrame> {
+        self.runs.clear();
+        self.parent.clear();
+        self.blobs.clear();
+        let threshold = self.params.threshold as f32;
+        let mut prev = 0..0;
+        for v in self.roi_rows.0..self.roi_rows.1 {
+            let (a, b) = (self.roi[v].0 as usize, self.roi[v].1 as usize);
+            if a >= b {
+                prev = self.runs.len()..self.runs.len();
+                continue;
+            }
+            self.fill_row_background(v);
+            let row = &pixels[v * stride..v * stride + self.width];
+            let here = self.runs.len();
+            let mut u = a;
+            while u < b {
+                let dark = |u: usize| (row[u] as f32) < threshold * self.row_bg[u];
+                if !dark(u) {
+                    u += 1;
+                    continue;
+                }
+                let start = u;
+                let mut ratio_sum = 0.0;
+                while u < b && dark(u) {
+                    ratio_sum += row[u] as f32 / self.row_bg[u].max(1.0);
+                    u += 1;
+                }
+                if self.runs.len() == self.params.max_runs {
+                    return Err(BadFrame::TooManyRuns);
+                }
+                let id = self.runs.len() as u32;
+                self.runs.push(Run { v: v as u32, u0: start as u32, u1: u as u32, ratio_sum });
+                self.parent.push(id);
+            }
+            // Join with the runs of the row above that touch (8-connected).
+            let mut k = prev.start;
+            for r in here..self.runs.len() {
+                let cur = self.runs[r];
+                while k < prev.end && self.runs[k].u1 < cur.u0 {
+                    k += 1;
+                }
+                let mut m = k;
+                while m < prev.end && self.runs[m].u0 <= cur.u1 {
+                    let (x, y) = (find(&mut self.parent, m as u32), find(&mut self.parent, r as u32));
+                    if x != y {
+                        self.parent[x.max(y) as usize] = x.min(y);
+                    }
+                    m += 1;
+                }
+            }
+            prev = here..self.runs.len();
+        }
+        self.moments();
+        Ok(())
+    }
+
+    fn moments(&mut self) {
+        self.slot.clear();
+        self.slot.resize(self.runs.len(), u32::MAX);
+        self.sums.clear();
+        let (first_row, last_row) = (self.roi_rows.0 as u32, self.roi_rows.1 as u32 - 1);
+        for r in 0..self.runs.len() {
+            let root = find(&mut self.parent, r as u32) as usize;
+            if self.slot[root] == u32::MAX {
+                self.slot[root] = self.sums.len() as u32;
+                self.sums.push(Sums::default());
+            }
+            let run = self.runs[r];
+            let (roi_a, roi_b) = self.roi[run.v as usize];
+            let cut = {
+                let covers = |row: u32| {
+                    let (a, b) = self.roi[row as usize];
+                    a < run.u0 && b > run.u1
+                };
+                run.u0 == roi_a
+                    || run.u1 == roi_b
+                    || run.v == first_row
+                    || run.v == last_row
+                    || !covers(run.v - 1)
+                    || !covers(run.v + 1)
+            };
+            let s = &mut self.sums[self.slot[root] as usize];
+            let (a, b, v) = (run.u0 as f64, run.u1 as f64 - 1.0, run.v as f64);
+            let n = b - a + 1.0;
+            let su = n * (a + b) / 2.0;
+            // Σ u² over a..=b.
+            let sq = |x: f64| x * (x + 1.0) * (2.0 * x + 1.0) / 6.0;
+            let suu = sq(b) - sq(a - 1.0);
+            s.n += n;
+            s.su += su;
+            s.sv += n * v;
+            s.suu += suu;
+            s.svv += n * v * v;
+            s.suv += su * v;
+            s.ratio += run.ratio_sum as f64;
+            // Cut when a neighbour of the run, on its row or the rows
+            // above and below, lies outside the region of interest.
+            s.cut |= cut;
+        }
+        for s in &self.sums {
+            let (u, v) = (s.su / s.n, s.sv / s.n);
+            self.blobs.push(Blob {
+                area: s.n,
+                u,
+                v,
+                mu20: s.suu / s.n - u * u,
+                mu02: s.svv / s.n - v * v,
+                mu11: s.suv / s.n - u * v,
+                ratio: s.ratio / s.n,
+                cut: s.cut,
+            });
+        }
+    }
+}
