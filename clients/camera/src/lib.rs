@@ -3,6 +3,10 @@
 //! for `upm-vision`. The rendered camera may read the simulator's ground
 //! truth; vision never does when it works from frames.
 
+pub mod args;
+pub mod config;
 pub mod render;
+pub mod run;
 
+pub use config::{CameraSection, ClassSection};
 pub use render::{ClassLook, Renderer, Scene};

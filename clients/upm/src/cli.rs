@@ -31,6 +31,9 @@ pub enum Command {
     /// The camera client (same as `upm-vision`).
     #[command(hide = true)]
     Vision(upm_vision::args::VisionArgs),
+    /// The rendered camera (same as `upm-camera`).
+    #[command(hide = true)]
+    Camera(upm_camera::args::CameraArgs),
     /// The planner client (same as `upm-planner`).
     #[command(hide = true)]
     Planner(upm_planner::args::PlannerArgs),
@@ -64,6 +67,12 @@ pub enum Command {
         /// Your own camera client instead of upm-vision (same rules).
         #[arg(long)]
         vision_cmd: Option<String>,
+        /// Where vision's part poses come from: `truth` (the simulator's
+        /// ground truth with noise, a fast test double) or `rendered` (a
+        /// rendered camera process publishing frames, and vision's image
+        /// pipeline).
+        #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
+        camera: crate::launcher::CameraChoice,
     },
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
@@ -210,12 +219,28 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!("upm-vision: stopped after {frames} frames");
             Ok(())
         }
+        Command::Camera(args) => {
+            let frames = upm_camera::args::run_camera(args)?;
+            eprintln!("upm-camera: stopped after {frames} frames");
+            Ok(())
+        }
         Command::Planner(args) => {
             let n = upm_planner::args::run_planner_process(args)?;
             eprintln!("upm-planner: stopped after {n} requests");
             Ok(())
         }
-        Command::Run { scenario, out, duration, seed, prefix, quiet, stress, planner_cmd, vision_cmd } => {
+        Command::Run {
+            scenario,
+            out,
+            duration,
+            seed,
+            prefix,
+            quiet,
+            stress,
+            planner_cmd,
+            vision_cmd,
+            camera,
+        } => {
             let path = crate::scenario::resolve(&scenario);
             let sc = crate::scenario::Scenario::load(&path)?;
             let seed = seed.unwrap_or(sc.seed);
@@ -238,6 +263,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 stress,
                 planner_cmd,
                 vision_cmd,
+                camera,
             };
             let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             ipc_types::rig_node::remove_prefix_segment(&prefix);

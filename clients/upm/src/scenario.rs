@@ -127,6 +127,25 @@ impl Scenario {
         for p in &mut c.sim.parts {
             p.mass = mass;
         }
+        // The rendered camera and vision see the parts' classes as they are.
+        c.camera.half_extent = c.plate.half_extent;
+        let classes = c.sim.parts.iter().map(|p| p.class as usize + 1).max().unwrap_or(0);
+        let levels = [0.1, 0.4, 0.25, 0.55];
+        c.camera.classes = (0..classes)
+            .map(|k| {
+                let size = c.sim.parts.iter().find(|p| p.class as usize == k).map_or(0.015, |p| p.size);
+                upm_camera::ClassSection { level: levels[k % levels.len()], radius_mm: size * 1e3 }
+            })
+            .collect();
+        c.vision.classes = c
+            .camera
+            .classes
+            .iter()
+            .map(|k| upm_vision::VisionClass {
+                ratio: k.level / c.camera.plate_level,
+                radius_mm: k.radius_mm,
+            })
+            .collect();
         // The planner's model of the parts: the rig's μmg, the parts' mass.
         c.planner = self.planner.clone();
         let drive = c.planner.drive_mut();

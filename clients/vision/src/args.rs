@@ -11,15 +11,29 @@ pub struct VisionArgs {
     /// `--config` is read for [service] and [vision] only.
     #[command(flatten)]
     pub process: ProcessArgs,
+    /// Write what vision did with camera frames here (JSON) when it stops.
+    #[arg(long)]
+    pub stats: Option<std::path::PathBuf>,
 }
 
 pub fn run_vision(args: VisionArgs) -> anyhow::Result<u64> {
     let file = args.process.file()?;
     let prefix = args.process.prefix(&file)?;
-    let (camera, tracker) = file
-        .section::<VisionSection>("vision")?
-        .params()
-        .map_err(|m| ConfigError::invalid(file.shown(), m))?;
+    let section = file.section::<VisionSection>("vision")?;
+    let invalid = |m| ConfigError::invalid(file.shown(), m);
+    let (camera, tracker) = section.params().map_err(invalid)?;
+    let frames = section.frames().map_err(invalid)?;
     let duration = args.process.duration().map_err(anyhow::Error::msg)?;
-    crate::run(&prefix, camera, tracker, duration)
+    match frames {
+        None => crate::run(&prefix, camera, tracker, duration),
+        Some(frames) => {
+            let stats = crate::frame_loop::run_frames(&prefix, &frames, tracker, duration)?;
+            eprintln!("upm-vision: {}", serde_json::to_string(&stats)?);
+            if let Some(path) = &args.stats {
+                std::fs::write(path, serde_json::to_string_pretty(&stats)?)
+                    .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
+            }
+            Ok(stats.published)
+        }
+    }
 }

@@ -8,14 +8,16 @@
 
 pub mod args;
 pub mod blobs;
+pub mod calibration;
 pub mod camera;
 pub mod config;
 pub mod detect;
+pub mod frame_loop;
 pub mod lens;
 pub mod run;
 pub mod tracker;
 
 pub use camera::{Camera, CameraParams};
-pub use config::VisionSection;
+pub use config::{FrameParams, VisionClass, VisionSection};
 pub use run::{part_states, run};
 pub use tracker::{Detection, Track, Tracker, TrackerParams};

@@ -2,8 +2,8 @@
 //! every section and field is optional and has a default; unknown fields
 //! are errors, and every message names the field. One module per concern:
 //! [`rig`] (plate, motion), [`core`] (rt, safety, telemetry), [`sim`]; the
-//! `[vision]` and `[planner]` sections belong to their crates, which read
-//! them alone from the same file. Parsing has no side effects.
+//! `[vision]`, `[planner]` and `[camera]` sections belong to their crates,
+//! which read them alone from the same file. Parsing has no side effects.
 
 pub mod core;
 pub mod rig;
@@ -34,6 +34,7 @@ pub struct Config {
     pub sim: SimSection,
     pub vision: VisionSection,
     pub planner: PlannerConfig,
+    pub camera: upm_camera::CameraSection,
 }
 
 impl Config {
@@ -99,6 +100,9 @@ impl Config {
         self.sim_parts(path)?;
         self.sim_config(path)?;
         self.vision_params(path)?;
+        self.vision.frames().map_err(|m| ConfigError::invalid(path, m))?;
+        self.camera.model().map_err(|m| ConfigError::invalid(path, m))?;
+        self.camera.scene().map_err(|m| ConfigError::invalid(path, m))?;
         self.planner.build().map_err(|m| ConfigError::invalid(path, m))?;
         Ok(())
     }

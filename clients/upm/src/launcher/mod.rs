@@ -37,6 +37,17 @@ pub struct RunPlan {
     pub vision_cmd: Option<String>,
     /// Load every CPU but the motor's while the loop runs (see `cpu_load`).
     pub stress: bool,
+    pub camera: CameraChoice,
+}
+
+/// Where vision's part poses come from in a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CameraChoice {
+    /// The simulator's ground truth with noise (vision's test double).
+    Truth,
+    /// A rendered camera process (`[camera]`) publishing frames, and
+    /// vision's image pipeline with the rendered camera's calibration.
+    Rendered,
 }
 
 /// What the run produced.
@@ -77,8 +88,22 @@ pub fn run_plan(
         );
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let mut config = plan.config.clone();
+    let rendered = plan.camera == CameraChoice::Rendered;
+    if rendered {
+        // No `upm calibrate camera` yet: vision gets the rendered camera's
+        // true model as its calibration.
+        let cal = upm_vision::calibration::Calibration {
+            plate_half_extent: config.plate.half_extent,
+            camera: config.camera.model().map_err(anyhow::Error::msg)?,
+        };
+        let path = out.join("calibration.toml");
+        cal.save(&path).map_err(anyhow::Error::msg)?;
+        config.vision.source = "frames".into();
+        config.vision.calibration = path.display().to_string();
+    }
     let cfg_path = out.join("config.toml");
-    std::fs::write(&cfg_path, toml::to_string(&plan.config).context("serialising the config")?)
+    std::fs::write(&cfg_path, toml::to_string(&config).context("serialising the config")?)
         .with_context(|| format!("writing {}", cfg_path.display()))?;
     let logs = out.join("logs");
     std::fs::create_dir_all(&logs)?;
@@ -113,7 +138,13 @@ pub fn run_plan(
         .env("UPM_CONFIG", &cfg)
         .avoiding_cpu(plan.config.cpu_to_avoid())
     };
+    let vision_stats = out.join("vision_stats.json");
+    let _ = std::fs::remove_file(&vision_stats);
     let mut vision = client("upm-vision", &plan.vision_cmd, "vision.log");
+    if rendered && plan.vision_cmd.is_none() {
+        vision = vision.arg("--stats").arg(&vision_stats.display().to_string());
+    }
+    let mut camera = rendered.then(|| client("upm-camera", &None, "camera.log"));
     let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log");
 
     let mut recorder = Recorder::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
@@ -133,6 +164,9 @@ pub fn run_plan(
             bail!("upm-core did not come up within 20 s; see {}", logs.join("core.log").display());
         }
         std::thread::sleep(Duration::from_millis(20));
+    }
+    if let Some(c) = &mut camera {
+        c.start()?;
     }
     vision.start()?;
     planner.start()?;
@@ -157,7 +191,7 @@ pub fn run_plan(
     while sim_s < plan.duration_s {
         sim_s = recorder.poll()?;
         bar.set_position((sim_s * 10.0) as u64);
-        for c in [&mut vision, &mut planner] {
+        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut()].into_iter().flatten() {
             if c.restart_if_dead()? {
                 let msg = format!("upm run: {} died; restarted (restart {})", c.name, c.restarts);
                 if bar.is_hidden() { eprintln!("{msg}") } else { bar.println(msg) }
@@ -186,9 +220,16 @@ pub fn run_plan(
         "vision_cmd": plan.vision_cmd,
         "planner_cmd": plan.planner_cmd,
     });
-    let restarts = json!({ "vision": vision.restarts, "planner": planner.restarts });
+    let restarts = json!({
+        "vision": vision.restarts,
+        "planner": planner.restarts,
+        "camera": camera.as_ref().map(|c| c.restarts),
+    });
     planner.stop(Duration::from_secs(3));
     vision.stop(Duration::from_secs(3));
+    if let Some(c) = &mut camera {
+        c.stop(Duration::from_secs(3));
+    }
     let core_exit = core.stop(Duration::from_secs(5));
     let t = recorder.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
     let mut metrics = json!({
@@ -224,6 +265,9 @@ pub fn run_plan(
         "schedules_seen": recorder.schedules_seen,
         "processes": pids,
         "restarts": restarts,
+        "camera": if rendered { "rendered" } else { "truth" },
+        // What vision did with the frames (rendered camera only).
+        "vision": std::fs::read_to_string(&vision_stats).ok().and_then(|t| serde_json::from_str::<Value>(&t).ok()),
     });
     if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&recorder.trails)) {
         m.extend(goals);

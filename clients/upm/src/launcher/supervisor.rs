@@ -57,6 +57,12 @@ impl Supervised {
         self
     }
 
+    /// One more argument of every start.
+    pub fn arg(mut self, arg: &str) -> Self {
+        self.args.push(arg.into());
+        self
+    }
+
     /// Keep the process (each start) off `cpu`.
     pub fn avoiding_cpu(mut self, cpu: Option<usize>) -> Self {
         self.avoid_cpu = cpu;

@@ -1,0 +1,168 @@
+//! Vision from camera frames: each frame on `upm/camera/frame` is checked,
+//! segmented, its blobs turned into detections through the calibration,
+//! tracked, and published as `PartStates` stamped with the frame's
+//! exposure. A bad frame (header, size, too dark, saturated, noise) is
+//! counted and skipped; the loop never stalls on one.
+
+use std::time::{Duration, Instant};
+
+use iceoryx2::node::NodeWaitFailure;
+use iceoryx2::prelude::*;
+use ipc_types::discovery::CoreWatch;
+use ipc_types::inbox_event::InboxNotifier;
+use ipc_types::rig_node::rig_node;
+use ipc_types::{PartStates, monotonic_now_ns, service_names};
+use serde::Serialize;
+
+use crate::blobs::{BadFrame, Segmenter};
+use crate::calibration::Calibration;
+use crate::config::FrameParams;
+use crate::detect::{BlobCounts, detect};
+use crate::{Detection, Tracker, TrackerParams, part_states};
+
+/// What vision did with the frames it received (`--stats FILE`, JSON).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FrameStats {
+    pub frames: u64,
+    pub published: u64,
+    /// Frames whose header disagreed with the payload or the calibration.
+    pub bad_header: u64,
+    pub too_dark: u64,
+    pub saturated: u64,
+    pub too_many_runs: u64,
+    pub wrong_size: u64,
+    pub detected: u64,
+    pub merged_blobs: u64,
+    pub cut_blobs: u64,
+    pub small_blobs: u64,
+    /// Frame received → PartStates published, µs.
+    pub processing_p50_us: f64,
+    pub processing_p99_us: f64,
+    pub processing_max_us: f64,
+}
+
+/// Keeps the last processing times without allocating per frame.
+struct Times {
+    us: Vec<f64>,
+    next: usize,
+}
+
+impl Times {
+    const CAPACITY: usize = 1 << 14;
+
+    fn push(&mut self, us: f64) {
+        if self.us.len() < Self::CAPACITY {
+            self.us.push(us);
+        } else {
+            self.us[self.next] = us;
+            self.next = (self.next + 1) % Self::CAPACITY;
+        }
+    }
+
+    fn fill(&self, stats: &mut FrameStats) {
+        let mut v = self.us.clone();
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| v.get(((v.len() as f64 * q) as usize).min(v.len().saturating_sub(1))).copied();
+        stats.processing_p50_us = at(0.5).unwrap_or(0.0);
+        stats.processing_p99_us = at(0.99).unwrap_or(0.0);
+        stats.processing_max_us = v.last().copied().unwrap_or(0.0);
+    }
+}
+
+/// Run vision on camera frames on `prefix` until SIGINT/SIGTERM (or
+/// `duration`).
+pub fn run_frames(
+    prefix: &str,
+    params: &FrameParams,
+    tracker: TrackerParams,
+    duration: Option<Duration>,
+) -> anyhow::Result<FrameStats> {
+    let cal = Calibration::load(&params.calibration).map_err(anyhow::Error::msg)?;
+    let (width, height) = (cal.camera.width, cal.camera.height);
+    let mut segmenter = Segmenter::new(&cal.camera, cal.plate_half_extent, params.roi_margin, params.segment);
+    let mut tracker = Tracker::new(tracker);
+    let node = rig_node(
+        prefix,
+        Some(ipc_types::discovery::VISION_NODE),
+        SignalHandlingMode::HandleTerminationRequests,
+    )?;
+    let frames = ipc_types::ports::frame_subscriber(&node)?;
+    let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
+    let mut wake = InboxNotifier::new(&node)?;
+    let end = duration.map(|d| monotonic_now_ns() + d.as_nanos() as u64);
+    let mut stats = FrameStats::default();
+    let mut times = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
+    let mut detections: Vec<Detection> = Vec::with_capacity(ipc_types::MAX_PARTS * 4);
+    let mut counts = BlobCounts::default();
+    let mut msg = PartStates::new();
+    let mut last_stamp = 0u64;
+    let mut core = CoreWatch::new(prefix, Duration::from_secs(1));
+    let mut last_complaint: Option<Instant> = None;
+    loop {
+        if let Some(news) = core.poll() {
+            eprintln!("upm-vision: {news}");
+        }
+        while let Some(frame) = frames.receive().map_err(|e| anyhow::anyhow!("receiving a frame: {e:?}"))? {
+            let started = Instant::now();
+            stats.frames += 1;
+            let h = *frame.user_header();
+            let pixels = frame.payload();
+            let complaint = match h.check(pixels.len(), width, height) {
+                Err(e) => {
+                    stats.bad_header += 1;
+                    Some(e.to_string())
+                }
+                Ok(()) => match segmenter.segment(pixels, h.width, h.height, h.stride as usize) {
+                    Err(bad) => {
+                        *match bad {
+                            BadFrame::TooDark => &mut stats.too_dark,
+                            BadFrame::TooBright => &mut stats.saturated,
+                            BadFrame::TooManyRuns => &mut stats.too_many_runs,
+                            BadFrame::WrongSize => &mut stats.wrong_size,
+                        } += 1;
+                        Some(format!("frame {}: {bad}", h.seq))
+                    }
+                    Ok(blobs) => {
+                        detections.clear();
+                        detect(blobs, &cal.camera, &params.looks, &mut detections, &mut counts);
+                        let dt = if last_stamp == 0 {
+                            0.0
+                        } else {
+                            h.stamp_ns.saturating_sub(last_stamp) as f64 / 1e9
+                        };
+                        last_stamp = h.stamp_ns;
+                        tracker.update(&detections, dt);
+                        stats.published += 1;
+                        part_states(tracker.tracks(), stats.published, h.stamp_ns, &mut msg);
+                        publisher
+                            .send_copy(msg)
+                            .map_err(|e| anyhow::anyhow!("publishing part states: {e:?}"))?;
+                        wake.notify();
+                        None
+                    }
+                },
+            };
+            if let Some(text) = complaint
+                && last_complaint.is_none_or(|t| t.elapsed() > Duration::from_secs(1))
+            {
+                // At most one line a second; the counts have them all.
+                eprintln!("upm-vision: skipped a frame: {text}");
+                last_complaint = Some(Instant::now());
+            }
+            times.push(started.elapsed().as_secs_f64() * 1e6);
+        }
+        if end.is_some_and(|e| monotonic_now_ns() >= e) {
+            break;
+        }
+        match node.wait(Duration::from_micros(500)) {
+            Ok(()) => {}
+            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => break,
+        }
+    }
+    stats.detected = counts.detected;
+    stats.merged_blobs = counts.merged;
+    stats.cut_blobs = counts.cut;
+    stats.small_blobs = counts.small;
+    times.fill(&mut stats);
+    Ok(stats)
+}
