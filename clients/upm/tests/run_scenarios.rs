@@ -169,6 +169,37 @@ fn upm_run_crowd_solves_32_parts_at_camera_rate() {
     assert_eq!(m["core"]["rt_thread_allocations"], 0);
 }
 
+/// The closed loop through images: a rendered camera process, vision's
+/// image pipeline, planner and core. Every frame published, every part
+/// detected in every frame (none merged, cut or lost), the plate moved
+/// and nothing rejected.
+#[test]
+fn upm_run_sort_through_rendered_frames() {
+    let out = std::env::temp_dir().join(format!("upm_run_rendered_{}", std::process::id()));
+    let o = upm_run_with("sort", "6", &out, &["--camera", "rendered"]).wait_with_output().expect("wait");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(m["camera"], "rendered");
+    let v = &m["vision"];
+    let frames = v["frames"].as_u64().expect("vision.frames");
+    assert!(frames >= 30, "{v}");
+    assert_eq!(v["published"], v["frames"], "{v}");
+    let parts = m["parts"].as_array().map_or(0, Vec::len) as u64;
+    assert_eq!(v["detected"].as_u64(), Some(frames * parts), "{v}");
+    for key in
+        ["bad_header", "too_dark", "saturated", "too_many_runs", "wrong_size", "merged_blobs", "cut_blobs"]
+    {
+        assert_eq!(v[key], 0, "{key}: {v}");
+    }
+    assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no schedule: {m}");
+    assert_eq!(m["core"]["rejected_requests"], 0, "{}", m["core"]);
+    assert_eq!(m["core"]["rejected_parts"], 0, "{}", m["core"]);
+    assert_eq!(m["core"]["rt_thread_allocations"], 0);
+}
+
 #[test]
 fn a_killed_planner_is_restarted() {
     let out = std::env::temp_dir().join(format!("upm_run_kill_{}", std::process::id()));

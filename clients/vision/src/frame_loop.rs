@@ -6,19 +6,15 @@
 
 use std::time::{Duration, Instant};
 
-use iceoryx2::node::NodeWaitFailure;
-use iceoryx2::prelude::*;
-use ipc_types::discovery::CoreWatch;
-use ipc_types::inbox_event::InboxNotifier;
-use ipc_types::rig_node::rig_node;
-use ipc_types::{PartStates, monotonic_now_ns, service_names};
+use ipc_types::monotonic_now_ns;
 use serde::Serialize;
 
 use crate::blobs::{BadFrame, Segmenter};
 use crate::calibration::Calibration;
 use crate::config::FrameParams;
 use crate::detect::{BlobCounts, detect};
-use crate::{Detection, Tracker, TrackerParams, part_states};
+use crate::outputs::Outputs;
+use crate::{Detection, Tracker, TrackerParams};
 
 /// What vision did with the frames it received (`--stats FILE`, JSON).
 #[derive(Debug, Clone, Default, Serialize)]
@@ -81,27 +77,15 @@ pub fn run_frames(
     let (width, height) = (cal.camera.width, cal.camera.height);
     let mut segmenter = Segmenter::new(&cal.camera, cal.plate_half_extent, params.roi_margin, params.segment);
     let mut tracker = Tracker::new(tracker);
-    let node = rig_node(
-        prefix,
-        Some(ipc_types::discovery::VISION_NODE),
-        SignalHandlingMode::HandleTerminationRequests,
-    )?;
-    let frames = ipc_types::ports::frame_subscriber(&node)?;
-    let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
-    let mut wake = InboxNotifier::new(&node)?;
+    let mut out = Outputs::open(prefix)?;
+    let frames = ipc_types::ports::frame_subscriber(out.node())?;
     let end = duration.map(|d| monotonic_now_ns() + d.as_nanos() as u64);
     let mut stats = FrameStats::default();
     let mut times = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
     let mut detections: Vec<Detection> = Vec::with_capacity(ipc_types::MAX_PARTS * 4);
     let mut counts = BlobCounts::default();
-    let mut msg = PartStates::new();
-    let mut last_stamp = 0u64;
-    let mut core = CoreWatch::new(prefix, Duration::from_secs(1));
     let mut last_complaint: Option<Instant> = None;
     loop {
-        if let Some(news) = core.poll() {
-            eprintln!("upm-vision: {news}");
-        }
         while let Some(frame) = frames.receive().map_err(|e| anyhow::anyhow!("receiving a frame: {e:?}"))? {
             let started = Instant::now();
             stats.frames += 1;
@@ -125,19 +109,9 @@ pub fn run_frames(
                     Ok(blobs) => {
                         detections.clear();
                         detect(blobs, &cal.camera, &params.looks, &mut detections, &mut counts);
-                        let dt = if last_stamp == 0 {
-                            0.0
-                        } else {
-                            h.stamp_ns.saturating_sub(last_stamp) as f64 / 1e9
-                        };
-                        last_stamp = h.stamp_ns;
-                        tracker.update(&detections, dt);
+                        tracker.update(&detections, out.dt(h.stamp_ns));
                         stats.published += 1;
-                        part_states(tracker.tracks(), stats.published, h.stamp_ns, &mut msg);
-                        publisher
-                            .send_copy(msg)
-                            .map_err(|e| anyhow::anyhow!("publishing part states: {e:?}"))?;
-                        wake.notify();
+                        out.publish(tracker.tracks(), stats.published, h.stamp_ns)?;
                         None
                     }
                 },
@@ -151,12 +125,8 @@ pub fn run_frames(
             }
             times.push(started.elapsed().as_secs_f64() * 1e6);
         }
-        if end.is_some_and(|e| monotonic_now_ns() >= e) {
+        if end.is_some_and(|e| monotonic_now_ns() >= e) || !out.wait(Duration::from_micros(500)) {
             break;
-        }
-        match node.wait(Duration::from_micros(500)) {
-            Ok(()) => {}
-            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => break,
         }
     }
     stats.detected = counts.detected;

@@ -14,10 +14,12 @@ pub mod config;
 pub mod detect;
 pub mod frame_loop;
 pub mod lens;
+pub mod outputs;
 pub mod run;
 pub mod tracker;
 
 pub use camera::{Camera, CameraParams};
 pub use config::{FrameParams, VisionClass, VisionSection};
-pub use run::{part_states, run};
+pub use outputs::part_states;
+pub use run::run;
 pub use tracker::{Detection, Track, Tracker, TrackerParams};

@@ -1,26 +1,13 @@
-//! The camera loop: ground truth in, tracked PartStates out.
+//! Vision's ground-truth test double: the simulator's ground truth in,
+//! through the simulated camera (noise, latency, dropped frames) and the
+//! tracker, PartStates out.
 
 use std::time::Duration;
 
-use iceoryx2::node::NodeWaitFailure;
-use iceoryx2::prelude::*;
-use ipc_types::discovery::CoreWatch;
-use ipc_types::inbox_event::InboxNotifier;
-use ipc_types::rig_node::rig_node;
-use ipc_types::{PartState, PartStates, monotonic_now_ns, service_names};
+use ipc_types::{PartStates, monotonic_now_ns, service_names};
 
-use crate::{Camera, CameraParams, Track, Tracker, TrackerParams};
-
-/// Turn a frame's tracks into the PartStates message.
-pub fn part_states(tracks: &[Track], seq: u64, stamp_ns: u64, out: &mut PartStates) {
-    out.clear();
-    out.seq = seq;
-    out.stamp_ns = stamp_ns;
-    for t in tracks.iter().filter(|t| t.missed == 0) {
-        // More tracks than capacity: the rest are not reported this frame.
-        let _ = out.push(PartState::new(t.id, t.class, 0, t.pose, t.velocity));
-    }
-}
+use crate::outputs::Outputs;
+use crate::{Camera, CameraParams, Tracker, TrackerParams};
 
 /// Run the camera on `prefix` until SIGINT/SIGTERM (or `duration`).
 pub fn run(
@@ -31,14 +18,8 @@ pub fn run(
 ) -> anyhow::Result<u64> {
     let mut cam = Camera::new(camera).map_err(anyhow::Error::msg)?;
     let mut tracker = Tracker::new(tracker);
-    let node = rig_node(
-        prefix,
-        Some(ipc_types::discovery::VISION_NODE),
-        SignalHandlingMode::HandleTerminationRequests,
-    )?;
-    let truth = ipc_types::ports::subscriber::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
-    let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
-    let mut wake = InboxNotifier::new(&node)?;
+    let mut out = Outputs::open(prefix)?;
+    let truth = ipc_types::ports::subscriber::<PartStates>(out.node(), service_names::SIM_GROUND_TRUTH)?;
     let period_ns = (1e9 / cam.params().frame_hz) as u64;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
@@ -46,12 +27,7 @@ pub fn run(
     let mut newest: Option<PartStates> = None;
     let mut last_frame_stamp: Option<u64> = None;
     let mut seq = 0;
-    let mut msg = PartStates::new();
-    let mut core = CoreWatch::new(prefix, Duration::from_secs(1));
     loop {
-        if let Some(news) = core.poll() {
-            eprintln!("upm-vision: {news}");
-        }
         while let Some(s) = truth.receive().map_err(|e| anyhow::anyhow!("receiving ground truth: {e:?}"))? {
             newest = Some(*s.payload());
         }
@@ -70,24 +46,12 @@ pub fn run(
             }
         }
         while let Some(frame) = cam.ready(now) {
-            let dt = last_dt(&mut seq, frame.stamp_ns, &mut msg);
-            tracker.update(&frame.detections, dt);
-            part_states(tracker.tracks(), seq, frame.stamp_ns, &mut msg);
-            publisher.send_copy(msg).map_err(|e| anyhow::anyhow!("publishing part states: {e:?}"))?;
-            wake.notify();
+            seq += 1;
+            tracker.update(&frame.detections, out.dt(frame.stamp_ns));
+            out.publish(tracker.tracks(), seq, frame.stamp_ns)?;
         }
-        if end.is_some_and(|e| now >= e) {
+        if end.is_some_and(|e| now >= e) || !out.wait(Duration::from_micros(500)) {
             return Ok(seq);
         }
-        match node.wait(Duration::from_micros(500)) {
-            Ok(()) => {}
-            Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => return Ok(seq),
-        }
     }
-}
-
-/// Advance the sequence and return the time since the previous frame (s).
-fn last_dt(seq: &mut u64, stamp_ns: u64, prev: &mut PartStates) -> f64 {
-    *seq += 1;
-    if *seq == 1 || prev.stamp_ns == 0 { 0.0 } else { stamp_ns.saturating_sub(prev.stamp_ns) as f64 / 1e9 }
 }
