@@ -181,6 +181,9 @@ pub enum BenchTarget {
     Ipc,
     /// Time to sort, lock-step, over many seeds.
     Sort,
+    /// The camera path: accuracy against the rendered truth, time per
+    /// frame beside OpenCV on the same frames.
+    Vision,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -316,6 +319,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         seconds: quick.then_some(30.0),
                     };
                     (crate::bench_sort::run(&b)?, crate::bench_sort::to_text)
+                }
+                (BenchTarget::Vision, None) => {
+                    (crate::bench_vision::run(quick)?, crate::bench_vision::to_text)
                 }
             };
             if json {

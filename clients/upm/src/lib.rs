@@ -8,6 +8,7 @@ pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_solver;
 pub mod bench_sort;
+pub mod bench_vision;
 pub mod bounded_reference;
 pub mod cli;
 pub mod closed_loop;

@@ -178,6 +178,11 @@ impl Segmenter {
         }
     }
 
+    /// The region of interest: columns `[start, end)` of each row.
+    pub fn roi_spans(&self) -> &[(u32, u32)] {
+        &self.roi
+    }
+
     /// Pixels in the region of interest.
     pub fn roi_pixels(&self) -> usize {
         self.roi.iter().map(|r| (r.1 - r.0) as usize).sum()
@@ -328,7 +333,9 @@ impl Segmenter {
             let mut u = a;
             while u < b {
                 // Skip 32 plate pixels at a time (most of a frame).
-                if u + 32 <= b && !row[u..u + 32].iter().zip(&thr[u..u + 32]).fold(false, |d, (p, t)| d | (p < t)) {
+                if u + 32 <= b
+                    && !row[u..u + 32].iter().zip(&thr[u..u + 32]).fold(false, |d, (p, t)| d | (p < t))
+                {
                     u += 32;
                     continue;
                 }
