@@ -16,13 +16,21 @@ pub struct SortBench {
     pub first_seed: u64,
     /// Simulated seconds per seed (the scenario's `duration_s` if None).
     pub seconds: Option<f64>,
+    /// The planner sees the simulator's truth, or rendered frames through
+    /// vision's pipeline.
+    pub camera: crate::launcher::CameraChoice,
 }
 
 /// One seed's outcome.
-fn one_seed(sc: &Scenario, seed: u64, seconds: f64) -> anyhow::Result<Value> {
+fn one_seed(
+    sc: &Scenario,
+    seed: u64,
+    seconds: f64,
+    camera: crate::launcher::CameraChoice,
+) -> anyhow::Result<Value> {
     let config = sc.config(seed, "unused_")?;
     let mut planner = config.planner.build().map_err(anyhow::Error::msg)?;
-    let r = crate::closed_loop::run(&config, planner.as_mut(), seconds)?;
+    let r = crate::closed_loop::run_seeing(&config, planner.as_mut(), seconds, camera)?;
     let m = sc.evaluate(&config, &r.trails);
     Ok(json!({
         "seed": seed,
@@ -30,6 +38,7 @@ fn one_seed(sc: &Scenario, seed: u64, seconds: f64) -> anyhow::Result<Value> {
         "sorted_fraction": m["sorted_fraction"],
         "collisions": m["collisions"],
         "hold_events": r.hold_events,
+        "detected_merged_bad_frames": r.sight,
     }))
 }
 
@@ -62,7 +71,7 @@ pub fn run(b: &SortBench) -> anyhow::Result<Value> {
     let (first_seeds, second_seeds) = seeds.split_at(first.len());
     let fill = |slots: &mut [Value], seeds: &[u64]| -> anyhow::Result<()> {
         for (slot, &seed) in slots.iter_mut().zip(seeds) {
-            *slot = one_seed(&sc, seed, seconds)?;
+            *slot = one_seed(&sc, seed, seconds, b.camera)?;
         }
         Ok(())
     };
@@ -79,6 +88,7 @@ pub fn run(b: &SortBench) -> anyhow::Result<Value> {
     Ok(json!({
         "scenario": sc.name,
         "planner": sc.planner.name(),
+        "camera": format!("{:?}", b.camera).to_lowercase(),
         "seeds": b.seeds,
         "first_seed": b.first_seed,
         "seconds_per_seed": seconds,

@@ -110,6 +110,10 @@ pub enum Command {
         /// sort: the scenario (its planner must be sort).
         #[arg(long, default_value = "sort")]
         scenario: String,
+        /// sort: what the planner sees (`rendered`: rendered frames through
+        /// vision's pipeline, in the same process).
+        #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
+        camera: crate::launcher::CameraChoice,
     },
     /// Snapshot of a running core's telemetry. Without --prefix or
     /// --config it finds the running rig by itself (several: lists them).
@@ -287,6 +291,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             seeds,
             first_seed,
             scenario,
+            camera,
         } => {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
@@ -317,6 +322,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         seeds,
                         first_seed,
                         seconds: quick.then_some(30.0),
+                        camera,
                     };
                     (crate::bench_sort::run(&b)?, crate::bench_sort::to_text)
                 }

@@ -1,14 +1,17 @@
 //! The closed loop in one process on a hand-stepped clock: the same core
 //! (`Lockstep`), simulator, planner and message types as `upm run`, with a
-//! noise-free camera reading the simulator's truth at the frame rate. Much
-//! faster than real time and bit-identical for a seed: used by the tests.
+//! noise-free camera reading the simulator's truth at the frame rate (or
+//! the rendered camera and vision's image pipeline, [`RenderedSight`]).
+//! Much faster than real time and bit-identical for a seed: used by the
+//! tests.
 
 use drivers::Simulator;
 use ipc_types::{ForceRequest, PartStates};
 use rt_core::runtime::lockstep::Lockstep;
 
 use crate::config::Config;
-use crate::launcher::{PartTrail, Trails};
+use crate::launcher::{CameraChoice, PartTrail, Trails};
+use crate::rendered_sight::RenderedSight;
 use upm_planner::Planner;
 
 /// What a lock-step run leaves behind.
@@ -25,10 +28,22 @@ pub struct LoopResult {
     pub mean_residual: f64,
     /// Rank and condition of the first schedule.
     pub first_rank_condition: (u32, f64),
+    /// Through rendered frames: parts detected, blobs merged, frames skipped.
+    pub sight: Option<(u64, u64, u64)>,
 }
 
-/// Run `seconds` of simulated time.
+/// Run `seconds` of simulated time, the planner seeing the simulator's truth.
 pub fn run(config: &Config, planner: &mut dyn Planner, seconds: f64) -> anyhow::Result<LoopResult> {
+    run_seeing(config, planner, seconds, CameraChoice::Truth)
+}
+
+/// Run `seconds` of simulated time, the planner seeing what `camera` shows.
+pub fn run_seeing(
+    config: &Config,
+    planner: &mut dyn Planner,
+    seconds: f64,
+    camera: CameraChoice,
+) -> anyhow::Result<LoopResult> {
     let shown = "scenario";
     let params = config.core_params(shown)?;
     let parts = config.sim_parts(shown)?;
@@ -39,6 +54,11 @@ pub fn run(config: &Config, planner: &mut dyn Planner, seconds: f64) -> anyhow::
     let tick_hz = params.motion.tick_hz;
     let frame_ticks = (tick_hz / config.vision.frame_hz).round().max(1.0) as u64;
     let total = (seconds * tick_hz) as u64;
+    let mut sight = match camera {
+        CameraChoice::Truth => None,
+        CameraChoice::Rendered => Some(RenderedSight::new(config)?),
+    };
+    let mut seen = PartStates::new();
     let mut states = PartStates::new();
     let mut request = ForceRequest::new();
     let mut trails = Trails::default();
@@ -57,8 +77,15 @@ pub fn run(config: &Config, planner: &mut dyn Planner, seconds: f64) -> anyhow::
                 trails.parts.entry(p.id).or_insert_with(|| PartTrail { class: p.class, points: Vec::new() });
             trail.points.push([time, p.x, p.y, p.theta]);
         }
-        core.inbox().push_parts(&states);
-        if planner.plan(&states, time, &mut request) {
+        let seen = match &mut sight {
+            None => &states,
+            Some(s) => {
+                s.see(&states, frame_ticks as f64 / tick_hz, &mut seen);
+                &seen
+            }
+        };
+        core.inbox().push_parts(seen);
+        if planner.plan(seen, time, &mut request) {
             request.seq = seq;
             request.stamp_ns = now;
             request.deadline_ns = now + upm_planner::run::REQUEST_LIFETIME_NS;
@@ -79,5 +106,6 @@ pub fn run(config: &Config, planner: &mut dyn Planner, seconds: f64) -> anyhow::
         first_rank_condition: core.published().first().map_or((0, 0.0), |s| (s.rank, s.condition)),
         mean_residual: core.published().iter().map(|s| s.residual).sum::<f64>()
             / core.published().len().max(1) as f64,
+        sight: sight.map(|s| (s.counts.detected, s.counts.merged, s.bad_frames)),
     })
 }

@@ -19,6 +19,7 @@ pub mod die_with_parent;
 pub mod feeder;
 pub mod host_facts;
 pub mod launcher;
+pub mod rendered_sight;
 pub mod scenario;
 pub mod soak;
 pub mod solve_json;

@@ -96,6 +96,12 @@ impl VisionSection {
         if self.calibration.is_empty() {
             return Err("vision.calibration: a calibration file is needed with source = \"frames\"".into());
         }
+        self.frames_for_camera().map(Some)
+    }
+
+    /// The image pipeline's settings whatever `source` says, the
+    /// calibration given separately (an in-process camera).
+    pub fn frames_for_camera(&self) -> Result<FrameParams, String> {
         if !(self.threshold.is_finite() && self.threshold > 0.0 && self.threshold < 1.0) {
             return Err(format!("vision.threshold must be in (0, 1), got {}", self.threshold));
         }
@@ -115,7 +121,7 @@ impl VisionSection {
                 return Err(format!("vision.classes[{i}]: ratio in (0, 1) and radius_mm > 0 are needed"));
             }
         }
-        Ok(Some(FrameParams {
+        Ok(FrameParams {
             calibration: PathBuf::from(&self.calibration),
             looks: self
                 .classes
@@ -124,7 +130,7 @@ impl VisionSection {
                 .collect(),
             segment: SegmentParams { threshold: self.threshold, ..SegmentParams::default() },
             roi_margin: self.roi_margin_mm * 1e-3,
-        }))
+        })
     }
 
     /// Camera and tracker parameters; the message names the field.

@@ -1,0 +1,60 @@
+//! The camera path inside one process, for the lock-step loop: the
+//! simulator's truth drawn by the rendered camera (`[camera]`), then
+//! vision's pipeline (segmentation, detection through the camera's true
+//! model, tracker) exactly as the two processes of `upm run --camera
+//! rendered` do it, so the loop is tested through images and stays
+//! bit-identical for a seed.
+
+use ipc_types::PartStates;
+use upm_camera::Renderer;
+use upm_vision::blobs::Segmenter;
+use upm_vision::detect::{BlobCounts, PartLook, detect};
+use upm_vision::lens::CameraModel;
+use upm_vision::{Detection, Tracker, part_states};
+
+use crate::config::Config;
+
+#[derive(Debug)]
+pub struct RenderedSight {
+    renderer: Renderer,
+    model: CameraModel,
+    segmenter: Segmenter,
+    looks: Vec<PartLook>,
+    tracker: Tracker,
+    found: Vec<Detection>,
+    pub counts: BlobCounts,
+    /// Frames vision skipped (too dark, saturated, noise).
+    pub bad_frames: u64,
+}
+
+impl RenderedSight {
+    pub fn new(config: &Config) -> anyhow::Result<Self> {
+        let model = config.camera.model().map_err(anyhow::Error::msg)?;
+        let scene = config.camera.scene().map_err(anyhow::Error::msg)?;
+        let frames = config.vision.frames_for_camera().map_err(anyhow::Error::msg)?;
+        let (_, tracker) = config.vision.params().map_err(anyhow::Error::msg)?;
+        Ok(Self {
+            segmenter: Segmenter::new(&model, config.plate.half_extent, frames.roi_margin, frames.segment),
+            renderer: Renderer::new(model, scene).map_err(anyhow::Error::msg)?,
+            model,
+            looks: frames.looks,
+            tracker: Tracker::new(tracker),
+            found: Vec::with_capacity(4 * ipc_types::MAX_PARTS),
+            counts: BlobCounts::default(),
+            bad_frames: 0,
+        })
+    }
+
+    /// One frame of `truth`, `dt` s after the last: the parts as vision
+    /// reports them (its own ids) into `out`.
+    pub fn see(&mut self, truth: &PartStates, dt: f64, out: &mut PartStates) {
+        let pixels = self.renderer.render(truth);
+        self.found.clear();
+        match self.segmenter.segment(pixels, self.model.width, self.model.height, self.model.width as usize) {
+            Ok(blobs) => detect(blobs, &self.model, &self.looks, &mut self.found, &mut self.counts),
+            Err(_) => self.bad_frames += 1,
+        }
+        self.tracker.update(&self.found, dt);
+        part_states(self.tracker.tracks(), truth.seq, truth.stamp_ns, out);
+    }
+}
