@@ -9,7 +9,7 @@ use ipc_types::{PartState, PartStates};
 use upm_camera::{ClassLook, Renderer, Scene};
 use upm_vision::Detection;
 use upm_vision::blobs::{BadFrame, SegmentParams, Segmenter};
-use upm_vision::detect::{BlobCounts, PartLook, detect};
+use upm_vision::detect::{BlobCounts, PartLook, detect, split_area_px};
 use upm_vision::lens::{CameraModel, Mount};
 
 fn model() -> CameraModel {
@@ -44,11 +44,9 @@ struct Vision {
 impl Vision {
     fn new() -> Self {
         let m = model();
-        Self {
-            segmenter: Segmenter::new(&m, [1.0, 0.5], 0.003, SegmentParams::default()),
-            model: m,
-            looks: looks(&scene()),
-        }
+        let looks = looks(&scene());
+        let params = SegmentParams { split_above_px: split_area_px(&m, &looks), ..SegmentParams::default() };
+        Self { segmenter: Segmenter::new(&m, [1.0, 0.5], 0.003, params), model: m, looks }
     }
 
     fn see(&mut self, pixels: &[u8]) -> Result<(Vec<Detection>, BlobCounts), BadFrame> {
@@ -107,20 +105,28 @@ fn separated_parts_are_found_within_a_third_of_a_millimetre() {
 }
 
 #[test]
-fn touching_and_cut_parts_are_counted_not_reported() {
+fn touching_pairs_are_split_clusters_and_cut_parts_counted() {
     let mut cam = Renderer::new(model(), scene()).expect("renderer");
     let mut vision = Vision::new();
+    let pair = [(1, 0, [0.0, 0.0]), (2, 1, [0.0295, 0.004])];
     let truth = states(&[
-        (1, 0, [0.0, 0.0], [0.0, 0.0]),
-        (2, 0, [0.029, 0.0], [0.0, 0.0]), // touches part 1
-        (3, 1, [0.995, 0.2], [0.0, 0.0]), // hangs over the plate's edge
-        (4, 1, [-0.5, -0.2], [0.0, 0.0]), // alone
+        (pair[0].0, pair[0].1, pair[0].2, [0.0, 0.0]),
+        (pair[1].0, pair[1].1, pair[1].2, [0.0, 0.0]), // touches part 1
+        (3, 0, [0.4, 0.1], [0.0, 0.0]),                // three in a row
+        (4, 0, [0.4295, 0.1], [0.0, 0.0]),
+        (5, 1, [0.459, 0.1], [0.0, 0.0]),
+        (6, 1, [0.995, 0.2], [0.0, 0.0]), // hangs over the plate's edge
+        (7, 1, [-0.5, -0.2], [0.0, 0.0]), // alone
     ]);
     let (found, counts) = vision.see(cam.render(&truth)).expect("a good frame");
-    assert_eq!(counts.merged, 1, "{counts:?}");
-    assert_eq!(counts.cut, 1, "{counts:?}");
-    assert_eq!(found.len(), 1, "{found:?}");
-    assert!((found[0].x + 0.5).abs() < 1e-3 && (found[0].y + 0.2).abs() < 1e-3);
+    assert_eq!(counts, BlobCounts { detected: 3, cut: 1, merged: 1, small: 0, split: 2 }, "{found:?}");
+    // The pair comes out as its two parts, each of its own class.
+    for (_, class, [x, y]) in pair {
+        let d = found.iter().find(|d| (d.x - x).hypot(d.y - y) < 0.01).expect("found");
+        assert_eq!(d.class, class, "{d:?}");
+        assert!((d.x - x).hypot(d.y - y) < 1e-3, "{d:?} vs ({x}, {y})");
+    }
+    assert!(found.iter().any(|d| (d.x + 0.5).abs() < 1e-3 && (d.y + 0.2).abs() < 1e-3));
 }
 
 #[test]

@@ -26,7 +26,7 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use upm_camera::{CameraSection, Renderer};
 use upm_vision::blobs::{SegmentParams, Segmenter};
-use upm_vision::detect::{BlobCounts, PartLook, detect};
+use upm_vision::detect::{BlobCounts, PartLook, detect, split_area_px};
 use upm_vision::{Detection, Tracker, TrackerParams};
 
 /// One bench case: a sensor and how many parts.
@@ -83,7 +83,8 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
         .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius })
         .collect();
     let mut renderer = Renderer::new(model, scene.clone()).map_err(anyhow::Error::msg)?;
-    let mut segmenter = Segmenter::new(&model, scene.plate_half_extent, 0.003, SegmentParams::default());
+    let segment = SegmentParams { split_above_px: split_area_px(&model, &looks), ..SegmentParams::default() };
+    let mut segmenter = Segmenter::new(&model, scene.plate_half_extent, 0.003, segment);
     let mut tracker = Tracker::new(TrackerParams::default());
     let mut truth_parts = parts(case.parts, 1000 + case.parts as u64);
     let dt = 1.0 / 30.0;

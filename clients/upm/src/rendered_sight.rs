@@ -7,8 +7,8 @@
 
 use ipc_types::PartStates;
 use upm_camera::Renderer;
-use upm_vision::blobs::Segmenter;
-use upm_vision::detect::{BlobCounts, PartLook, detect};
+use upm_vision::blobs::{SegmentParams, Segmenter};
+use upm_vision::detect::{BlobCounts, PartLook, detect, split_area_px};
 use upm_vision::lens::CameraModel;
 use upm_vision::{Detection, Tracker, part_states};
 
@@ -34,7 +34,12 @@ impl RenderedSight {
         let frames = config.vision.frames_for_camera().map_err(anyhow::Error::msg)?;
         let (_, tracker) = config.vision.params().map_err(anyhow::Error::msg)?;
         Ok(Self {
-            segmenter: Segmenter::new(&model, config.plate.half_extent, frames.roi_margin, frames.segment),
+            segmenter: Segmenter::new(
+                &model,
+                config.plate.half_extent,
+                frames.roi_margin,
+                SegmentParams { split_above_px: split_area_px(&model, &frames.looks), ..frames.segment },
+            ),
             renderer: Renderer::new(model, scene).map_err(anyhow::Error::msg)?,
             model,
             looks: frames.looks,

@@ -12,6 +12,7 @@ mod external;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use upm_cli::launcher::CameraChoice;
 use upm_cli::scenario::{Scenario, resolve};
 
 fn lockstep(name: &str, seed: u64, seconds: f64) -> (serde_json::Value, upm_cli::closed_loop::LoopResult) {
@@ -96,6 +97,25 @@ fn external_planner_gathers_parts() {
         let (d0, d1) = (a[1].hypot(a[2]), b[1].hypot(b[2]));
         assert!(d1 < 0.6 * d0, "part {id}: {d0:.3} → {d1:.3} m from the centre");
     }
+}
+
+/// Lock-step through images: the rendered camera and vision's pipeline in
+/// the loop instead of the simulator's truth; sort still puts every part
+/// on its side (seed 1), and vision splits touching pairs instead of
+/// losing them.
+#[test]
+fn sort_through_rendered_frames_puts_every_part_on_its_side() {
+    let sc = Scenario::load(&resolve("sort")).expect("scenario");
+    let config = sc.config(1, "unused_").expect("config");
+    let mut planner = config.planner.build().expect("planner");
+    let r = upm_cli::closed_loop::run_seeing(&config, planner.as_mut(), 300.0, CameraChoice::Rendered)
+        .expect("run");
+    let m = sc.evaluate(&config, &r.trails);
+    assert_eq!(m["sorted_fraction"], 1.0, "{m}");
+    let (detected, merged, bad_frames) = r.sight.expect("through frames");
+    assert_eq!((merged, bad_frames), (0, 0));
+    let frames = r.trails.parts.values().map(|t| t.points.len()).max().unwrap_or(0) as u64;
+    assert!(detected as f64 >= 0.98 * (10 * frames) as f64, "{detected} of {} part sightings", 10 * frames);
 }
 
 fn upm_run(scenario: &str, seconds: &str, out: &std::path::Path) -> std::process::Child {

@@ -11,6 +11,9 @@
 //! 3. **Labelling** of dark runs with union-find (8-connected), and the
 //!    **moments** of each blob (area, centroid, second central moments,
 //!    mean brightness relative to the plate) summed per run in closed form.
+//! 4. **Touching pairs**: a blob the size of two parts is cut across its
+//!    long axis at its centroid (two touching discs part exactly at their
+//!    contact), each half measured again from the pixels.
 //!
 //! Written by hand because the crates at hand (imageproc's
 //! `connected_components`) return a freshly allocated label image per
@@ -28,11 +31,15 @@ pub struct SegmentParams {
     pub percentile: f64,
     /// Runs a frame may hold; more (a frame of noise) skips the frame.
     pub max_runs: usize,
+    /// A blob of area between 1 × and 2.6 / 1.5 × this (px²) is taken for
+    /// two touching parts and split in two along its long axis; 0 never
+    /// splits. Callers set it to 1.5 × a part's area.
+    pub split_above_px: f64,
 }
 
 impl Default for SegmentParams {
     fn default() -> Self {
-        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17 }
+        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17, split_above_px: 0.0 }
     }
 }
 
@@ -51,6 +58,8 @@ pub struct Blob {
     pub ratio: f64,
     /// Touches the region of interest's edge (cut by it, not whole).
     pub cut: bool,
+    /// One half of a blob of two touching parts.
+    pub split: bool,
 }
 
 /// Why a frame gave no blobs at all.
@@ -115,6 +124,8 @@ pub struct Segmenter {
     runs: Vec<Run>,
     parent: Vec<u32>,
     slot: Vec<u32>,
+    /// The blob (index into `sums`) of every run.
+    run_blob: Vec<u32>,
     sums: Vec<Sums>,
     blobs: Vec<Blob>,
 }
@@ -173,6 +184,7 @@ impl Segmenter {
             runs: Vec::with_capacity(params.max_runs),
             parent: Vec::with_capacity(params.max_runs),
             slot: Vec::with_capacity(params.max_runs),
+            run_blob: Vec::with_capacity(params.max_runs),
             sums: Vec::with_capacity(params.max_runs),
             blobs: Vec::with_capacity(params.max_runs),
         }
@@ -375,12 +387,14 @@ impl Segmenter {
             prev = here..self.runs.len();
         }
         self.moments();
+        self.split_pairs(pixels, stride);
         Ok(())
     }
 
     fn moments(&mut self) {
         self.slot.clear();
         self.slot.resize(self.runs.len(), u32::MAX);
+        self.run_blob.clear();
         self.sums.clear();
         let (first_row, last_row) = (self.roi_rows.0 as u32, self.roi_rows.1 as u32 - 1);
         for r in 0..self.runs.len() {
@@ -389,6 +403,7 @@ impl Segmenter {
                 self.slot[root] = self.sums.len() as u32;
                 self.sums.push(Sums::default());
             }
+            self.run_blob.push(self.slot[root]);
             let run = self.runs[r];
             let (roi_a, roi_b) = self.roi[run.v as usize];
             let cut = {
@@ -422,17 +437,80 @@ impl Segmenter {
             s.cut |= cut;
         }
         for s in &self.sums {
-            let (u, v) = (s.su / s.n, s.sv / s.n);
-            self.blobs.push(Blob {
-                area: s.n,
-                u,
-                v,
-                mu20: s.suu / s.n - u * u,
-                mu02: s.svv / s.n - v * v,
-                mu11: s.suv / s.n - u * v,
-                ratio: s.ratio / s.n,
-                cut: s.cut,
-            });
+            self.blobs.push(blob_of(s));
         }
+    }
+
+    /// Background at one pixel, bilinear between tile centres.
+    fn background_at(&self, u: usize, v: usize) -> f32 {
+        let t = self.params.tile as f32;
+        let (tx, ty) = self.tiles;
+        let fy = ((v as f32 + 0.5) / t - 0.5).clamp(0.0, (ty - 1) as f32);
+        let (j0, wy) = (fy.floor() as usize, fy - fy.floor());
+        let j1 = (j0 + 1).min(ty - 1);
+        let (i0, wx) = self.columns[u];
+        let (i0, i1) = (i0 as usize, (i0 as usize + 1).min(tx - 1));
+        let at = |j: usize, i: usize| self.tile_bg[j * tx + i];
+        let a = at(j0, i0) + (at(j0, i1) - at(j0, i0)) * wx;
+        let b = at(j1, i0) + (at(j1, i1) - at(j1, i0)) * wx;
+        a + (b - a) * wy
+    }
+
+    /// Split each blob the size of two parts at the line through its
+    /// centroid across its long axis: two touching discs are cut exactly
+    /// at their contact. Each half gets its own moments and brightness.
+    fn split_pairs(&mut self, pixels: &[u8], stride: usize) {
+        let low = self.params.split_above_px;
+        if low <= 0.0 {
+            return;
+        }
+        let high = low * 2.6 / 1.5;
+        for b in 0..self.blobs.len() {
+            let blob = self.blobs[b];
+            if blob.split || blob.cut || blob.area < low || blob.area > high {
+                continue;
+            }
+            let angle = 0.5 * (2.0 * blob.mu11).atan2(blob.mu20 - blob.mu02);
+            let (ex, ey) = (angle.cos(), angle.sin());
+            let mut halves = [Sums::default(); 2];
+            for (r, run) in self.runs.iter().enumerate() {
+                if self.run_blob[r] as usize != b {
+                    continue;
+                }
+                let v = run.v as f64;
+                let row = &pixels[run.v as usize * stride..];
+                for u in run.u0 as usize..run.u1 as usize {
+                    let uf = u as f64;
+                    let h = &mut halves[usize::from((uf - blob.u) * ex + (v - blob.v) * ey >= 0.0)];
+                    h.n += 1.0;
+                    h.su += uf;
+                    h.sv += v;
+                    h.suu += uf * uf;
+                    h.svv += v * v;
+                    h.suv += uf * v;
+                    h.ratio += (row[u] as f32 / self.background_at(u, run.v as usize).max(1.0)) as f64;
+                }
+            }
+            if halves.iter().all(|h| h.n > 0.0) {
+                let [a, c] = halves.map(|h| Blob { split: true, ..blob_of(&h) });
+                self.blobs[b] = a;
+                self.blobs.push(c);
+            }
+        }
+    }
+}
+
+fn blob_of(s: &Sums) -> Blob {
+    let (u, v) = (s.su / s.n, s.sv / s.n);
+    Blob {
+        area: s.n,
+        u,
+        v,
+        mu20: s.suu / s.n - u * u,
+        mu02: s.svv / s.n - v * v,
+        mu11: s.suv / s.n - u * v,
+        ratio: s.ratio / s.n,
+        cut: s.cut,
+        split: false,
     }
 }

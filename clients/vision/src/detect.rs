@@ -1,8 +1,8 @@
-//! From blobs to parts: each whole blob of a part's size becomes a
-//! detection on the plate (its centroid through the calibration), with the
-//! class whose brightness is nearest. A blob cut by the plate's edge, a
-//! blob of two or more touching parts, and a speck are counted, never
-//! reported as a wrong part.
+//! From blobs to parts: each whole blob of a part's size (a touching pair
+//! comes split in two, see `blobs`) becomes a detection on the plate (its
+//! centroid through the calibration), with the class whose brightness is
+//! nearest. A blob cut by the plate's edge, a blob of three or more
+//! touching parts, and a speck are counted, never reported as a wrong part.
 //!
 //! Only discs are recognised so far: their orientation is not observable,
 //! so a detection's angle is 0.
@@ -29,6 +29,17 @@ pub struct BlobCounts {
     pub merged: u64,
     /// Smaller than any part.
     pub small: u64,
+    /// Detections that were one half of two touching parts.
+    pub split: u64,
+}
+
+/// The blob area (px²) above which the segmenter tries a blob as two
+/// touching parts: 1.5 × the largest part's area at the plate's centre.
+pub fn split_area_px(model: &CameraModel, looks: &[PartLook]) -> f64 {
+    let mpp = model.metres_per_pixel(0.0, 0.0).unwrap_or(f64::NAN);
+    let largest = looks.iter().map(|l| l.radius).fold(0.0, f64::max);
+    let area = 1.5 * core::f64::consts::PI * largest * largest / (mpp * mpp);
+    if area.is_finite() { area } else { 0.0 }
 }
 
 /// Blobs of one frame → detections (appended to `out`).
@@ -74,6 +85,7 @@ pub fn detect(
             })
             .map_or(0, |(i, _)| i as u32);
         counts.detected += 1;
+        counts.split += u64::from(b.split);
         out.push(Detection { x, y, theta: 0.0, class });
     }
 }

@@ -9,10 +9,10 @@ use std::time::{Duration, Instant};
 use ipc_types::monotonic_now_ns;
 use serde::Serialize;
 
-use crate::blobs::{BadFrame, Segmenter};
+use crate::blobs::{BadFrame, SegmentParams, Segmenter};
 use crate::calibration::Calibration;
 use crate::config::FrameParams;
-use crate::detect::{BlobCounts, detect};
+use crate::detect::{BlobCounts, detect, split_area_px};
 use crate::outputs::Outputs;
 use crate::{Detection, Tracker, TrackerParams};
 
@@ -31,6 +31,8 @@ pub struct FrameStats {
     pub merged_blobs: u64,
     pub cut_blobs: u64,
     pub small_blobs: u64,
+    /// Detections that were one of two touching parts, split.
+    pub split_detections: u64,
     /// Frame received → PartStates published, µs.
     pub processing_p50_us: f64,
     pub processing_p99_us: f64,
@@ -75,7 +77,9 @@ pub fn run_frames(
 ) -> anyhow::Result<FrameStats> {
     let cal = Calibration::load(&params.calibration).map_err(anyhow::Error::msg)?;
     let (width, height) = (cal.camera.width, cal.camera.height);
-    let mut segmenter = Segmenter::new(&cal.camera, cal.plate_half_extent, params.roi_margin, params.segment);
+    let segment =
+        SegmentParams { split_above_px: split_area_px(&cal.camera, &params.looks), ..params.segment };
+    let mut segmenter = Segmenter::new(&cal.camera, cal.plate_half_extent, params.roi_margin, segment);
     let mut tracker = Tracker::new(tracker);
     let mut out = Outputs::open(prefix)?;
     let frames = ipc_types::ports::frame_subscriber(out.node())?;
@@ -133,6 +137,7 @@ pub fn run_frames(
     stats.merged_blobs = counts.merged;
     stats.cut_blobs = counts.cut;
     stats.small_blobs = counts.small;
+    stats.split_detections = counts.split;
     times.fill(&mut stats);
     Ok(stats)
 }
