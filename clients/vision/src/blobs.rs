@@ -478,8 +478,9 @@ impl Segmenter {
                     continue;
                 }
                 let v = run.v as f64;
-                let row = &pixels[run.v as usize * stride..];
-                for u in run.u0 as usize..run.u1 as usize {
+                let (u0, u1) = (run.u0 as usize, run.u1 as usize);
+                let row = &pixels[run.v as usize * stride + u0..run.v as usize * stride + u1];
+                for (u, &p) in (u0..u1).zip(row) {
                     let uf = u as f64;
                     let h = &mut halves[usize::from((uf - blob.u) * ex + (v - blob.v) * ey >= 0.0)];
                     h.n += 1.0;
@@ -488,7 +489,7 @@ impl Segmenter {
                     h.suu += uf * uf;
                     h.svv += v * v;
                     h.suv += uf * v;
-                    h.ratio += (row[u] as f32 / self.background_at(u, run.v as usize).max(1.0)) as f64;
+                    h.ratio += (p as f32 / self.background_at(u, run.v as usize).max(1.0)) as f64;
                 }
             }
             if halves.iter().all(|h| h.n > 0.0) {
