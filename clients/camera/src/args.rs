@@ -6,21 +6,46 @@ use rig_config::{ConfigError, ProcessArgs};
 use crate::{CameraSection, Renderer};
 
 #[derive(Debug, Parser)]
-#[command(name = "upm-camera", version, about = "UPM rendered camera: ground truth in, camera frames out")]
+#[command(
+    name = "upm-camera",
+    version,
+    about = "UPM frame source: the rendered camera (ground truth in), or PNG files; camera frames out"
+)]
 pub struct CameraArgs {
     /// `--config` is read for [service] and [camera] only.
     #[command(flatten)]
     pub process: ProcessArgs,
+    /// Publish the PNG files of this directory (name order) instead of
+    /// rendering.
+    #[arg(long)]
+    pub files: Option<std::path::PathBuf>,
+    /// With --files: frames per second (default: camera.frame_hz).
+    #[arg(long)]
+    pub rate: Option<f64>,
+    /// With --files: start over after the last file.
+    #[arg(long = "loop")]
+    pub looping: bool,
 }
 
 pub fn run_camera(args: CameraArgs) -> anyhow::Result<u64> {
     let file = args.process.file()?;
     let prefix = args.process.prefix(&file)?;
     let section = file.section::<CameraSection>("camera")?;
+    let duration = args.process.duration().map_err(anyhow::Error::msg)?;
+    if let Some(dir) = &args.files {
+        let stats = crate::files::run_files(
+            &prefix,
+            dir,
+            args.rate.unwrap_or(section.frame_hz),
+            args.looping,
+            duration,
+        )?;
+        eprintln!("upm-camera: {stats}");
+        return Ok(stats.published);
+    }
     let invalid = |m| ConfigError::invalid(file.shown(), m);
     let model = section.model().map_err(invalid)?;
     let scene = section.scene().map_err(invalid)?;
-    let duration = args.process.duration().map_err(anyhow::Error::msg)?;
     let renderer = Renderer::new(model, scene).map_err(anyhow::Error::msg)?;
     crate::run::run(&prefix, renderer, section.frame_hz, duration)
 }

@@ -5,6 +5,7 @@
 
 pub mod args;
 pub mod config;
+pub mod files;
 pub mod render;
 pub mod run;
 

@@ -37,6 +37,10 @@ pub struct FrameStats {
     pub processing_p50_us: f64,
     pub processing_p99_us: f64,
     pub processing_max_us: f64,
+    /// Frame stamp (middle of the exposure) → PartStates published, µs:
+    /// the camera's own delay and transport included.
+    pub frame_age_p50_us: f64,
+    pub frame_age_p99_us: f64,
 }
 
 /// Keeps the last processing times without allocating per frame.
@@ -57,13 +61,12 @@ impl Times {
         }
     }
 
-    fn fill(&self, stats: &mut FrameStats) {
+    /// p50, p99 and max (0 without samples).
+    fn percentiles(&self) -> [f64; 3] {
         let mut v = self.us.clone();
         v.sort_by(f64::total_cmp);
         let at = |q: f64| v.get(((v.len() as f64 * q) as usize).min(v.len().saturating_sub(1))).copied();
-        stats.processing_p50_us = at(0.5).unwrap_or(0.0);
-        stats.processing_p99_us = at(0.99).unwrap_or(0.0);
-        stats.processing_max_us = v.last().copied().unwrap_or(0.0);
+        [at(0.5), at(0.99), v.last().copied()].map(|x| x.unwrap_or(0.0))
     }
 }
 
@@ -86,6 +89,7 @@ pub fn run_frames(
     let end = duration.map(|d| monotonic_now_ns() + d.as_nanos() as u64);
     let mut stats = FrameStats::default();
     let mut times = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
+    let mut ages = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
     let mut detections: Vec<Detection> = Vec::with_capacity(ipc_types::MAX_PARTS * 4);
     let mut counts = BlobCounts::default();
     let mut last_complaint: Option<Instant> = None;
@@ -116,6 +120,7 @@ pub fn run_frames(
                         tracker.update(&detections, out.dt(h.stamp_ns));
                         stats.published += 1;
                         out.publish(tracker.tracks(), stats.published, h.stamp_ns)?;
+                        ages.push(monotonic_now_ns().saturating_sub(h.stamp_ns) as f64 / 1e3);
                         None
                     }
                 },
@@ -138,6 +143,7 @@ pub fn run_frames(
     stats.cut_blobs = counts.cut;
     stats.small_blobs = counts.small;
     stats.split_detections = counts.split;
-    times.fill(&mut stats);
+    [stats.processing_p50_us, stats.processing_p99_us, stats.processing_max_us] = times.percentiles();
+    [stats.frame_age_p50_us, stats.frame_age_p99_us, _] = ages.percentiles();
     Ok(stats)
 }
