@@ -261,6 +261,11 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
             config.validate(&path.display().to_string())?;
+            if camera == crate::launcher::CameraChoice::Rendered && config.planner.name() == "spin" {
+                anyhow::bail!(
+                    "--camera rendered: the spin planner needs each part's angle, and vision sees discs without one"
+                );
+            }
             eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");
             let plan = crate::launcher::RunPlan {
                 scenario: sc.name.clone(),

@@ -129,6 +129,8 @@ impl Scenario {
         }
         // The rendered camera and vision see the parts' classes as they are.
         c.camera.half_extent = c.plate.half_extent;
+        c.camera.frame_hz = c.vision.frame_hz;
+        c.camera.seed = seed;
         let classes = c.sim.parts.iter().map(|p| p.class as usize + 1).max().unwrap_or(0);
         let levels = [0.1, 0.4, 0.25, 0.55];
         c.camera.classes = (0..classes)

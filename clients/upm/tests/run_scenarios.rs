@@ -118,6 +118,17 @@ fn sort_through_rendered_frames_puts_every_part_on_its_side() {
     assert!(detected as f64 >= 0.98 * (10 * frames) as f64, "{detected} of {} part sightings", 10 * frames);
 }
 
+/// A loop the camera path cannot close is refused before anything starts.
+#[test]
+fn spin_through_rendered_frames_is_refused_in_one_line() {
+    let out = std::env::temp_dir().join(format!("upm_run_spin_rendered_{}", std::process::id()));
+    let o = upm_run_with("spin", "2", &out, &["--camera", "rendered"]).wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(err.contains("needs each part's angle"), "{err}");
+    assert!(!out.join("metrics.json").exists());
+}
+
 fn upm_run(scenario: &str, seconds: &str, out: &std::path::Path) -> std::process::Child {
     upm_run_with(scenario, seconds, out, &[])
 }
