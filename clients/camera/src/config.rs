@@ -41,6 +41,8 @@ pub struct CameraSection {
     /// The plate's half extent (m), as `[plate]` has it.
     pub half_extent: [f64; 2],
     pub classes: Vec<ClassSection>,
+    /// The calibration board `upm calibrate camera` looks for.
+    pub board: crate::board::Board,
 }
 
 impl Default for CameraSection {
@@ -66,6 +68,7 @@ impl Default for CameraSection {
                 ClassSection { level: 0.1, radius_mm: 15.0 },
                 ClassSection { level: 0.4, radius_mm: 15.0 },
             ],
+            board: crate::board::Board::default(),
         }
     }
 }
@@ -99,6 +102,11 @@ impl CameraSection {
         Ok(model)
     }
 
+    /// The scene with the calibration board lying on the plate, no parts.
+    pub fn board_scene(&self) -> Result<Scene, String> {
+        Ok(Scene { board: Some(self.board), ..self.scene()? })
+    }
+
     /// What the camera sees; the message names the field.
     pub fn scene(&self) -> Result<Scene, String> {
         if !(self.frame_hz.is_finite() && self.frame_hz > 0.0 && self.frame_hz <= 1000.0) {
@@ -121,6 +129,7 @@ impl CameraSection {
                 .collect(),
             fiducial_side: self.fiducial_mm * 1e-3,
             seed: self.seed,
+            board: None,
         };
         scene.validate()?;
         Ok(scene)

@@ -4,10 +4,12 @@
 //! truth; vision never does when it works from frames.
 
 pub mod args;
+pub mod board;
 pub mod config;
 pub mod files;
 pub mod render;
 pub mod run;
 
+pub use board::Board;
 pub use config::{CameraSection, ClassSection};
 pub use render::{ClassLook, Renderer, Scene};

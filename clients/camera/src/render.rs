@@ -41,6 +41,8 @@ pub struct Scene {
     /// corners and mid-edges ([`Scene::fiducials`]).
     pub fiducial_side: f64,
     pub seed: u64,
+    /// A calibration board lying on the plate (`upm calibrate camera`).
+    pub board: Option<crate::board::Board>,
 }
 
 impl Scene {
@@ -64,6 +66,9 @@ impl Scene {
                 let inner = (x - wx).abs() <= 0.18 * s && (y - wy).abs() <= 0.18 * s;
                 return if inner { 0.95 } else { 0.05 };
             }
+        }
+        if let Some(level) = self.board.as_ref().and_then(|b| b.level(x, y)) {
+            return level;
         }
         let [hx, hy] = self.plate_half_extent;
         if x.abs() <= hx && y.abs() <= hy { self.plate_level } else { self.surround_level }
@@ -98,6 +103,9 @@ impl Scene {
         }
         if !(self.fiducial_side.is_finite() && self.fiducial_side > 0.0) {
             return Err("camera.fiducial_mm must be positive".into());
+        }
+        if let Some(b) = &self.board {
+            b.validate()?;
         }
         Ok(())
     }

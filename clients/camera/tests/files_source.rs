@@ -5,7 +5,7 @@
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use upm_test_harness::TestRig;
+use upm_test_harness::{Running, TestRig};
 
 #[test]
 fn png_files_are_published_in_order_and_bad_ones_skipped() {
@@ -25,19 +25,17 @@ fn png_files_are_published_in_order_and_bad_ones_skipped() {
     std::fs::write(dir.join("frame_004.png"), b"not a png").expect("write");
     image::GrayImage::new(32, 32).save(dir.join("frame_005.png")).expect("png");
     let frames = ipc_types::ports::frame_subscriber(rig.node()).expect("subscriber");
-    let mut camera = Command::new(env!("CARGO_BIN_EXE_upm-camera"))
-        .arg("--config")
-        .arg(&rig.config)
-        .arg("--files")
-        .arg(&dir)
-        .args(["--rate", "20", "--duration", "10"])
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("upm-camera");
-    // Read while it runs: a finished publisher takes its frames with it.
+    let camera = |extra: &[&str]| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_upm-camera"));
+        c.arg("--config").arg(&rig.config).arg("--files").arg(&dir).args(["--rate", "10"]).args(extra);
+        c
+    };
+    // Looping, read while it runs (a finished publisher takes its frames
+    // with it): files 0, 1, 2, the colour one, then file 0 again.
+    let looping = Running(camera(&["--loop", "--duration", "20"]).spawn().expect("upm-camera"));
     let mut got = Vec::new();
     let start = Instant::now();
-    while camera.try_wait().expect("wait").is_none() && start.elapsed() < Duration::from_secs(20) {
+    while got.len() < 5 && start.elapsed() < Duration::from_secs(20) {
         while let Some(f) = frames.receive().expect("receive") {
             let hdr = *f.user_header();
             assert_eq!(hdr.check(f.payload().len(), w, h), Ok(()));
@@ -45,15 +43,18 @@ fn png_files_are_published_in_order_and_bad_ones_skipped() {
         }
         std::thread::sleep(Duration::from_millis(5));
     }
-    let out = camera.wait_with_output().expect("upm-camera");
+    drop(looping);
+    assert_eq!(got.iter().take(5).map(|g| g.0).collect::<Vec<_>>(), vec![1, 2, 3, 4, 5]);
+    // Once through: the summary counts what was skipped.
+    let out = camera(&["--duration", "10"]).stderr(Stdio::piped()).output().expect("upm-camera");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("4 frames published, 1 files unreadable, 1 of another size"), "{err}");
-    assert_eq!(got.iter().map(|g| g.0).collect::<Vec<_>>(), vec![1, 2, 3, 4]);
     let expected =
         |i: u32| (0..h).flat_map(|y| (0..w).map(move |x| ((x + y + 10 * i) % 256) as u8)).collect::<Vec<_>>();
     for (i, frame) in got.iter().take(3).enumerate() {
         assert_eq!(frame.1, expected(i as u32), "frame {i}");
     }
     assert!(got[3].1.iter().all(|&p| p == 200), "colour → mono8");
+    assert_eq!(got[4].1, expected(0), "looped");
 }

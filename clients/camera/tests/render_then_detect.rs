@@ -28,6 +28,7 @@ fn scene() -> Scene {
         classes: vec![ClassLook { level: 0.1, radius: 0.015 }, ClassLook { level: 0.4, radius: 0.015 }],
         fiducial_side: 0.06,
         seed: 7,
+        board: None,
     }
 }
 

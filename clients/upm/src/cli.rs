@@ -115,6 +115,23 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
         camera: crate::launcher::CameraChoice,
     },
+    /// Calibrate the camera from its view of the calibration board
+    /// (`[camera.board]`): rendered by the rig's `[camera]`, or PNG files.
+    Calibrate {
+        what: CalibrateTarget,
+        /// Rig config ([camera], [plate]); the built-in defaults without it.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// PNG images of the board from a real camera, instead of rendering.
+        #[arg(long)]
+        images: Option<PathBuf>,
+        /// Where to write the calibration file vision loads.
+        #[arg(long, default_value = "calibration.toml")]
+        out: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Snapshot of a running core's telemetry. Without --prefix or
     /// --config it finds the running rig by itself (several: lists them).
     Status {
@@ -172,6 +189,13 @@ pub enum Command {
         #[arg(long)]
         plot: Option<PathBuf>,
     },
+}
+
+/// What `upm calibrate` calibrates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CalibrateTarget {
+    /// The camera: intrinsics, distortion and pose over the plate.
+    Camera,
 }
 
 /// What `upm bench` measures.
@@ -370,6 +394,27 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             eprintln!(
                 "upm resume: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it"
             );
+            Ok(())
+        }
+        Command::Calibrate { what: CalibrateTarget::Camera, config, images, out, json } => {
+            let shown = config.as_ref().map_or("built-in defaults".into(), |p| p.display().to_string());
+            let config = match &config {
+                Some(p) => crate::config::Config::load(p)?,
+                None => crate::config::Config::default(),
+            };
+            let half_extent = config.plate.half_extent;
+            config.camera.model().map_err(|m| crate::config::ConfigError::invalid(&shown, m))?;
+            let (cal, report) = match &images {
+                Some(dir) => crate::calibrate_camera::from_images(dir, &config.camera.board, half_extent)?,
+                None => crate::calibrate_camera::from_rendered(&config.camera, half_extent)?,
+            };
+            cal.save(&out).map_err(anyhow::Error::msg)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                println!("{report}");
+            }
+            eprintln!("upm calibrate: wrote {}", out.display());
             Ok(())
         }
         Command::Status { json, prefix, config, timeout } => {

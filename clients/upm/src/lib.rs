@@ -10,6 +10,7 @@ pub mod bench_solver;
 pub mod bench_sort;
 pub mod bench_vision;
 pub mod bounded_reference;
+pub mod calibrate_camera;
 pub mod cli;
 pub mod closed_loop;
 pub mod config;
