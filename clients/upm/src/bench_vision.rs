@@ -8,8 +8,9 @@
 //! physics here; position error, class errors and misses count separated
 //! parts, those within 3 mm of touching are counted apart), rendered frame by frame at 30 Hz through
 //! the default `[camera]` lens scaled to the sensor; vision (background
-//! model, threshold, labelling, moments, detection through the true
-//! calibration, tracker) times every frame. OpenCV runs from Python
+//! model, threshold, labelling, moments, detection through the calibration
+//! `upm calibrate camera` finds from the rendered board, tracker) times
+//! every frame. OpenCV runs from Python
 //! (`opencv-python-headless` in a venv under the target directory, made on
 //! first use, one thread) on the very same frames: a global threshold at
 //! 0.7 × the plate's median, masked to vision's region of interest,
@@ -77,14 +78,17 @@ fn parts(n: usize, seed: u64) -> Vec<(u32, [f64; 2], [f64; 2])> {
 
 fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, PathBuf)> {
     let cam = camera_for(case);
-    let model = cam.model().map_err(anyhow::Error::msg)?;
+    let truth = cam.model().map_err(anyhow::Error::msg)?;
     let scene = cam.scene().map_err(anyhow::Error::msg)?;
+    // Vision works through what calibration found, as in a real rig.
+    let (cal, cal_report) = crate::calibrate_camera::from_rendered(&cam, scene.plate_half_extent)?;
+    let model = cal.camera;
     let looks: Vec<PartLook> = scene
         .classes
         .iter()
         .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius })
         .collect();
-    let mut renderer = Renderer::new(model, scene.clone()).map_err(anyhow::Error::msg)?;
+    let mut renderer = Renderer::new(truth, scene.clone()).map_err(anyhow::Error::msg)?;
     let segment = SegmentParams { split_above_px: split_area_px(&model, &looks), ..SegmentParams::default() };
     let mut segmenter = Segmenter::new(&model, scene.plate_half_extent, 0.003, segment);
     let mut tracker = Tracker::new(TrackerParams::default());
@@ -192,6 +196,7 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
             "cut_blobs": counts.cut,
             // Frame stamp → PartStates over iceoryx2 is not measured here yet.
             "latency_p99_us": Value::Null,
+            "calibration_mapping_rms_mm": cal_report["against_truth"]["plate_mapping_rms_mm"],
         }),
         raw,
     ))

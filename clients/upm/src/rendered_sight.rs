@@ -1,9 +1,9 @@
 //! The camera path inside one process, for the lock-step loop: the
 //! simulator's truth drawn by the rendered camera (`[camera]`), then
-//! vision's pipeline (segmentation, detection through the camera's true
-//! model, tracker) exactly as the two processes of `upm run --camera
-//! rendered` do it, so the loop is tested through images and stays
-//! bit-identical for a seed.
+//! vision's pipeline (segmentation, detection through the calibration
+//! `upm calibrate camera` finds from the rendered board, tracker) exactly
+//! as the processes of `upm run --camera rendered` do it, so the loop is
+//! tested through images and stays bit-identical for a seed.
 
 use ipc_types::PartStates;
 use upm_camera::Renderer;
@@ -29,8 +29,10 @@ pub struct RenderedSight {
 
 impl RenderedSight {
     pub fn new(config: &Config) -> anyhow::Result<Self> {
-        let model = config.camera.model().map_err(anyhow::Error::msg)?;
+        let truth = config.camera.model().map_err(anyhow::Error::msg)?;
         let scene = config.camera.scene().map_err(anyhow::Error::msg)?;
+        let (cal, _) = crate::calibrate_camera::from_rendered(&config.camera, config.plate.half_extent)?;
+        let model = cal.camera;
         let frames = config.vision.frames_for_camera().map_err(anyhow::Error::msg)?;
         let (_, tracker) = config.vision.params().map_err(anyhow::Error::msg)?;
         Ok(Self {
@@ -40,7 +42,7 @@ impl RenderedSight {
                 frames.roi_margin,
                 SegmentParams { split_above_px: split_area_px(&model, &frames.looks), ..frames.segment },
             ),
-            renderer: Renderer::new(model, scene).map_err(anyhow::Error::msg)?,
+            renderer: Renderer::new(truth, scene).map_err(anyhow::Error::msg)?,
             model,
             looks: frames.looks,
             tracker: Tracker::new(tracker),

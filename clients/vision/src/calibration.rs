@@ -1,9 +1,7 @@
 //! The calibration file `upm-vision` loads when it works from camera
-//! frames: the camera model and the plate's outline, as TOML.
-//!
-//! Until `upm calibrate camera` exists, the only way to make one is from a
-//! known camera (the rendered camera's true model, which `upm run --camera
-//! rendered` writes); a real rig has no such file yet.
+//! frames: the camera model and the plate's outline, as TOML. `upm
+//! calibrate camera` writes it from the camera's view of the calibration
+//! board (rendered, or PNG images of a real camera).
 
 use std::path::Path;
 

@@ -91,14 +91,12 @@ pub fn run_plan(
     let mut config = plan.config.clone();
     let rendered = plan.camera == CameraChoice::Rendered;
     if rendered {
-        // No `upm calibrate camera` yet: vision gets the rendered camera's
-        // true model as its calibration.
-        let cal = upm_vision::calibration::Calibration {
-            plate_half_extent: config.plate.half_extent,
-            camera: config.camera.model().map_err(anyhow::Error::msg)?,
-        };
+        // Vision gets what `upm calibrate camera` finds from the rendered
+        // camera's view of the board, never the camera's true model.
+        let (cal, report) = crate::calibrate_camera::from_rendered(&config.camera, config.plate.half_extent)?;
         let path = out.join("calibration.toml");
         cal.save(&path).map_err(anyhow::Error::msg)?;
+        std::fs::write(out.join("calibration.json"), serde_json::to_string_pretty(&report)?)?;
         config.vision.source = "frames".into();
         config.vision.calibration = path.display().to_string();
     }
