@@ -101,18 +101,12 @@ pub fn run_files(
         }
         next = (next + period).max(Instant::now());
         stats.published += 1;
-        let mut sample = frames
-            .loan_slice_uninit(img.as_raw().len())
-            .map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
-        *sample.user_header_mut() = FrameHeader {
+        let header = FrameHeader {
             seq: stats.published,
             stamp_ns: monotonic_now_ns(),
             ..FrameHeader::mono8(width, height)
         };
-        sample
-            .write_from_slice(img.as_raw())
-            .send()
-            .map_err(|e| anyhow::anyhow!("publishing a frame: {e:?}"))?;
+        crate::run::publish_frame(&frames, header, img.as_raw())?;
     }
     Ok(stats)
 }

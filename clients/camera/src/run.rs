@@ -5,6 +5,7 @@ use std::time::Duration;
 
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
+use ipc_types::ports::FramePub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{FrameHeader, PartStates, monotonic_now_ns, service_names};
 
@@ -44,13 +45,9 @@ pub fn run(
                 last_stamp = Some(t.stamp_ns);
                 seq += 1;
                 let pixels = renderer.render(t);
-                let mut sample = frames
-                    .loan_slice_uninit(pixels.len())
-                    .map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
-                *sample.user_header_mut() =
+                let header =
                     FrameHeader { seq, stamp_ns: t.stamp_ns, exposure_ns, ..FrameHeader::mono8(w, h) };
-                let sample = sample.write_from_slice(pixels);
-                sample.send().map_err(|e| anyhow::anyhow!("publishing a frame: {e:?}"))?;
+                publish_frame(&frames, header, pixels)?;
             }
         }
         if end.is_some_and(|e| now >= e) {
@@ -62,4 +59,13 @@ pub fn run(
             Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => return Ok(seq),
         }
     }
+}
+
+/// Loan a frame from `frames`, fill it with `header` and `pixels`, send it.
+pub(crate) fn publish_frame(frames: &FramePub, header: FrameHeader, pixels: &[u8]) -> anyhow::Result<()> {
+    let mut sample =
+        frames.loan_slice_uninit(pixels.len()).map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
+    *sample.user_header_mut() = header;
+    sample.write_from_slice(pixels).send().map_err(|e| anyhow::anyhow!("publishing a frame: {e:?}"))?;
+    Ok(())
 }

@@ -43,7 +43,7 @@ fn one_seed(
 }
 
 /// Nearest-rank percentile of sorted `v` (`q` in 0..=1).
-fn percentile(v: &[f64], q: f64) -> Option<f64> {
+pub(crate) fn percentile(v: &[f64], q: f64) -> Option<f64> {
     let i = ((q * v.len() as f64).ceil() as usize).clamp(1, v.len().max(1)) - 1;
     v.get(i).copied()
 }

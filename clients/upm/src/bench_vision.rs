@@ -28,9 +28,10 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use upm_camera::{CameraSection, Renderer};
-use upm_vision::blobs::{SegmentParams, Segmenter};
-use upm_vision::detect::{BlobCounts, PartLook, detect, split_area_px};
-use upm_vision::{Detection, Tracker, TrackerParams};
+use upm_vision::blobs::SegmentParams;
+use upm_vision::detect::PartLook;
+use upm_vision::pipeline::FramePipeline;
+use upm_vision::{FrameParams, TrackerParams};
 
 /// One bench case: a sensor and how many parts.
 #[derive(Debug, Clone, Copy)]
@@ -40,12 +41,9 @@ struct Case {
     parts: usize,
 }
 
-/// Nearest-rank percentile of sorted `v`.
+/// Nearest-rank percentile of sorted `v`; NaN without samples.
 fn percentile(v: &[f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v[((q * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1]
+    crate::bench_sort::percentile(v, q).unwrap_or(f64::NAN)
 }
 
 fn sorted(mut v: Vec<f64>) -> Vec<f64> {
@@ -88,10 +86,14 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
         .iter()
         .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius })
         .collect();
+    let frame_params = FrameParams {
+        calibration: PathBuf::new(),
+        looks,
+        segment: SegmentParams::default(),
+        roi_margin: 0.003,
+    };
+    let mut vision = FramePipeline::new(&cal, &frame_params, TrackerParams::default());
     let mut renderer = Renderer::new(truth, scene.clone()).map_err(anyhow::Error::msg)?;
-    let segment = SegmentParams { split_above_px: split_area_px(&model, &looks), ..SegmentParams::default() };
-    let mut segmenter = Segmenter::new(&model, scene.plate_half_extent, 0.003, segment);
-    let mut tracker = Tracker::new(TrackerParams::default());
     let mut truth_parts = parts(case.parts, 1000 + case.parts as u64);
     let dt = 1.0 / 30.0;
     let raw = dir.join(format!("frames_{}x{}_{}.raw", case.width, case.height, case.parts));
@@ -99,8 +101,6 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
     let (mut times, mut err_mm, mut err_px) = (Vec::new(), Vec::new(), Vec::new());
     let (mut missed, mut false_found, mut class_errors) = (0u64, 0u64, 0u64);
     let (mut near_err_mm, mut near_missed) = (Vec::new(), 0u64);
-    let mut counts = BlobCounts::default();
-    let mut found: Vec<Detection> = Vec::with_capacity(256);
     for _ in 0..frames {
         let mut truth = PartStates::new();
         for (i, (class, p, v)) in truth_parts.iter().enumerate() {
@@ -109,19 +109,17 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
         let pixels = renderer.render(&truth);
         raw_bytes.extend_from_slice(pixels);
         let start = Instant::now();
-        found.clear();
-        let blobs = segmenter.segment(pixels, case.width, case.height, case.width as usize);
-        if let Ok(blobs) = blobs {
-            detect(blobs, &model, &looks, &mut found, &mut counts);
+        if vision.process(pixels, case.width, case.height, case.width as usize, dt).is_err() {
+            vision.no_frame(dt);
         }
-        tracker.update(&found, dt);
         times.push(start.elapsed().as_secs_f64() * 1e6);
+        let found = vision.detections();
         // Match each part to the nearest detection within 10 mm. The
         // parts here pass through each other (no physics): accuracy
         // targets are for separated parts, a part within 3 mm of touching
         // another is counted apart.
         let mut used = vec![false; found.len()];
-        let radius = looks.iter().map(|l| l.radius).fold(0.0, f64::max);
+        let radius = frame_params.looks.iter().map(|l| l.radius).fold(0.0, f64::max);
         for (k, (class, p, _)) in truth_parts.iter().enumerate() {
             let separated = truth_parts
                 .iter()
@@ -165,7 +163,7 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
     std::fs::write(&raw, &raw_bytes)?;
     // The reference gets vision's region of interest as a mask.
     let mut mask = vec![0u8; (case.width * case.height) as usize];
-    for (v, &(a, b)) in segmenter.roi_spans().iter().enumerate() {
+    for (v, &(a, b)) in vision.roi_spans().iter().enumerate() {
         let row = v * case.width as usize;
         mask[row + a as usize..row + b as usize].fill(255);
     }
@@ -191,9 +189,9 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
             "touching_sightings": near_err_mm.len() as u64 + near_missed,
             "touching_missed": near_missed,
             "touching_err_p50_mm": percentile(&near_err_mm, 0.5),
-            "split_detections": counts.split,
-            "merged_blobs": counts.merged,
-            "cut_blobs": counts.cut,
+            "split_detections": vision.counts.split,
+            "merged_blobs": vision.counts.merged,
+            "cut_blobs": vision.counts.cut,
             // Frame stamp → PartStates over iceoryx2 is not measured here yet.
             "latency_p99_us": Value::Null,
             "calibration_mapping_rms_mm": cal_report["against_truth"]["plate_mapping_rms_mm"],

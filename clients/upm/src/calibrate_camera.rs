@@ -33,9 +33,7 @@ pub struct Seen {
 }
 
 /// The board's tags in one mono8 image.
-pub fn detect_board(pixels: &[u8], width: u32, height: u32, board: &Board) -> anyhow::Result<Vec<Seen>> {
-    let img = image::GrayImage::from_raw(width, height, pixels.to_vec())
-        .ok_or_else(|| anyhow::anyhow!("image of {width} × {height} needs {} bytes", width * height))?;
+pub fn detect_board(img: image::GrayImage, board: &Board) -> Vec<Seen> {
     let tags = TagDetector::new(&TagFamily::T36H11, None).detect(&image::DynamicImage::ImageLuma8(img));
     let mut seen: Vec<Seen> = tags
         .iter()
@@ -47,7 +45,7 @@ pub fn detect_board(pixels: &[u8], width: u32, height: u32, board: &Board) -> an
         })
         .collect();
     seen.sort_by_key(|s| s.id);
-    Ok(seen)
+    seen
 }
 
 const PARAMS: usize = 11;
@@ -220,7 +218,9 @@ pub fn from_rendered(camera: &CameraSection, half_extent: [f64; 2]) -> anyhow::R
     let mut renderer = Renderer::new(truth, camera.board_scene().map_err(anyhow::Error::msg)?)
         .map_err(anyhow::Error::msg)?;
     let pixels = renderer.render(&ipc_types::PartStates::new()).to_vec();
-    let seen = detect_board(&pixels, truth.width, truth.height, &camera.board)?;
+    let img = image::GrayImage::from_raw(truth.width, truth.height, pixels)
+        .ok_or_else(|| anyhow::anyhow!("rendered frame of the wrong size"))?;
+    let seen = detect_board(img, &camera.board);
     let (estimated, rms_px) = fit(&seen, truth.width, truth.height)?;
     let (map_rms, map_max) = mapping_error(&truth, &estimated, half_extent);
     let report = json!({
@@ -261,7 +261,7 @@ pub fn from_images(dir: &Path, board: &Board, half_extent: [f64; 2]) -> anyhow::
                 size.map_or(0, |s| s.1)
             );
         }
-        seen.extend(detect_board(img.as_raw(), dims.0, dims.1, board)?);
+        seen.extend(detect_board(img, board));
     }
     let (w, h) = size.ok_or_else(|| anyhow::anyhow!("{}: no image", dir.display()))?;
     let (estimated, rms_px) = fit(&seen, w, h)?;

@@ -106,6 +106,6 @@ pub fn run_seeing(
         first_rank_condition: core.published().first().map_or((0, 0.0), |s| (s.rank, s.condition)),
         mean_residual: core.published().iter().map(|s| s.residual).sum::<f64>()
             / core.published().len().max(1) as f64,
-        sight: sight.map(|s| (s.counts.detected, s.counts.merged, s.bad_frames)),
+        sight: sight.map(|s| (s.counts().detected, s.counts().merged, s.bad_frames)),
     })
 }

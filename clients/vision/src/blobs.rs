@@ -299,11 +299,8 @@ impl Segmenter {
     /// Background of every pixel of row `v`, bilinear between tile
     /// centres, and the darkness threshold of each (`threshold` × it).
     fn fill_row_background(&mut self, v: usize, columns: core::ops::Range<usize>) {
-        let t = self.params.tile as f32;
-        let (tx, ty) = self.tiles;
-        let fy = ((v as f32 + 0.5) / t - 0.5).clamp(0.0, (ty - 1) as f32);
-        let (j0, wy) = (fy.floor() as usize, fy - fy.floor());
-        let j1 = (j0 + 1).min(ty - 1);
+        let tx = self.tiles.0;
+        let (j0, j1, wy) = self.tile_rows(v);
         let threshold = self.params.threshold as f32;
         let (top, bottom) = (&self.tile_bg[j0 * tx..(j0 + 1) * tx], &self.tile_bg[j1 * tx..(j1 + 1) * tx]);
         for u in columns {
@@ -441,13 +438,19 @@ impl Segmenter {
         }
     }
 
+    /// The tile rows above and below pixel row `v`'s centre, and the
+    /// weight of the lower one (bilinear between tile centres).
+    fn tile_rows(&self, v: usize) -> (usize, usize, f32) {
+        let (t, ty) = (self.params.tile as f32, self.tiles.1);
+        let fy = ((v as f32 + 0.5) / t - 0.5).clamp(0.0, (ty - 1) as f32);
+        let j0 = fy.floor() as usize;
+        (j0, (j0 + 1).min(ty - 1), fy - fy.floor())
+    }
+
     /// Background at one pixel, bilinear between tile centres.
     fn background_at(&self, u: usize, v: usize) -> f32 {
-        let t = self.params.tile as f32;
-        let (tx, ty) = self.tiles;
-        let fy = ((v as f32 + 0.5) / t - 0.5).clamp(0.0, (ty - 1) as f32);
-        let (j0, wy) = (fy.floor() as usize, fy - fy.floor());
-        let j1 = (j0 + 1).min(ty - 1);
+        let tx = self.tiles.0;
+        let (j0, j1, wy) = self.tile_rows(v);
         let (i0, wx) = self.columns[u];
         let (i0, i1) = (i0 as usize, (i0 as usize + 1).min(tx - 1));
         let at = |j: usize, i: usize| self.tile_bg[j * tx + i];

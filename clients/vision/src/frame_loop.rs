@@ -9,12 +9,13 @@ use std::time::{Duration, Instant};
 use ipc_types::monotonic_now_ns;
 use serde::Serialize;
 
-use crate::blobs::{BadFrame, SegmentParams, Segmenter};
+use crate::blobs::BadFrame;
 use crate::calibration::Calibration;
 use crate::config::FrameParams;
-use crate::detect::{BlobCounts, detect, split_area_px};
+
+use crate::TrackerParams;
 use crate::outputs::Outputs;
-use crate::{Detection, Tracker, TrackerParams};
+use crate::pipeline::FramePipeline;
 
 /// What vision did with the frames it received (`--stats FILE`, JSON).
 #[derive(Debug, Clone, Default, Serialize)]
@@ -80,18 +81,13 @@ pub fn run_frames(
 ) -> anyhow::Result<FrameStats> {
     let cal = Calibration::load(&params.calibration).map_err(anyhow::Error::msg)?;
     let (width, height) = (cal.camera.width, cal.camera.height);
-    let segment =
-        SegmentParams { split_above_px: split_area_px(&cal.camera, &params.looks), ..params.segment };
-    let mut segmenter = Segmenter::new(&cal.camera, cal.plate_half_extent, params.roi_margin, segment);
-    let mut tracker = Tracker::new(tracker);
+    let mut pipeline = FramePipeline::new(&cal, params, tracker);
     let mut out = Outputs::open(prefix)?;
     let frames = ipc_types::ports::frame_subscriber(out.node())?;
     let end = duration.map(|d| monotonic_now_ns() + d.as_nanos() as u64);
     let mut stats = FrameStats::default();
     let mut times = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
     let mut ages = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
-    let mut detections: Vec<Detection> = Vec::with_capacity(ipc_types::MAX_PARTS * 4);
-    let mut counts = BlobCounts::default();
     let mut last_complaint: Option<Instant> = None;
     loop {
         while let Some(frame) = frames.receive().map_err(|e| anyhow::anyhow!("receiving a frame: {e:?}"))? {
@@ -104,26 +100,25 @@ pub fn run_frames(
                     stats.bad_header += 1;
                     Some(e.to_string())
                 }
-                Ok(()) => match segmenter.segment(pixels, h.width, h.height, h.stride as usize) {
-                    Err(bad) => {
-                        *match bad {
-                            BadFrame::TooDark => &mut stats.too_dark,
-                            BadFrame::TooBright => &mut stats.saturated,
-                            BadFrame::TooManyRuns => &mut stats.too_many_runs,
-                            BadFrame::WrongSize => &mut stats.wrong_size,
-                        } += 1;
-                        Some(format!("frame {}: {bad}", h.seq))
+                Ok(()) => {
+                    match pipeline.process(pixels, h.width, h.height, h.stride as usize, out.dt(h.stamp_ns)) {
+                        Err(bad) => {
+                            *match bad {
+                                BadFrame::TooDark => &mut stats.too_dark,
+                                BadFrame::TooBright => &mut stats.saturated,
+                                BadFrame::TooManyRuns => &mut stats.too_many_runs,
+                                BadFrame::WrongSize => &mut stats.wrong_size,
+                            } += 1;
+                            Some(format!("frame {}: {bad}", h.seq))
+                        }
+                        Ok(()) => {
+                            stats.published += 1;
+                            out.publish(pipeline.tracks(), stats.published, h.stamp_ns)?;
+                            ages.push(monotonic_now_ns().saturating_sub(h.stamp_ns) as f64 / 1e3);
+                            None
+                        }
                     }
-                    Ok(blobs) => {
-                        detections.clear();
-                        detect(blobs, &cal.camera, &params.looks, &mut detections, &mut counts);
-                        tracker.update(&detections, out.dt(h.stamp_ns));
-                        stats.published += 1;
-                        out.publish(tracker.tracks(), stats.published, h.stamp_ns)?;
-                        ages.push(monotonic_now_ns().saturating_sub(h.stamp_ns) as f64 / 1e3);
-                        None
-                    }
-                },
+                }
             };
             if let Some(text) = complaint
                 && last_complaint.is_none_or(|t| t.elapsed() > Duration::from_secs(1))
@@ -138,6 +133,7 @@ pub fn run_frames(
             break;
         }
     }
+    let counts = pipeline.counts;
     stats.detected = counts.detected;
     stats.merged_blobs = counts.merged;
     stats.cut_blobs = counts.cut;

@@ -15,6 +15,7 @@ pub mod detect;
 pub mod frame_loop;
 pub mod lens;
 pub mod outputs;
+pub mod pipeline;
 pub mod run;
 pub mod tracker;
 
