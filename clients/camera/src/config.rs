@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use upm_vision::lens::{CameraModel, Mount};
+use upm_vision::shape::PartShape;
 
 use crate::{ClassLook, Scene};
 
@@ -12,7 +13,10 @@ use crate::{ClassLook, Scene};
 pub struct ClassSection {
     /// Reflectance in (0, 1].
     pub level: f64,
+    /// Circumradius (a disc's radius).
     pub radius_mm: f64,
+    #[serde(default)]
+    pub shape: PartShape,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -65,8 +69,8 @@ impl Default for CameraSection {
             seed: 1,
             half_extent: [1.0, 0.5],
             classes: vec![
-                ClassSection { level: 0.1, radius_mm: 15.0 },
-                ClassSection { level: 0.4, radius_mm: 15.0 },
+                ClassSection { level: 0.1, radius_mm: 15.0, shape: PartShape::Disc },
+                ClassSection { level: 0.4, radius_mm: 15.0, shape: PartShape::Disc },
             ],
             board: crate::board::Board::default(),
         }
@@ -125,7 +129,7 @@ impl CameraSection {
             classes: self
                 .classes
                 .iter()
-                .map(|c| ClassLook { level: c.level, radius: c.radius_mm * 1e-3 })
+                .map(|c| ClassLook { level: c.level, radius: c.radius_mm * 1e-3, shape: c.shape })
                 .collect(),
             fiducial_side: self.fiducial_mm * 1e-3,
             seed: self.seed,

@@ -5,7 +5,9 @@
 //! samples per pixel), motion blur from each part's velocity over the
 //! exposure, an illumination gradient across the plate, seeded sensor noise,
 //! a darker surround beyond the plate's edge, and fiducial markers at known
-//! places around the plate. Classes differ in brightness (reflectance).
+//! places around the plate. Classes differ in brightness (reflectance)
+//! and may differ in outline (disc, square, triangle; polygons turn with
+//! the part and blur with its spin too).
 //!
 //! Cost: the plate, surround, markers and lighting are drawn once; a frame
 //! is a copy of that, the parts' bounding boxes, and the noise (a seeded
@@ -16,12 +18,15 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use upm_vision::lens::CameraModel;
+use upm_vision::shape::PartShape;
 
-/// How one part class looks: reflectance in (0, 1] and disc radius (m).
+/// How one part class looks: reflectance in (0, 1], outline and its
+/// circumradius (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClassLook {
     pub level: f64,
     pub radius: f64,
+    pub shape: PartShape,
 }
 
 /// What is in front of the camera, and how the sensor sees it.
@@ -198,7 +203,7 @@ impl Renderer {
         self.frame.copy_from_slice(&self.still);
         for p in truth.parts() {
             let look = self.scene.classes.get(p.class as usize).copied().unwrap_or(self.scene.classes[0]);
-            self.draw_disc([p.x, p.y], [p.vx, p.vy], look);
+            self.draw_part([p.x, p.y, p.theta], [p.vx, p.vy, p.omega], look);
         }
         let offset = self.rng.random_range(0..NOISE_SLACK);
         for (px, n) in self.frame.iter_mut().zip(&self.noise[offset..]) {
@@ -207,29 +212,39 @@ impl Renderer {
         &self.frame
     }
 
-    fn draw_disc(&mut self, centre: [f64; 2], velocity: [f64; 2], look: ClassLook) {
+    /// One part at `pose` (x, y, θ) mid-exposure, moving at `velocity`.
+    fn draw_part(&mut self, pose: [f64; 3], velocity: [f64; 3], look: ClassLook) {
+        let centre = [pose[0], pose[1]];
         let Some(mpp) = self.model.metres_per_pixel(centre[0], centre[1]) else { return };
         let Some([cu, cv]) = self.model.project(centre[0], centre[1]) else { return };
         let e = self.scene.exposure_s;
         let travel = velocity[0].hypot(velocity[1]) * e;
-        let samples = ((2.0 * travel / mpp).ceil() as usize).clamp(1, MAX_BLUR_SAMPLES);
+        // Enough time samples that no edge point moves more than half a
+        // pixel between two: translation plus the rim's travel in a spin.
+        let sweep = travel + (velocity[2] * e).abs() * look.radius;
+        let samples = ((2.0 * sweep / mpp).ceil() as usize).clamp(1, MAX_BLUR_SAMPLES);
         let reach = (look.radius + travel / 2.0) / mpp + 3.0;
         let (w, h) = (self.model.width as i64, self.model.height as i64);
         let (u0, u1) = (((cu - reach).floor() as i64).max(0), ((cu + reach).ceil() as i64).min(w - 1));
         let (v0, v1) = (((cv - reach).floor() as i64).max(0), ((cv + reach).ceil() as i64).min(h - 1));
-        let r2 = look.radius * look.radius;
+        let inner = look.shape.inradius(look.radius);
         let start = [centre[0] - velocity[0] * e / 2.0, centre[1] - velocity[1] * e / 2.0];
         let step = if samples > 1 { e / (samples - 1) as f64 } else { 0.0 };
         let diag = 1.5 * mpp;
+        let mut outlines = [look.shape.outline(look.radius, pose[2]); MAX_BLUR_SAMPLES];
+        for (k, o) in outlines.iter_mut().enumerate().take(samples) {
+            let t = if samples > 1 { k as f64 * step } else { e / 2.0 };
+            *o = look.shape.outline(look.radius, pose[2] + velocity[2] * (t - e / 2.0));
+        }
         for v in v0..=v1 {
             for u in u0..=u1 {
                 let Some((p, ju, jv)) = self.pixel_frame(u as usize, v as usize) else { continue };
                 // Whole pixel clearly outside every position of the disc.
-                let (d_near, d_far) = segment_distances(p, start, velocity, e);
+                let (d_near, d_far) = segment_distances(p, start, [velocity[0], velocity[1]], e);
                 if d_near > look.radius + diag {
                     continue;
                 }
-                let coverage = if d_far < look.radius - diag {
+                let coverage = if d_far < inner - diag {
                     1.0
                 } else {
                     let mut inside = 0u32;
@@ -240,7 +255,7 @@ impl Renderer {
                             for sv in SUB {
                                 let dx = p[0] + ju[0] * su + jv[0] * sv - c[0];
                                 let dy = p[1] + ju[1] * su + jv[1] * sv - c[1];
-                                inside += u32::from(dx * dx + dy * dy <= r2);
+                                inside += u32::from(outlines[k].contains(dx, dy));
                             }
                         }
                     }

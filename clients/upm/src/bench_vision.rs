@@ -3,10 +3,12 @@
 //! threshold + connected components + moments on the same frames, in the
 //! same run.
 //!
-//! Per case (resolution, part count): seeded discs of both classes, apart
-//! at the start, moving up to 5 cm/s and passing through each other (no
-//! physics here; position error, class errors and misses count separated
-//! parts, those within 3 mm of touching are counted apart), rendered frame by frame at 30 Hz through
+//! Per case (resolution, part count, outlines): seeded parts of two
+//! classes (discs of 15 mm radius; or 24 mm squares and 30 mm triangles,
+//! turning at up to 2 rad/s), apart at the start, moving up to 5 cm/s and
+//! passing through each other (no physics here; position, angle and class
+//! errors and misses count separated parts, those within 3 mm of touching
+//! are counted apart), rendered frame by frame at 30 Hz through
 //! the default `[camera]` lens scaled to the sensor; vision (background
 //! model, threshold, labelling, moments, detection through the calibration
 //! `upm calibrate camera` finds from the rendered board, tracker) times
@@ -31,14 +33,40 @@ use upm_camera::{CameraSection, Renderer};
 use upm_vision::blobs::SegmentParams;
 use upm_vision::detect::PartLook;
 use upm_vision::pipeline::FramePipeline;
+use upm_vision::shape::PartShape;
 use upm_vision::{FrameParams, TrackerParams};
 
-/// One bench case: a sensor and how many parts.
+/// One bench case: a sensor, how many parts, and whether they are
+/// polygons (class 0 squares, class 1 triangles) or discs.
 #[derive(Debug, Clone, Copy)]
 struct Case {
     width: u32,
     height: u32,
     parts: usize,
+    polygons: bool,
+}
+
+impl Case {
+    /// The two classes' outlines as the camera renders them.
+    fn classes(self) -> [upm_camera::ClassSection; 2] {
+        let [dark, grey] = [0.1, 0.4];
+        if self.polygons {
+            [
+                upm_camera::ClassSection {
+                    level: dark,
+                    radius_mm: 24.0 * core::f64::consts::FRAC_1_SQRT_2,
+                    shape: PartShape::Square,
+                },
+                upm_camera::ClassSection {
+                    level: grey,
+                    radius_mm: 30.0 / 3f64.sqrt(),
+                    shape: PartShape::Triangle,
+                },
+            ]
+        } else {
+            [dark, grey].map(|level| upm_camera::ClassSection { level, radius_mm: 15.0, shape: PartShape::Disc })
+        }
+    }
 }
 
 /// Nearest-rank percentile of sorted `v`; NaN without samples.
@@ -57,18 +85,21 @@ fn camera_for(case: Case) -> CameraSection {
     let base = CameraSection::default();
     let h = base.mount_mm[2] * 1e-3;
     let focal = (case.width as f64 / 2.3).min(case.height as f64 / 1.3) * h;
-    CameraSection { width: case.width, height: case.height, focal_px: focal, ..base }
+    CameraSection { width: case.width, height: case.height, focal_px: focal, classes: case.classes().to_vec(), ..base }
 }
 
-/// Seeded separated parts, half of each class, with velocities.
-fn parts(n: usize, seed: u64) -> Vec<(u32, [f64; 2], [f64; 2])> {
+/// Seeded separated parts, half of each class: (class, pose, velocity).
+/// Polygons also turn.
+fn parts(n: usize, seed: u64, turning: bool) -> Vec<(u32, [f64; 3], [f64; 3])> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut out: Vec<(u32, [f64; 2], [f64; 2])> = Vec::new();
+    let mut out: Vec<(u32, [f64; 3], [f64; 3])> = Vec::new();
     while out.len() < n {
         let p = [rng.random_range(-0.85..0.85), rng.random_range(-0.38..0.38)];
+        let (theta, omega) =
+            if turning { (rng.random_range(-3.14..3.14), rng.random_range(-2.0..2.0)) } else { (0.0, 0.0) };
         if out.iter().all(|(_, q, _)| (q[0] - p[0]).hypot(q[1] - p[1]) > 0.1) {
-            let v = [rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05)];
-            out.push(((out.len() % 2) as u32, p, v));
+            let v = [rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05), omega];
+            out.push(((out.len() % 2) as u32, [p[0], p[1], theta], v));
         }
     }
     out
@@ -84,7 +115,7 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
     let looks: Vec<PartLook> = scene
         .classes
         .iter()
-        .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius })
+        .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius, shape: c.shape })
         .collect();
     let frame_params = FrameParams {
         calibration: PathBuf::new(),
@@ -94,17 +125,18 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
     };
     let mut vision = FramePipeline::new(&cal, &frame_params, TrackerParams::default());
     let mut renderer = Renderer::new(truth, scene.clone()).map_err(anyhow::Error::msg)?;
-    let mut truth_parts = parts(case.parts, 1000 + case.parts as u64);
+    let mut truth_parts = parts(case.parts, 1000 + case.parts as u64, case.polygons);
     let dt = 1.0 / 30.0;
-    let raw = dir.join(format!("frames_{}x{}_{}.raw", case.width, case.height, case.parts));
+    let raw = dir.join(format!("frames_{}x{}_{}_{}.raw", case.width, case.height, case.parts, case.polygons));
     let mut raw_bytes = Vec::with_capacity(frames * (case.width * case.height) as usize);
     let (mut times, mut err_mm, mut err_px) = (Vec::new(), Vec::new(), Vec::new());
     let (mut missed, mut false_found, mut class_errors) = (0u64, 0u64, 0u64);
     let (mut near_err_mm, mut near_missed) = (Vec::new(), 0u64);
+    let mut angle_err_deg = [Vec::new(), Vec::new()];
     for _ in 0..frames {
         let mut truth = PartStates::new();
         for (i, (class, p, v)) in truth_parts.iter().enumerate() {
-            let _ = truth.push(PartState::new(i as u32, *class, 0, [p[0], p[1], 0.0], [v[0], v[1], 0.0]));
+            let _ = truth.push(PartState::new(i as u32, *class, 0, *p, *v));
         }
         let pixels = renderer.render(&truth);
         raw_bytes.extend_from_slice(pixels);
@@ -140,6 +172,10 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
                         err_mm.push(e * 1e3);
                         err_px.push(e / model.metres_per_pixel(p[0], p[1]).unwrap_or(f64::NAN));
                         class_errors += u64::from(d.class != *class);
+                        let shape = frame_params.looks[*class as usize].shape;
+                        if shape.corners() > 0 {
+                            angle_err_deg[*class as usize].push(shape.wrap(d.theta - p[2]).abs().to_degrees());
+                        }
                     } else {
                         near_err_mm.push(e * 1e3);
                     }
@@ -151,6 +187,7 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
         false_found += used.iter().filter(|u| !**u).count() as u64;
         // Move on, bouncing off the plate's working area.
         for (_, p, v) in truth_parts.iter_mut() {
+            p[2] += v[2] * dt;
             for k in 0..2 {
                 p[k] += v[k] * dt;
                 let lim = if k == 0 { 0.9 } else { 0.42 };
@@ -170,12 +207,17 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
     std::fs::write(raw.with_extension("mask"), &mask)?;
     let (times, err_mm, err_px, near_err_mm) =
         (sorted(times), sorted(err_mm), sorted(err_px), sorted(near_err_mm));
+    let [square_deg, triangle_deg] = angle_err_deg.map(sorted);
+    let angle_p99 = |v: &[f64]| if v.is_empty() { Value::Null } else { json!(percentile(v, 0.99)) };
+    let part_area_mm2 = frame_params.looks.iter().map(PartLook::area).fold(0.0, f64::max) * 1e6;
     let mpp = model.metres_per_pixel(0.0, 0.0).unwrap_or(f64::NAN);
     Ok((
         json!({
             "width": case.width,
             "height": case.height,
             "parts": case.parts,
+            "outlines": if case.polygons { "squares+triangles" } else { "discs" },
+            "part_area_mm2": part_area_mm2,
             "frames": frames,
             "mm_per_px": mpp * 1e3,
             "upm_p50_us": percentile(&times, 0.5),
@@ -183,6 +225,8 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
             "position_err_p50_mm": percentile(&err_mm, 0.5),
             "position_err_p99_mm": percentile(&err_mm, 0.99),
             "position_err_p99_px": percentile(&err_px, 0.99),
+            "square_angle_err_p99_deg": angle_p99(&square_deg),
+            "triangle_angle_err_p99_deg": angle_p99(&triangle_deg),
             "class_errors": class_errors,
             "missed": missed,
             "false_detections": false_found,
@@ -254,7 +298,7 @@ print(times[len(times) // 2])
 /// OpenCV's p50 µs on the frames in `raw`.
 fn opencv_p50(py: &Path, raw: &Path, v: &Value) -> Result<f64, String> {
     let mpp = v["mm_per_px"].as_f64().unwrap_or(1.0) * 1e-3;
-    let area = core::f64::consts::PI * 0.015f64.powi(2) / (mpp * mpp);
+    let area = v["part_area_mm2"].as_f64().unwrap_or(f64::NAN) * 1e-6 / (mpp * mpp);
     let out = Command::new(py)
         .args(["-c", OPENCV_SCRIPT])
         .arg(raw)
@@ -271,12 +315,15 @@ fn opencv_p50(py: &Path, raw: &Path, v: &Value) -> Result<f64, String> {
 /// Every case, then the OpenCV reference on the same frames.
 pub fn run(quick: bool) -> anyhow::Result<Value> {
     let frames = if quick { 8 } else { 60 };
+    let case = |width, height, parts, polygons| Case { width, height, parts, polygons };
     let cases = [
-        Case { width: 1280, height: 1024, parts: 10 },
-        Case { width: 2240, height: 1216, parts: 10 },
-        Case { width: 2240, height: 1216, parts: 32 },
-        Case { width: 2048, height: 2048, parts: 10 },
-        Case { width: 2048, height: 2048, parts: 32 },
+        case(1280, 1024, 10, false),
+        case(2240, 1216, 10, true),
+        case(2240, 1216, 10, false),
+        case(2240, 1216, 32, false),
+        case(2048, 2048, 10, false),
+        case(2048, 2048, 32, false),
+        case(2048, 2048, 32, true),
     ];
     let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| PathBuf::from("target"), PathBuf::from);
     let dir = target.join("bench-vision");
@@ -312,7 +359,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
 
 pub fn to_text(v: &Value) -> String {
     let mut s = format!(
-        "{}\nreference: {}\n{:>11} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>9} {:>9} {:>6} {:>6} {:>6}",
+        "{}\nreference: {}\n{:>11} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>7} {:>6} {:>6} {:>6}",
         crate::host_facts::to_text(&v["host"]),
         v["reference"].as_str().unwrap_or("?"),
         "sensor",
@@ -324,6 +371,8 @@ pub fn to_text(v: &Value) -> String {
         "ratio",
         "err p50",
         "err p99",
+        "sq° p99",
+        "tri° p99",
         "class",
         "missed",
         "false"
@@ -331,7 +380,7 @@ pub fn to_text(v: &Value) -> String {
     for c in v["cases"].as_array().into_iter().flatten() {
         let f = |k: &str| c[k].as_f64().unwrap_or(f64::NAN);
         s += &format!(
-            "\n{:>11} {:>5} {:>6.2} {:>9.0} {:>9.0} {:>9.0} {:>7.2} {:>9.3} {:>9.3} {:>6} {:>6} {:>6}",
+            "\n{:>11} {:>5} {:>6.2} {:>9.0} {:>9.0} {:>9.0} {:>7.2} {:>9.3} {:>9.3} {:>7.3} {:>7.3} {:>6} {:>6} {:>6}",
             format!("{}x{}", c["width"], c["height"]),
             c["parts"],
             f("mm_per_px"),
@@ -341,10 +390,12 @@ pub fn to_text(v: &Value) -> String {
             f("ratio_p50"),
             f("position_err_p50_mm"),
             f("position_err_p99_mm"),
+            f("square_angle_err_p99_deg"),
+            f("triangle_angle_err_p99_deg"),
             c["class_errors"],
             c["missed"],
             c["false_detections"]
         );
     }
-    s + "\n(µs per frame; position errors in mm against the renderer's truth)"
+    s + "\n(µs per frame; position errors in mm and angle errors in degrees against the renderer's truth)"
 }

@@ -11,6 +11,7 @@ use serde_json::{Value, json};
 use crate::config::{Config, SimPartSection};
 use crate::launcher::Trails;
 use upm_planner::PlannerConfig;
+use upm_vision::shape::PartShape;
 use upm_planner::sort::sort_side;
 use upm_planner::track::distance_to_rectangle;
 
@@ -135,8 +136,17 @@ impl Scenario {
         let levels = [0.1, 0.4, 0.25, 0.55];
         c.camera.classes = (0..classes)
             .map(|k| {
-                let size = c.sim.parts.iter().find(|p| p.class as usize == k).map_or(0.015, |p| p.size);
-                upm_camera::ClassSection { level: levels[k % levels.len()], radius_mm: size * 1e3 }
+                let part = c.sim.parts.iter().find(|p| p.class as usize == k);
+                let shape = match part.map(|p| p.shape.as_str()) {
+                    Some("square") => PartShape::Square,
+                    Some("triangle") => PartShape::Triangle,
+                    _ => PartShape::Disc,
+                };
+                upm_camera::ClassSection {
+                    level: levels[k % levels.len()],
+                    radius_mm: part.map_or(0.015, bounding_radius) * 1e3,
+                    shape,
+                }
             })
             .collect();
         c.vision.classes = c
@@ -146,6 +156,7 @@ impl Scenario {
             .map(|k| upm_vision::VisionClass {
                 ratio: k.level / c.camera.plate_level,
                 radius_mm: k.radius_mm,
+                shape: k.shape,
             })
             .collect();
         // The planner's model of the parts: the rig's μmg, the parts' mass.
@@ -248,6 +259,7 @@ impl Scenario {
 fn bounding_radius(part: &SimPartSection) -> f64 {
     match part.shape.as_str() {
         "square" => part.size * core::f64::consts::FRAC_1_SQRT_2,
+        "triangle" => part.size / 3f64.sqrt(),
         _ => part.size,
     }
 }

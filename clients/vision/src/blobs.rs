@@ -9,8 +9,11 @@
 //!    plate brightness), only inside the plate's outline as the
 //!    calibration sees it (the region of interest, one span per row).
 //! 3. **Labelling** of dark runs with union-find (8-connected), and the
-//!    **moments** of each blob (area, centroid, second central moments,
-//!    mean brightness relative to the plate) summed per run in closed form.
+//!    **moments** of each blob up to order 4 (area, centroid, second
+//!    central moments, the complex moments whose phase gives a triangle's
+//!    and a square's orientation, mean brightness relative to the plate)
+//!    summed per run in closed form, about the blob's first pixel so that
+//!    nothing cancels.
 //! 4. **Touching pairs**: a blob the size of two parts is cut across its
 //!    long axis at its centroid (two touching discs part exactly at their
 //!    contact), each half measured again from the pixels.
@@ -35,11 +38,16 @@ pub struct SegmentParams {
     /// two touching parts and split in two along its long axis; 0 never
     /// splits. Callers set it to 1.5 × a part's area.
     pub split_above_px: f64,
+    /// Measure the orientation moments (`mu3`, `mu4`) of each whole blob
+    /// again with every pixel of its box weighted by how dark it is, so
+    /// that edge pixels count by their coverage: a polygon's angle to a
+    /// fraction of a degree. Costs one pass over each blob's box.
+    pub coverage_moments: bool,
 }
 
 impl Default for SegmentParams {
     fn default() -> Self {
-        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17, split_above_px: 0.0 }
+        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17, split_above_px: 0.0, coverage_moments: false }
     }
 }
 
@@ -54,6 +62,12 @@ pub struct Blob {
     pub mu20: f64,
     pub mu02: f64,
     pub mu11: f64,
+    /// Central moments of order 3 and 4, `mu3[q]` = Σ Δu^(3-q) Δv^q (px³,
+    /// px⁴, summed not averaged): a triangle's and a square's orientation.
+    pub mu3: [f64; 4],
+    pub mu4: [f64; 5],
+    /// Bounding box, px: first and last column, first and last row.
+    pub bbox: [u32; 4],
     /// Mean brightness of its pixels relative to the local plate.
     pub ratio: f64,
     /// Touches the region of interest's edge (cut by it, not whole).
@@ -94,16 +108,61 @@ struct Run {
     ratio_sum: f32,
 }
 
+/// Moments Σ uᵖ vᵠ (p + q ≤ 4) of one blob's pixels about `origin`.
 #[derive(Debug, Clone, Copy, Default)]
 struct Sums {
-    n: f64,
-    su: f64,
-    sv: f64,
-    suu: f64,
-    svv: f64,
-    suv: f64,
+    origin: [f64; 2],
+    m: [f64; MOMENTS],
+    bbox: [u32; 4],
     ratio: f64,
     cut: bool,
+}
+
+/// Moments up to order 4, stored by order then by power of v.
+const MOMENTS: usize = 15;
+
+const fn at(p: usize, q: usize) -> usize {
+    let order = p + q;
+    order * (order + 1) / 2 + q
+}
+
+/// Σ xʲ for x in 0..=n (j ≤ 4): Faulhaber's polynomials, which also hold
+/// for negative n, so a run's sum is `F(b) - F(a - 1)`.
+fn power_sums(n: f64) -> [f64; 5] {
+    let t = n * (n + 1.0);
+    [n + 1.0, t / 2.0, t * (2.0 * n + 1.0) / 6.0, t * t / 4.0, t * (2.0 * n + 1.0) * (3.0 * t - 1.0) / 30.0]
+}
+
+impl Sums {
+    fn at(origin: [f64; 2]) -> Self {
+        let [u, v] = origin.map(|c| c.max(0.0) as u32);
+        Self { origin, bbox: [u, v, u, v], ..Self::default() }
+    }
+
+    /// Pixels `a..=b` of row `v` (absolute coordinates).
+    fn add_run(&mut self, a: f64, b: f64, v: f64) {
+        let (a_, b_, v_) = (a.max(0.0) as u32, b.max(0.0) as u32, v.max(0.0) as u32);
+        self.bbox = [self.bbox[0].min(a_), self.bbox[1].min(v_), self.bbox[2].max(b_), self.bbox[3].max(v_)];
+        self.add_weighted(a, b, v, 1.0);
+    }
+
+    fn add_pixel(&mut self, u: f64, v: f64) {
+        self.add_run(u, u, v);
+    }
+
+    /// Pixels `a..=b` of row `v`, each counting `weight`.
+    fn add_weighted(&mut self, a: f64, b: f64, v: f64, weight: f64) {
+        let (hi, lo) = (power_sums(b - self.origin[0]), power_sums(a - 1.0 - self.origin[0]));
+        let y = v - self.origin[1];
+        for order in 0..=4 {
+            let mut yq = 1.0;
+            for q in 0..=order {
+                let p = order - q;
+                self.m[at(p, q)] += weight * (hi[p] - lo[p]) * yq;
+                yq *= y;
+            }
+        }
+    }
 }
 
 #[derive(Debug)]
@@ -216,6 +275,9 @@ impl Segmenter {
         }
         self.background(pixels, stride)?;
         self.label(pixels, stride)?;
+        if self.params.coverage_moments {
+            self.coverage_moments(pixels, stride);
+        }
         Ok(&self.blobs)
     }
 
@@ -398,7 +460,8 @@ impl Segmenter {
             let root = find(&mut self.parent, r as u32) as usize;
             if self.slot[root] == u32::MAX {
                 self.slot[root] = self.sums.len() as u32;
-                self.sums.push(Sums::default());
+                let first = self.runs[r];
+                self.sums.push(Sums::at([first.u0 as f64, first.v as f64]));
             }
             self.run_blob.push(self.slot[root]);
             let run = self.runs[r];
@@ -416,18 +479,7 @@ impl Segmenter {
                     || !covers(run.v + 1)
             };
             let s = &mut self.sums[self.slot[root] as usize];
-            let (a, b, v) = (run.u0 as f64, run.u1 as f64 - 1.0, run.v as f64);
-            let n = b - a + 1.0;
-            let su = n * (a + b) / 2.0;
-            // Σ u² over a..=b.
-            let sq = |x: f64| x * (x + 1.0) * (2.0 * x + 1.0) / 6.0;
-            let suu = sq(b) - sq(a - 1.0);
-            s.n += n;
-            s.su += su;
-            s.sv += n * v;
-            s.suu += suu;
-            s.svv += n * v * v;
-            s.suv += su * v;
+            s.add_run(run.u0 as f64, run.u1 as f64 - 1.0, run.v as f64);
             s.ratio += run.ratio_sum as f64;
             // Cut when a neighbour of the run, on its row or the rows
             // above and below, lies outside the region of interest.
@@ -459,6 +511,43 @@ impl Segmenter {
         a + (b - a) * wy
     }
 
+    /// `mu3` and `mu4` of each whole blob from the pixels of its box (one
+    /// pixel around), weighted by coverage: 0 at the plate's brightness, 1
+    /// at the blob's own mean brightness.
+    fn coverage_moments(&mut self, pixels: &[u8], stride: usize) {
+        // The background model reads a little above the plate's mean and
+        // noise lifts some plate pixels: below this coverage a pixel is
+        // plate. Without the floor the box's square frame of faint weights
+        // pulls a square's angle towards the pixel grid.
+        const COVER_FLOOR: f64 = 0.08;
+        for b in 0..self.blobs.len() {
+            let blob = self.blobs[b];
+            if blob.cut || blob.split || blob.ratio >= 0.95 {
+                continue;
+            }
+            let [u0, v0, u1, v1] = blob.bbox;
+            let (u0, v0) = (u0.saturating_sub(1) as usize, v0.saturating_sub(1) as usize);
+            let (u1, v1) = ((u1 as usize + 1).min(self.width - 1), (v1 as usize + 1).min(self.height - 1));
+            let mut s = Sums::at([blob.u.round(), blob.v.round()]);
+            for v in v0..=v1 {
+                let row = &pixels[v * stride..v * stride + self.width];
+                for (u, &p) in row.iter().enumerate().take(u1 + 1).skip(u0) {
+                    let bg = self.background_at(u, v).max(1.0) as f64;
+                    let cover = ((1.0 - p as f64 / bg) / (1.0 - blob.ratio) - COVER_FLOOR) / (1.0 - COVER_FLOOR);
+                    if cover > 0.0 {
+                        let cover = cover.min(1.0);
+                        s.add_weighted(u as f64, u as f64, v as f64, cover);
+                    }
+                }
+            }
+            if s.m[0] > 0.0 {
+                let weighted = blob_of(&s);
+                self.blobs[b].mu3 = weighted.mu3;
+                self.blobs[b].mu4 = weighted.mu4;
+            }
+        }
+    }
+
     /// Split each blob the size of two parts at the line through its
     /// centroid across its long axis: two touching discs are cut exactly
     /// at their contact. Each half gets its own moments and brightness.
@@ -475,7 +564,7 @@ impl Segmenter {
             }
             let angle = 0.5 * (2.0 * blob.mu11).atan2(blob.mu20 - blob.mu02);
             let (ex, ey) = (angle.cos(), angle.sin());
-            let mut halves = [Sums::default(); 2];
+            let mut halves = [Sums::at([blob.u.round(), blob.v.round()]); 2];
             for (r, run) in self.runs.iter().enumerate() {
                 if self.run_blob[r] as usize != b {
                     continue;
@@ -486,16 +575,11 @@ impl Segmenter {
                 for (u, &p) in (u0..u1).zip(row) {
                     let uf = u as f64;
                     let h = &mut halves[usize::from((uf - blob.u) * ex + (v - blob.v) * ey >= 0.0)];
-                    h.n += 1.0;
-                    h.su += uf;
-                    h.sv += v;
-                    h.suu += uf * uf;
-                    h.svv += v * v;
-                    h.suv += uf * v;
+                    h.add_pixel(uf, v);
                     h.ratio += (p as f32 / self.background_at(u, run.v as usize).max(1.0)) as f64;
                 }
             }
-            if halves.iter().all(|h| h.n > 0.0) {
+            if halves.iter().all(|h| h.m[0] > 0.0) {
                 let [a, c] = halves.map(|h| Blob { split: true, ..blob_of(&h) });
                 self.blobs[b] = a;
                 self.blobs.push(c);
@@ -504,17 +588,105 @@ impl Segmenter {
     }
 }
 
+/// C(n, k) for n ≤ 4.
+pub fn binomial(n: usize, k: usize) -> f64 {
+    const PASCAL: [[f64; 5]; 5] = [
+        [1.0, 0.0, 0.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0, 0.0, 0.0],
+        [1.0, 2.0, 1.0, 0.0, 0.0],
+        [1.0, 3.0, 3.0, 1.0, 0.0],
+        [1.0, 4.0, 6.0, 4.0, 1.0],
+    ];
+    PASCAL[n][k]
+}
+
 fn blob_of(s: &Sums) -> Blob {
-    let (u, v) = (s.su / s.n, s.sv / s.n);
+    let m = &s.m;
+    let n = m[0];
+    // Centroid about the origin, then the central moments μ_pq.
+    let (cu, cv) = (m[at(1, 0)] / n, m[at(0, 1)] / n);
+    let mu = |p: usize, q: usize| {
+        let mut sum = 0.0;
+        for r in 0..=p {
+            for t in 0..=q {
+                sum += binomial(p, r)
+                    * binomial(q, t)
+                    * (-cu).powi((p - r) as i32)
+                    * (-cv).powi((q - t) as i32)
+                    * m[at(r, t)];
+            }
+        }
+        sum
+    };
     Blob {
-        area: s.n,
-        u,
-        v,
-        mu20: s.suu / s.n - u * u,
-        mu02: s.svv / s.n - v * v,
-        mu11: s.suv / s.n - u * v,
-        ratio: s.ratio / s.n,
+        area: n,
+        u: s.origin[0] + cu,
+        v: s.origin[1] + cv,
+        mu20: mu(2, 0) / n,
+        mu02: mu(0, 2) / n,
+        mu11: mu(1, 1) / n,
+        mu3: [0, 1, 2, 3].map(|q| mu(3 - q, q)),
+        mu4: [0, 1, 2, 3, 4].map(|q| mu(4 - q, q)),
+        bbox: s.bbox,
+        ratio: s.ratio / n,
         cut: s.cut,
         split: false,
+    }
+}
+
+#[cfg(test)]
+mod moment_tests {
+    use super::*;
+
+    /// Closed-form run sums equal pixel-by-pixel sums, wherever the origin.
+    #[test]
+    fn run_sums_match_pixel_sums() {
+        let mut by_run = Sums::at([7.0, -3.0]);
+        let mut by_pixel = Sums::at([7.0, -3.0]);
+        for (a, b, v) in [(2.0, 11.0, 1.0), (-4.0, 3.0, 2.0), (9.0, 9.0, -5.0)] {
+            by_run.add_run(a, b, v);
+            let mut u = a;
+            while u <= b {
+                by_pixel.add_pixel(u, v);
+                u += 1.0;
+            }
+        }
+        for k in 0..MOMENTS {
+            assert!((by_run.m[k] - by_pixel.m[k]).abs() <= 1e-9 * by_pixel.m[k].abs().max(1.0), "{k}");
+        }
+    }
+
+    /// A square's fourth complex moment turns four times as fast as the
+    /// square; the central moments do not depend on the origin.
+    #[test]
+    fn square_orientation_from_the_fourth_moment() {
+        let blob_at = |angle: f64, origin: [f64; 2]| {
+            let mut s = Sums::at(origin);
+            let r = 40.0;
+            for v in -60..=60 {
+                for u in -60..=60 {
+                    let (x, y) = (u as f64, v as f64);
+                    let (c, d) = (x * angle.cos() + y * angle.sin(), -x * angle.sin() + y * angle.cos());
+                    if c.abs() <= r && d.abs() <= r {
+                        s.add_pixel(x + 500.0, y + 300.0);
+                    }
+                }
+            }
+            blob_of(&s)
+        };
+        // Σ (Δu + iΔv)⁴ = Σ_q C(4, q) i^q μ_(4-q, q).
+        let phase = |b: &Blob| {
+            let m = b.mu4;
+            let (re, im) = (m[0] - 6.0 * m[2] + m[4], 4.0 * m[1] - 4.0 * m[3]);
+            im.atan2(re)
+        };
+        let flat = blob_at(0.0, [480.0, 290.0]);
+        assert!((flat.u - 500.0).abs() < 1e-9 && (flat.v - 300.0).abs() < 1e-9);
+        for angle in [0.1f64, 0.3, -0.5] {
+            let b = blob_at(angle, [0.0, 0.0]);
+            let turned = phase(&b) - phase(&flat);
+            let seen = crate::shape::wrap_period(turned / 4.0, core::f64::consts::FRAC_PI_2);
+            assert!((seen - angle).abs() < 0.01, "{angle}: {seen}");
+        }
     }
 }

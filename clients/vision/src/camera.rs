@@ -102,6 +102,8 @@ impl Camera {
                 y: p.y + self.pos.sample(&mut self.rng),
                 theta: p.theta + self.ang.sample(&mut self.rng),
                 class: p.class,
+                // The truth is unwrapped; so stays the estimate.
+                period: 0.0,
             })
             .collect();
         self.queue.push_back(Frame { stamp_ns: truth.stamp_ns, detections });

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::blobs::SegmentParams;
 use crate::detect::PartLook;
+use crate::shape::PartShape;
 use crate::{Camera, CameraParams, TrackerParams};
 
 /// How vision tells one part class from another in an image.
@@ -18,7 +19,10 @@ use crate::{Camera, CameraParams, TrackerParams};
 pub struct VisionClass {
     /// Brightness relative to the plate, (0, 1).
     pub ratio: f64,
+    /// Circumradius (a disc's radius).
     pub radius_mm: f64,
+    #[serde(default)]
+    pub shape: PartShape,
 }
 
 /// Vision from camera frames: what it needs besides the frames.
@@ -67,8 +71,8 @@ impl Default for VisionSection {
             threshold: SegmentParams::default().threshold,
             roi_margin_mm: 3.0,
             classes: vec![
-                VisionClass { ratio: 0.125, radius_mm: 15.0 },
-                VisionClass { ratio: 0.5, radius_mm: 15.0 },
+                VisionClass { ratio: 0.125, radius_mm: 15.0, shape: PartShape::Disc },
+                VisionClass { ratio: 0.5, radius_mm: 15.0, shape: PartShape::Disc },
             ],
             frame_hz: c.frame_hz,
             noise_mm: c.noise_m * 1e3,
@@ -126,7 +130,7 @@ impl VisionSection {
             looks: self
                 .classes
                 .iter()
-                .map(|c| PartLook { ratio: c.ratio, radius: c.radius_mm * 1e-3 })
+                .map(|c| PartLook { ratio: c.ratio, radius: c.radius_mm * 1e-3, shape: c.shape })
                 .collect(),
             segment: SegmentParams { threshold: self.threshold, ..SegmentParams::default() },
             roi_margin: self.roi_margin_mm * 1e-3,

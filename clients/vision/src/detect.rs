@@ -4,19 +4,29 @@
 //! nearest. A blob cut by the plate's edge, a blob of three or more
 //! touching parts, and a speck are counted, never reported as a wrong part.
 //!
-//! Only discs are recognised so far: their orientation is not observable,
-//! so a detection's angle is 0.
+//! A polygon's angle comes from the phase of the blob's complex moment of
+//! its symmetry order (3 for a triangle, 4 for a square: the lower ones
+//! vanish by symmetry), turned into a direction on the plate through the
+//! calibration; a disc's angle is 0.
 
-use crate::blobs::Blob;
+use crate::blobs::{Blob, binomial};
 use crate::lens::CameraModel;
+use crate::shape::PartShape;
 use crate::tracker::Detection;
 
 /// What vision knows about a part class: its brightness relative to the
-/// plate and its radius (m).
+/// plate, its outline and circumradius (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartLook {
     pub ratio: f64,
     pub radius: f64,
+    pub shape: PartShape,
+}
+
+impl PartLook {
+    pub fn area(&self) -> f64 {
+        self.shape.area(self.radius)
+    }
 }
 
 /// Counts of blobs that did not become a detection.
@@ -37,8 +47,8 @@ pub struct BlobCounts {
 /// touching parts: 1.5 × the largest part's area at the plate's centre.
 pub fn split_area_px(model: &CameraModel, looks: &[PartLook]) -> f64 {
     let mpp = model.metres_per_pixel(0.0, 0.0).unwrap_or(f64::NAN);
-    let largest = looks.iter().map(|l| l.radius).fold(0.0, f64::max);
-    let area = 1.5 * core::f64::consts::PI * largest * largest / (mpp * mpp);
+    let largest = looks.iter().map(PartLook::area).fold(0.0, f64::max);
+    let area = 1.5 * largest / (mpp * mpp);
     if area.is_finite() { area } else { 0.0 }
 }
 
@@ -64,7 +74,7 @@ pub fn detect(
             continue;
         };
         let area = b.area * mpp * mpp;
-        let expected = |l: &PartLook| core::f64::consts::PI * l.radius * l.radius;
+        let expected = PartLook::area;
         let smallest = looks.iter().map(expected).fold(f64::INFINITY, f64::min);
         let largest = looks.iter().map(expected).fold(0.0, f64::max);
         if area < 0.5 * smallest {
@@ -86,6 +96,47 @@ pub fn detect(
             .map_or(0, |(i, _)| i as u32);
         counts.detected += 1;
         counts.split += u64::from(b.split);
-        out.push(Detection { x, y, theta: 0.0, class });
+        let shape = looks.get(class as usize).map_or(PartShape::Disc, |l| l.shape);
+        let theta = plate_angle(b, shape, model);
+        out.push(Detection { x, y, theta, class, period: shape.period() });
     }
+}
+
+/// The blob's angle on the plate (modulo the shape's period; 0 for a
+/// disc). The image of a small part is the part through the local
+/// Jacobian J of the pixel → plate map (lens distortion alone stretches
+/// it by a few per cent, enough to turn a square's moments by a degree),
+/// so the n-th complex moment is taken of the blob mapped through J:
+/// with x + iy = α Δu + β Δv (α, β the columns of J as complex numbers),
+/// Σ (x + iy)ⁿ = Σ_q C(n, q) α^(n-q) β^q μ_(n-q, q).
+fn plate_angle(b: &Blob, shape: PartShape, model: &CameraModel) -> f64 {
+    let n = shape.corners() as usize;
+    let mu: &[f64] = match n {
+        3 => &b.mu3,
+        4 => &b.mu4,
+        _ => return 0.0,
+    };
+    let h = 2.0;
+    let (Some(right), Some(left), Some(down), Some(up)) = (
+        model.unproject(b.u + h, b.v),
+        model.unproject(b.u - h, b.v),
+        model.unproject(b.u, b.v + h),
+        model.unproject(b.u, b.v - h),
+    ) else {
+        return 0.0;
+    };
+    let alpha = [(right[0] - left[0]) / (2.0 * h), (right[1] - left[1]) / (2.0 * h)];
+    let beta = [(down[0] - up[0]) / (2.0 * h), (down[1] - up[1]) / (2.0 * h)];
+    let mul = |a: [f64; 2], b: [f64; 2]| [a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0]];
+    let power = |z: [f64; 2], k: usize| (0..k).fold([1.0, 0.0], |acc, _| mul(acc, z));
+    let mut c = [0.0; 2];
+    for (q, m) in mu.iter().enumerate() {
+        let term = mul(power(alpha, n - q), power(beta, q));
+        let w = binomial(n, q) * m;
+        c = [c[0] + w * term[0], c[1] + w * term[1]];
+    }
+    // A regular n-gon with a vertex on +x has a real, positive n-th
+    // moment (`shape` tests it): phase / n is a vertex direction.
+    let vertex = c[1].atan2(c[0]) / n as f64;
+    shape.wrap(vertex - shape.first_vertex())
 }

@@ -17,6 +17,7 @@ pub mod lens;
 pub mod outputs;
 pub mod pipeline;
 pub mod run;
+pub mod shape;
 pub mod tracker;
 
 pub use camera::{Camera, CameraParams};

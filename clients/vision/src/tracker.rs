@@ -2,6 +2,8 @@
 //! associated to the nearest predicted track within a gate; an alpha-beta
 //! filter per track smooths position and estimates velocity.
 
+use crate::shape::wrap_period;
+
 /// One detection in a frame (what a camera sees: where, which class).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Detection {
@@ -9,6 +11,9 @@ pub struct Detection {
     pub y: f64,
     pub theta: f64,
     pub class: u32,
+    /// The angle after which the part looks the same (rad): 90° for a
+    /// square; 0 when the angle is not wrapped.
+    pub period: f64,
 }
 
 /// One tracked part.
@@ -87,12 +92,17 @@ impl Tracker {
             let t = &mut self.tracks[ti];
             let z = [d.x, d.y, d.theta];
             for k in 0..3 {
-                let r = z[k] - predicted[ti][k];
+                let mut r = z[k] - predicted[ti][k];
+                if k == 2 {
+                    // A square turned by 89° is one turned by -1°.
+                    r = wrap_period(r, d.period);
+                }
                 t.pose[k] = predicted[ti][k] + p.alpha * r;
                 if dt > 0.0 {
                     t.velocity[k] += p.beta * r / dt;
                 }
             }
+            t.pose[2] = wrap_period(t.pose[2], d.period);
             t.missed = 0;
         }
         for (ti, used) in track_used.iter().enumerate() {

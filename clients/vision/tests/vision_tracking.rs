@@ -17,8 +17,8 @@ fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
     let v = [0.05, -0.02];
     for frame in 0..60 {
         let time = frame as f64 * dt;
-        let a = Detection { x: 0.1 + v[0] * time, y: 0.2 + v[1] * time, theta: 0.0, class: 0 };
-        let b = Detection { x: -0.3, y: 0.1, theta: 0.0, class: 1 };
+        let a = Detection { x: 0.1 + v[0] * time, y: 0.2 + v[1] * time, theta: 0.0, class: 0, period: 0.0 };
+        let b = Detection { x: -0.3, y: 0.1, theta: 0.0, class: 1, period: 0.0 };
         // The camera reports parts in any order.
         let dets = if frame % 2 == 0 { vec![a, b] } else { vec![b, a] };
         t.update(&dets, if frame == 0 { 0.0 } else { dt });
@@ -36,7 +36,7 @@ fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
 fn tracker_drops_lost_tracks_and_starts_new_ones() {
     let params = TrackerParams { max_missed: 2, ..TrackerParams::default() };
     let mut t = Tracker::new(params);
-    let d = Detection { x: 0.0, y: 0.0, theta: 0.0, class: 0 };
+    let d = Detection { x: 0.0, y: 0.0, theta: 0.0, class: 0, period: 0.0 };
     t.update(&[d], 0.0);
     for _ in 0..3 {
         t.update(&[], 0.03);

@@ -27,9 +27,9 @@ pub struct SimPartSection {
     pub id: u32,
     #[serde(default)]
     pub class: u32,
-    /// "point", "disc" or "square".
+    /// "point", "disc", "square" or "triangle" (equilateral).
     pub shape: String,
-    /// Disc radius or square side (m); a point's radius for contacts.
+    /// Disc radius or polygon side (m); a point's radius for contacts.
     pub size: f64,
     pub mass: f64,
     pub position: [f64; 2],
@@ -111,9 +111,19 @@ impl SimSection {
                     vertices[..4].copy_from_slice(&[[-h, -h], [h, -h], [h, h], [-h, h]]);
                     drivers::Shape::Polygon { vertices, count: 4 }
                 }
+                "triangle" => {
+                    // A vertex on the part's +x axis, as vision measures it.
+                    let r = p.size / 3f64.sqrt();
+                    let mut vertices = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
+                    for (k, v) in vertices.iter_mut().take(3).enumerate() {
+                        let a = k as f64 * core::f64::consts::TAU / 3.0;
+                        *v = [r * a.cos(), r * a.sin()];
+                    }
+                    drivers::Shape::Polygon { vertices, count: 3 }
+                }
                 other => {
                     return Err(format!(
-                        "{field}.shape {other:?}: expected \"point\", \"disc\" or \"square\""
+                        "{field}.shape {other:?}: expected \"point\", \"disc\", \"square\" or \"triangle\""
                     ));
                 }
             };

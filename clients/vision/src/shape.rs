@@ -1,0 +1,178 @@
+//! The outline of a part class as camera and vision both know it: a disc,
+//! or a regular polygon (square, equilateral triangle) given by its
+//! circumradius. A polygon's orientation is seen modulo its symmetry (90°
+//! for a square, 120° for a triangle); a disc has none.
+//!
+//! Angles follow the simulator's parts: at θ = 0 a square's edges are
+//! parallel to the axes (vertices at 45°), a triangle has a vertex on +x.
+
+use core::f64::consts::{PI, TAU};
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PartShape {
+    #[default]
+    Disc,
+    Square,
+    Triangle,
+}
+
+impl PartShape {
+    /// Vertices of the polygon (0 for a disc).
+    pub const fn corners(self) -> u32 {
+        match self {
+            Self::Disc => 0,
+            Self::Square => 4,
+            Self::Triangle => 3,
+        }
+    }
+
+    /// The angle after which the outline repeats (rad); 0 for a disc.
+    pub fn period(self) -> f64 {
+        match self.corners() {
+            0 => 0.0,
+            n => TAU / n as f64,
+        }
+    }
+
+    /// Direction of the first vertex at θ = 0.
+    pub fn first_vertex(self) -> f64 {
+        match self {
+            Self::Square => PI / 4.0,
+            Self::Disc | Self::Triangle => 0.0,
+        }
+    }
+
+    /// Area (m², or px² for a radius in px) for circumradius `r`.
+    pub fn area(self, r: f64) -> f64 {
+        match self.corners() {
+            0 => PI * r * r,
+            n => {
+                let n = n as f64;
+                0.5 * n * r * r * (TAU / n).sin()
+            }
+        }
+    }
+
+    /// Whether the point `(dx, dy)` from the centre lies inside the
+    /// outline of circumradius `r` turned by `theta`.
+    pub fn contains(self, r: f64, theta: f64, dx: f64, dy: f64) -> bool {
+        self.outline(r, theta).contains(dx, dy)
+    }
+
+    /// The outline of circumradius `r` turned by `theta`, ready for many
+    /// [`Outline::contains`] tests.
+    pub fn outline(self, r: f64, theta: f64) -> Outline {
+        let n = self.corners() as usize;
+        let mut normals = [[0.0; 2]; 4];
+        for (k, normal) in normals.iter_mut().enumerate().take(n) {
+            // Edge normals lie halfway between vertices.
+            let a = theta + self.first_vertex() + (k as f64 + 0.5) * TAU / n as f64;
+            *normal = [a.cos(), a.sin()];
+        }
+        Outline { normals, edges: n, radius: r, inradius: self.inradius(r) }
+    }
+
+    /// Radius of the largest disc inside the outline (circumradius `r`).
+    pub fn inradius(self, r: f64) -> f64 {
+        match self.corners() {
+            0 => r,
+            n => r * (PI / n as f64).cos(),
+        }
+    }
+
+    /// `angle` brought into one period centred on 0 (unchanged for a disc).
+    pub fn wrap(self, angle: f64) -> f64 {
+        wrap_period(angle, self.period())
+    }
+}
+
+/// A placed outline: a disc, or a convex polygon by its edge normals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outline {
+    normals: [[f64; 2]; 4],
+    edges: usize,
+    radius: f64,
+    inradius: f64,
+}
+
+impl Outline {
+    /// Whether `(dx, dy)` from the centre lies inside.
+    pub fn contains(&self, dx: f64, dy: f64) -> bool {
+        if self.edges == 0 {
+            return dx * dx + dy * dy <= self.radius * self.radius;
+        }
+        self.normals[..self.edges].iter().all(|n| dx * n[0] + dy * n[1] <= self.inradius)
+    }
+}
+
+/// `angle` into `(-period/2, period/2]`; a period of 0 leaves it as is.
+pub fn wrap_period(angle: f64, period: f64) -> f64 {
+    if period > 0.0 { angle - period * (angle / period).round() } else { angle }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn areas_match_the_polygons() {
+        assert!((PartShape::Square.area(2f64.sqrt()) - 4.0).abs() < 1e-12);
+        let side = 3f64.sqrt();
+        assert!((PartShape::Triangle.area(1.0) - 3f64.sqrt() / 4.0 * side * side).abs() < 1e-12);
+    }
+
+    #[test]
+    fn square_at_zero_has_axis_parallel_edges() {
+        let s = PartShape::Square;
+        let r = 2f64.sqrt(); // side 2
+        assert!(s.contains(r, 0.0, 0.99, 0.99));
+        assert!(!s.contains(r, 0.0, 1.01, 0.0));
+        // Turned by 45°: a vertex on +x.
+        assert!(s.contains(r, PI / 4.0, 1.4, 0.0));
+    }
+
+    #[test]
+    fn triangle_at_zero_points_along_x() {
+        let t = PartShape::Triangle;
+        assert!(t.contains(1.0, 0.0, 0.99, 0.0));
+        assert!(!t.contains(1.0, 0.0, -0.99, 0.0));
+        assert!(t.contains(1.0, PI, -0.99, 0.0));
+    }
+
+    /// What detection relies on: with a vertex on +x, Σ (x + iy)ⁿ over a
+    /// regular n-gon is real and positive.
+    #[test]
+    fn a_vertex_on_x_gives_a_positive_real_moment() {
+        for shape in [PartShape::Triangle, PartShape::Square] {
+            let n = shape.corners() as i32;
+            let (mut re, mut im) = (0.0, 0.0);
+            let steps = 200;
+            for i in -steps..=steps {
+                for j in -steps..=steps {
+                    let (x, y) = (i as f64 / steps as f64, j as f64 / steps as f64);
+                    if shape.contains(1.0, -shape.first_vertex(), x, y) {
+                        let (rho, phi) = (x.hypot(y), y.atan2(x));
+                        re += rho.powi(n) * (n as f64 * phi).cos();
+                        im += rho.powi(n) * (n as f64 * phi).sin();
+                    }
+                }
+            }
+            assert!(re > 0.0 && im.abs() < 1e-6 * re, "{shape:?}: {re} {im}");
+        }
+    }
+
+    #[test]
+    fn wrap_keeps_the_angle_within_half_a_period() {
+        let s = PartShape::Square;
+        for a in [-7.0, -1.0, -0.7, 0.0, 0.3, 0.78, 2.0, 9.0] {
+            let w = s.wrap(a);
+            assert!(w.abs() <= PI / 4.0 + 1e-12, "{a} -> {w}");
+            let turns = (a - w) / s.period();
+            assert!((turns - turns.round()).abs() < 1e-9);
+        }
+        assert_eq!(PartShape::Disc.wrap(5.0), 5.0);
+    }
+}
