@@ -30,7 +30,7 @@ mod explicit_schedule;
 mod force_request;
 mod header;
 mod health;
-pub mod inbox_event;
+pub mod wake_event;
 mod latency_percentiles;
 mod part_states;
 pub mod ports;

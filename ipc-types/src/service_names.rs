@@ -21,7 +21,7 @@ pub const TELEMETRY: &str = "upm/telemetry";
 /// [`crate::Rejection`], core → the sender of a refused message.
 pub const REJECTION: &str = "upm/rejection";
 
-/// Event: a client published to the core (see [`crate::inbox_event`]).
+/// Event: a client published to the core (see [`crate::wake_event`]).
 pub const INBOX_EVENT: &str = "upm/inbox";
 
 /// Simulator ground truth ([`crate::PartStates`], world frame), core → the

@@ -114,11 +114,15 @@ fn services_settings_version_and_reject_codes_match() {
     let expected: Vec<(String, String)> = expected.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
     assert_eq!(documented, expected, "the service settings table");
     assert!(doc.contains(&format!("event service `{}`", service_names::INBOX_EVENT)), "the inbox event");
+    assert!(
+        doc.contains(&format!("event service `{}`", ipc_types::wake_event::WakeEvent::Frame.service())),
+        "the frame event"
+    );
     let inbox: Vec<(String, String)> =
         table_after(&doc, "| inbox setting |").iter().map(|r| (r[0].clone(), r[1].clone())).collect();
     let expected: Vec<(String, String)> = [
         ("max_notifiers", MAX_SUBSCRIBERS.to_string()),
-        ("max_listeners", ipc_types::inbox_event::MAX_LISTENERS.to_string()),
+        ("max_listeners", ipc_types::wake_event::MAX_LISTENERS.to_string()),
         ("max_nodes", MAX_NODES.to_string()),
     ]
     .iter()

@@ -24,7 +24,7 @@ for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlo
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "CAMERA_FRAME", "INBOX_EVENT",
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT",
           "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER"):
     print(f"{c} {getattr(m, c)}")
 print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
@@ -71,6 +71,7 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("TELEMETRY", service_names::TELEMETRY.to_owned()),
         ("REJECTION", service_names::REJECTION.to_owned()),
         ("CAMERA_FRAME", service_names::CAMERA_FRAME.to_owned()),
+        ("FRAME_EVENT", ipc_types::wake_event::WakeEvent::Frame.service().to_owned()),
         ("INBOX_EVENT", service_names::INBOX_EVENT.to_owned()),
         ("FRAME_SUBSCRIBERS", ipc_types::ports::FRAME_SUBSCRIBERS.to_string()),
         ("FRAME_BUFFER", ipc_types::ports::FRAME_BUFFER.to_string()),
@@ -79,7 +80,7 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("SUBSCRIBER_BUFFER", ipc_types::ports::SUBSCRIBER_BUFFER.to_string()),
         ("HISTORY", ipc_types::ports::HISTORY.to_string()),
         ("MAX_NODES", ipc_types::ports::MAX_NODES.to_string()),
-        ("INBOX_MAX_LISTENERS", ipc_types::inbox_event::MAX_LISTENERS.to_string()),
+        ("INBOX_MAX_LISTENERS", ipc_types::wake_event::MAX_LISTENERS.to_string()),
         (
             "REJECTED_KINDS",
             ipc_types::RejectedKind::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(","),

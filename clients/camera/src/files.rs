@@ -72,7 +72,7 @@ pub fn run_files(
         .find_map(|p| decode(p).ok().map(|i| i.dimensions()))
         .ok_or_else(|| anyhow::anyhow!("{}: no .png file decodes", dir.display()))?;
     let node = rig_node(prefix, None, SignalHandlingMode::HandleTerminationRequests)?;
-    let frames = ipc_types::ports::frame_publisher(&node, (width * height) as usize)?;
+    let mut frames = crate::run::FrameOut::open(&node, (width * height) as usize)?;
     let period = Duration::from_secs_f64(1.0 / rate_hz);
     let end = duration.map(|d| Instant::now() + d);
     let mut next = Instant::now();
@@ -106,7 +106,7 @@ pub fn run_files(
             stamp_ns: monotonic_now_ns(),
             ..FrameHeader::mono8(width, height)
         };
-        crate::run::publish_frame(&frames, header, img.as_raw())?;
+        frames.publish(header, img.as_raw())?;
     }
     Ok(stats)
 }

@@ -13,3 +13,4 @@ pub mod run;
 pub use board::Board;
 pub use config::{CameraSection, ClassSection};
 pub use render::{ClassLook, Renderer, Scene};
+pub use run::FrameOut;

@@ -7,6 +7,7 @@ use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::ports::FramePub;
 use ipc_types::rig_node::rig_node;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{FrameHeader, PartStates, monotonic_now_ns, service_names};
 
 use crate::Renderer;
@@ -22,7 +23,7 @@ pub fn run(
     let (w, h) = (renderer.model().width, renderer.model().height);
     let node = rig_node(prefix, None, SignalHandlingMode::HandleTerminationRequests)?;
     let truth = ipc_types::ports::subscriber::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
-    let frames = ipc_types::ports::frame_publisher(&node, (w * h) as usize)?;
+    let mut frames = FrameOut::open(&node, (w * h) as usize)?;
     let period_ns = (1e9 / frame_hz) as u64;
     let exposure_ns = (renderer.scene().exposure_s * 1e9) as u64;
     let start = monotonic_now_ns();
@@ -47,7 +48,7 @@ pub fn run(
                 let pixels = renderer.render(t);
                 let header =
                     FrameHeader { seq, stamp_ns: t.stamp_ns, exposure_ns, ..FrameHeader::mono8(w, h) };
-                publish_frame(&frames, header, pixels)?;
+                frames.publish(header, pixels)?;
             }
         }
         if end.is_some_and(|e| now >= e) {
@@ -61,11 +62,29 @@ pub fn run(
     }
 }
 
-/// Loan a frame from `frames`, fill it with `header` and `pixels`, send it.
-pub(crate) fn publish_frame(frames: &FramePub, header: FrameHeader, pixels: &[u8]) -> anyhow::Result<()> {
-    let mut sample =
-        frames.loan_slice_uninit(pixels.len()).map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
-    *sample.user_header_mut() = header;
-    sample.write_from_slice(pixels).send().map_err(|e| anyhow::anyhow!("publishing a frame: {e:?}"))?;
-    Ok(())
+/// A frame source's output: the frame publisher and the frame event.
+#[derive(Debug)]
+pub struct FrameOut {
+    frames: FramePub,
+    wake: WakeNotifier,
+}
+
+impl FrameOut {
+    /// Frames up to `max_bytes` of pixels.
+    pub fn open(node: &Node<ipc::Service>, max_bytes: usize) -> anyhow::Result<Self> {
+        let frames = ipc_types::ports::frame_publisher(node, max_bytes)?;
+        let wake = WakeNotifier::new(node, WakeEvent::Frame)?;
+        Ok(Self { frames, wake })
+    }
+
+    /// Loan a frame, fill it with `header` and `pixels`, send it, wake
+    /// vision.
+    pub fn publish(&mut self, header: FrameHeader, pixels: &[u8]) -> anyhow::Result<()> {
+        let mut sample =
+            self.frames.loan_slice_uninit(pixels.len()).map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
+        *sample.user_header_mut() = header;
+        sample.write_from_slice(pixels).send().map_err(|e| anyhow::anyhow!("publishing a frame: {e:?}"))?;
+        self.wake.notify();
+        Ok(())
+    }
 }

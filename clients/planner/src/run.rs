@@ -7,7 +7,7 @@ use std::time::Duration;
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
-use ipc_types::inbox_event::InboxNotifier;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::rig_node::rig_node;
 use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
 
@@ -30,7 +30,7 @@ pub fn run_planner(
     )?;
     let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)?;
     let requests = ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST)?;
-    let mut wake = InboxNotifier::new(&node)?;
+    let mut wake = WakeNotifier::new(&node, WakeEvent::Inbox)?;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
     let mut first_frame: Option<u64> = None;

@@ -3,7 +3,7 @@
 Mirrors the Rust crate `ipc-types`: the `#[repr(C)]` payloads as
 `ctypes.Structure`s with the same `type_name`, and the services opened with
 exactly the settings of `ipc_types::ports::open_pub_sub` and
-`ipc_types::inbox_event` (iceoryx2 refuses to open a service whose payload
+`ipc_types::wake_event` (iceoryx2 refuses to open a service whose payload
 type or settings differ from the creator's).
 
     rig = upm_ipc.connect("upm_")
@@ -18,7 +18,7 @@ import stat
 import iceoryx2 as iox2
 
 from .messages import (  # noqa: F401 (re-exported: the messages are the API)
-    FORCE_REQUEST, HISTORY, INBOX_EVENT, INBOX_EVENT_ID, INBOX_MAX_LISTENERS, MAX_CURLS,
+    FORCE_REQUEST, FRAME_EVENT, HISTORY, INBOX_EVENT, INBOX_EVENT_ID, INBOX_MAX_LISTENERS, MAX_CURLS,
     MAX_NODES, MAX_PARTS, MAX_PUBLISHERS, MAX_SLOTS, MAX_SUBSCRIBERS, PART_STATES,
     PROTOCOL_VERSION, REJECTION, REQUEST_LIFETIME_NS, SCHEDULE, SUBSCRIBER_BUFFER, TELEMETRY,
     ForceEntry, ForceRequest, PartState, PartStates, Rejection, Schedule, ScheduleSlot,
@@ -28,8 +28,9 @@ from .messages import (  # noqa: F401 (re-exported: the messages are the API)
 __all__ = [
     "PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "REQUEST_LIFETIME_NS",
     "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "INBOX_EVENT",
+    "FRAME_EVENT",
     "PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule", "Rejection",
-    "monotonic_now_ns", "config_with_prefix", "open_pub_sub", "open_inbox_event", "copy_out",
+    "monotonic_now_ns", "config_with_prefix", "open_pub_sub", "open_inbox_event", "open_wake_event", "copy_out",
     "Rig", "connect",
 ]
 
@@ -61,9 +62,14 @@ def open_pub_sub(node, name, payload_type):
 
 
 def open_inbox_event(node):
-    """The core's wake-up event, with the settings of inbox_event.rs."""
+    """The core's wake-up event, with the settings of wake_event.rs."""
+    return open_wake_event(node, INBOX_EVENT)
+
+
+def open_wake_event(node, service):
+    """A wake-up event (INBOX_EVENT or FRAME_EVENT), as wake_event.rs opens it."""
     return (
-        node.service_builder(iox2.ServiceName.new(INBOX_EVENT))
+        node.service_builder(iox2.ServiceName.new(service))
         .event()
         .max_notifiers(MAX_SUBSCRIBERS)
         .max_listeners(INBOX_MAX_LISTENERS)

@@ -24,6 +24,7 @@ TELEMETRY = "upm/telemetry"
 REJECTION = "upm/rejection"
 CAMERA_FRAME = "upm/camera/frame"  # [u8] pixels, FrameHeader user header
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
+FRAME_EVENT = CAMERA_FRAME  # event service: a frame source notifies vision
 
 # ipc-types/src/ports.rs (open_pub_sub)
 MAX_PUBLISHERS = 4
@@ -34,8 +35,8 @@ MAX_NODES = 32
 # ipc-types/src/ports.rs (frame_publisher / frame_subscriber): history 0
 FRAME_SUBSCRIBERS = 4
 FRAME_BUFFER = 2
-# ipc-types/src/inbox_event.rs: max_notifiers = MAX_SUBSCRIBERS, 2 listeners;
-# clients call notify() with the notifier's default event id, EventId 0.
+# ipc-types/src/wake_event.rs (both events): max_notifiers = MAX_SUBSCRIBERS,
+# 2 listeners; notify() with the notifier's default event id, EventId 0.
 INBOX_MAX_LISTENERS = 2
 INBOX_EVENT_ID = 0
 

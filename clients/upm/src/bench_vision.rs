@@ -105,7 +105,7 @@ fn parts(n: usize, seed: u64, turning: bool) -> Vec<(u32, [f64; 3], [f64; 3])> {
     out
 }
 
-fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, PathBuf)> {
+fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Result<(Value, PathBuf)> {
     let cam = camera_for(case);
     let truth = cam.model().map_err(anyhow::Error::msg)?;
     let scene = cam.scene().map_err(anyhow::Error::msg)?;
@@ -198,6 +198,21 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
         }
     }
     std::fs::write(&raw, &raw_bytes)?;
+    // The same frames again, through a real vision process.
+    let vision_section = upm_vision::VisionSection {
+        classes: case
+            .classes()
+            .iter()
+            .map(|c| upm_vision::VisionClass {
+                ratio: c.level / scene.plate_level,
+                radius_mm: c.radius_mm,
+                shape: c.shape,
+            })
+            .collect(),
+        ..upm_vision::VisionSection::default()
+    };
+    let frame_list: Vec<&[u8]> = raw_bytes.chunks_exact((case.width * case.height) as usize).collect();
+    let latency = crate::bench_vision_latency::measure(&cal, &vision_section, &frame_list, rounds, 30.0, dir)?;
     // The reference gets vision's region of interest as a mask.
     let mut mask = vec![0u8; (case.width * case.height) as usize];
     for (v, &(a, b)) in vision.roi_spans().iter().enumerate() {
@@ -236,8 +251,11 @@ fn one_case(case: Case, frames: usize, dir: &Path) -> anyhow::Result<(Value, Pat
             "split_detections": vision.counts.split,
             "merged_blobs": vision.counts.merged,
             "cut_blobs": vision.counts.cut,
-            // Frame stamp → PartStates over iceoryx2 is not measured here yet.
-            "latency_p99_us": Value::Null,
+            "latency_p50_us": latency.p50_us,
+            "latency_p99_us": latency.p99_us,
+            "latency_max_us": latency.max_us,
+            "latency_frames": latency.sent,
+            "latency_answered": latency.answered,
             "calibration_mapping_rms_mm": cal_report["against_truth"]["plate_mapping_rms_mm"],
         }),
         raw,
@@ -314,7 +332,7 @@ fn opencv_p50(py: &Path, raw: &Path, v: &Value) -> Result<f64, String> {
 
 /// Every case, then the OpenCV reference on the same frames.
 pub fn run(quick: bool) -> anyhow::Result<Value> {
-    let frames = if quick { 8 } else { 60 };
+    let (frames, rounds) = if quick { (8, 2) } else { (60, 3) };
     let case = |width, height, parts, polygons| Case { width, height, parts, polygons };
     let cases = [
         case(1280, 1024, 10, false),
@@ -331,7 +349,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
     let mut rows = Vec::new();
     let mut raws = Vec::new();
     for case in if quick { &cases[..2] } else { &cases[..] } {
-        let (v, raw) = one_case(*case, frames, &dir)?;
+        let (v, raw) = one_case(*case, frames, rounds, &dir)?;
         rows.push(v);
         raws.push(raw);
     }
@@ -359,7 +377,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
 
 pub fn to_text(v: &Value) -> String {
     let mut s = format!(
-        "{}\nreference: {}\n{:>11} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>7} {:>6} {:>6} {:>6}",
+        "{}\nreference: {}\n{:>11} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>7} {:>6} {:>6} {:>6} {:>8}",
         crate::host_facts::to_text(&v["host"]),
         v["reference"].as_str().unwrap_or("?"),
         "sensor",
@@ -375,12 +393,13 @@ pub fn to_text(v: &Value) -> String {
         "tri° p99",
         "class",
         "missed",
-        "false"
+        "false",
+        "age p99"
     );
     for c in v["cases"].as_array().into_iter().flatten() {
         let f = |k: &str| c[k].as_f64().unwrap_or(f64::NAN);
         s += &format!(
-            "\n{:>11} {:>5} {:>6.2} {:>9.0} {:>9.0} {:>9.0} {:>7.2} {:>9.3} {:>9.3} {:>7.3} {:>7.3} {:>6} {:>6} {:>6}",
+            "\n{:>11} {:>5} {:>6.2} {:>9.0} {:>9.0} {:>9.0} {:>7.2} {:>9.3} {:>9.3} {:>7.3} {:>7.3} {:>6} {:>6} {:>6} {:>8.0}",
             format!("{}x{}", c["width"], c["height"]),
             c["parts"],
             f("mm_per_px"),
@@ -394,8 +413,9 @@ pub fn to_text(v: &Value) -> String {
             f("triangle_angle_err_p99_deg"),
             c["class_errors"],
             c["missed"],
-            c["false_detections"]
+            c["false_detections"],
+            f("latency_p99_us")
         );
     }
-    s + "\n(µs per frame; position errors in mm and angle errors in degrees against the renderer's truth)"
+    s + "\n(µs per frame; position errors in mm and angle errors in degrees against the renderer's truth; age: frame stamp → PartStates at the core's side through a upm vision process, µs)"
 }

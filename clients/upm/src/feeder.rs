@@ -2,7 +2,7 @@
 //! ForceRequests for the paper's §3.1 parts at a fixed period. Used by the
 //! benches and the multi-process tests to keep a core running.
 
-use ipc_types::inbox_event::InboxNotifier;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
@@ -40,7 +40,7 @@ pub fn feed(prefix: &str, period: Duration, stop: &AtomicBool) -> anyhow::Result
     let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
     let parts = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
     let requests = ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST)?;
-    let mut wake = InboxNotifier::new(&node)?;
+    let mut wake = WakeNotifier::new(&node, WakeEvent::Inbox)?;
     let mut seq = 0;
     while !stop.load(Ordering::Relaxed) {
         seq += 1;

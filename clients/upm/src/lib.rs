@@ -9,6 +9,7 @@ pub mod bench_latency;
 pub mod bench_solver;
 pub mod bench_sort;
 pub mod bench_vision;
+pub mod bench_vision_latency;
 pub mod bounded_reference;
 pub mod calibrate_camera;
 pub mod cli;

@@ -2,11 +2,14 @@
 //! segmented, its blobs turned into detections through the calibration,
 //! tracked, and published as `PartStates` stamped with the frame's
 //! exposure. A bad frame (header, size, too dark, saturated, noise) is
-//! counted and skipped; the loop never stalls on one.
+//! counted and skipped; the loop never stalls on one. It sleeps on the
+//! frame event, so a source that notifies is served at once; one that does
+//! not is read at the next poll (every millisecond).
 
 use std::time::{Duration, Instant};
 
 use ipc_types::monotonic_now_ns;
+use ipc_types::wake_event::{WakeEvent, wake_listener};
 use serde::Serialize;
 
 use crate::blobs::BadFrame;
@@ -71,6 +74,9 @@ impl Times {
     }
 }
 
+/// Longest sleep between looks for frames (a source that does not notify).
+const POLL: Duration = Duration::from_millis(1);
+
 /// Run vision on camera frames on `prefix` until SIGINT/SIGTERM (or
 /// `duration`).
 pub fn run_frames(
@@ -84,6 +90,7 @@ pub fn run_frames(
     let mut pipeline = FramePipeline::new(&cal, params, tracker);
     let mut out = Outputs::open(prefix)?;
     let frames = ipc_types::ports::frame_subscriber(out.node())?;
+    let woken = wake_listener(out.node(), WakeEvent::Frame)?;
     let end = duration.map(|d| monotonic_now_ns() + d.as_nanos() as u64);
     let mut stats = FrameStats::default();
     let mut times = Times { us: Vec::with_capacity(Times::CAPACITY), next: 0 };
@@ -129,9 +136,10 @@ pub fn run_frames(
             }
             times.push(started.elapsed().as_secs_f64() * 1e6);
         }
-        if end.is_some_and(|e| monotonic_now_ns() >= e) || !out.wait(Duration::from_micros(500)) {
+        if end.is_some_and(|e| monotonic_now_ns() >= e) || !out.wait(Duration::ZERO) {
             break;
         }
+        woken.timed_wait(|_| {}, POLL).map_err(|e| anyhow::anyhow!("waiting for a frame: {e:?}"))?;
     }
     let counts = pipeline.counts;
     stats.detected = counts.detected;

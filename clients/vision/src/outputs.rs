@@ -7,7 +7,7 @@ use std::time::Duration;
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
-use ipc_types::inbox_event::InboxNotifier;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::ports::Pub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{PartState, PartStates, service_names};
@@ -29,7 +29,7 @@ pub fn part_states(tracks: &[Track], seq: u64, stamp_ns: u64, out: &mut PartStat
 pub struct Outputs {
     node: Node<ipc::Service>,
     publisher: Pub<PartStates>,
-    wake: InboxNotifier,
+    wake: WakeNotifier,
     core: CoreWatch,
     /// The last message published (its stamp is the previous frame's).
     last: PartStates,
@@ -43,7 +43,7 @@ impl Outputs {
             SignalHandlingMode::HandleTerminationRequests,
         )?;
         let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
-        let wake = InboxNotifier::new(&node)?;
+        let wake = WakeNotifier::new(&node, WakeEvent::Inbox)?;
         let core = CoreWatch::new(prefix, Duration::from_secs(1));
         Ok(Self { node, publisher, wake, core, last: PartStates::new() })
     }

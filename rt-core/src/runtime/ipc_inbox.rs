@@ -8,7 +8,7 @@
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
-use ipc_types::inbox_event::inbox_listener;
+use ipc_types::wake_event::{WakeEvent, wake_listener};
 use ipc_types::ports::Sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
@@ -23,7 +23,7 @@ pub struct IpcInbox {
     requests: Sub<ForceRequest>,
     explicit: Sub<ExplicitSchedule>,
     commands: Sub<CoreCommand>,
-    /// Clients notify it after publishing (see `ipc_types::inbox_event`).
+    /// Clients notify it after publishing (see `ipc_types::wake_event`).
     wake: Listener<ipc::Service>,
     /// Receive errors (counted, never fatal).
     pub receive_errors: u64,
@@ -44,7 +44,7 @@ impl IpcInbox {
                 .map_err(StartError::Port)?;
         let commands = ipc_types::ports::subscriber::<CoreCommand>(&node, service_names::CORE_COMMAND)
             .map_err(StartError::Port)?;
-        let wake = inbox_listener(&node).map_err(StartError::WakeEvent)?;
+        let wake = wake_listener(&node, WakeEvent::Inbox).map_err(StartError::WakeEvent)?;
         Ok(Self { _node: node, parts, requests, explicit, commands, wake, receive_errors: 0 })
     }
 

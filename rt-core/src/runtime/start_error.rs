@@ -15,7 +15,7 @@ pub enum StartError {
     Prefix,
     Node(RigNodeError),
     /// The clients' wake-up event could not be opened.
-    WakeEvent(ipc_types::inbox_event::InboxEventError),
+    WakeEvent(ipc_types::wake_event::WakeEventError),
     /// The prefix's node list could not be read (to find a running core).
     NodeList(NodeListFailure),
     /// A service could not be opened or a port created on it.

@@ -8,7 +8,7 @@ use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
-use ipc_types::inbox_event::InboxNotifier;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::ports::{Pub, Sub, config_with_prefix};
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, HealthSource,
@@ -74,7 +74,7 @@ struct Client {
     requests: Pub<ForceRequest>,
     explicit: Pub<ExplicitSchedule>,
     commands: Pub<CoreCommand>,
-    notifier: InboxNotifier,
+    notifier: WakeNotifier,
     schedules: Sub<Schedule>,
     telemetry: Sub<Telemetry>,
     rejections: Sub<Rejection>,
@@ -155,7 +155,7 @@ impl Client {
             requests: publisher(&node, service_names::FORCE_REQUEST),
             explicit: publisher(&node, service_names::EXPLICIT_SCHEDULE),
             commands: publisher(&node, service_names::CORE_COMMAND),
-            notifier: InboxNotifier::new(&node).expect("notifier"),
+            notifier: WakeNotifier::new(&node, WakeEvent::Inbox).expect("notifier"),
             schedules: subscriber(&node, service_names::SCHEDULE),
             telemetry: subscriber(&node, service_names::TELEMETRY),
             rejections: subscriber(&node, service_names::REJECTION),

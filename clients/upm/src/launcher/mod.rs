@@ -61,7 +61,7 @@ pub struct RunOutcome {
 /// The `upm` executable: it runs each process through a hidden
 /// subcommand (`upm core|vision|planner`), so `cargo run --bin upm` is all a
 /// fresh checkout needs. Set `UPM_EXE` to use another build.
-fn upm_exe() -> anyhow::Result<PathBuf> {
+pub(crate) fn upm_exe() -> anyhow::Result<PathBuf> {
     if let Some(p) = std::env::var_os("UPM_EXE") {
         return Ok(PathBuf::from(p));
     }
