@@ -9,7 +9,7 @@ use crate::{CameraSection, Renderer};
 #[command(
     name = "upm-camera",
     version,
-    about = "UPM frame source: the rendered camera (ground truth in), or PNG files; camera frames out"
+    about = "UPM frame source: the rendered camera (ground truth in), PNG files or a live camera; camera frames out"
 )]
 pub struct CameraArgs {
     /// `--config` is read for [service] and [camera] only.
@@ -19,7 +19,17 @@ pub struct CameraArgs {
     /// rendering.
     #[arg(long)]
     pub files: Option<std::path::PathBuf>,
-    /// With --files: frames per second (default: camera.frame_hz).
+    /// A live USB/UVC camera through V4L2, e.g. /dev/video0, at
+    /// camera.width × camera.height.
+    #[arg(long, conflicts_with = "files")]
+    pub v4l2: Option<std::path::PathBuf>,
+    /// A live GenICam camera (GigE Vision / USB3 Vision) through Aravis, by
+    /// its id as `arv-tool-0.8` lists it; "first" takes the first found.
+    /// Needs the `genicam` build feature.
+    #[arg(long, conflicts_with_all = ["files", "v4l2"])]
+    pub genicam: Option<String>,
+    /// With --files or a live camera: frames per second (default:
+    /// camera.frame_hz).
     #[arg(long)]
     pub rate: Option<f64>,
     /// With --files: start over after the last file.
@@ -40,6 +50,18 @@ pub fn run_camera(args: CameraArgs) -> anyhow::Result<u64> {
             args.looping,
             duration,
         )?;
+        eprintln!("upm-camera: {stats}");
+        return Ok(stats.published);
+    }
+    let rate = args.rate.unwrap_or(section.frame_hz);
+    let size = (section.width, section.height);
+    if let Some(device) = &args.v4l2 {
+        let stats = crate::live::v4l2(&prefix, device, size, rate, duration)?;
+        eprintln!("upm-camera: {stats}");
+        return Ok(stats.published);
+    }
+    if let Some(id) = &args.genicam {
+        let stats = crate::live::genicam(&prefix, id, size, rate, duration)?;
         eprintln!("upm-camera: {stats}");
         return Ok(stats.published);
     }

@@ -7,6 +7,11 @@ pub mod args;
 pub mod board;
 pub mod config;
 pub mod files;
+pub mod live;
+#[cfg(feature = "genicam")]
+mod live_genicam;
+#[cfg(feature = "v4l2")]
+mod live_v4l2;
 pub mod render;
 pub mod run;
 
