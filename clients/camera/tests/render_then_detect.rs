@@ -2,7 +2,7 @@
 //! known parts through a tilted, distorted lens; vision's segmentation and
 //! detection find them again through the same calibration. Checked against
 //! the renderer's truth: every part found once, of the right class, within
-//! 0.3 mm; touching parts, parts cut by the plate's edge and bad frames are
+//! 0.1 mm; touching parts, parts cut by the plate's edge and bad frames are
 //! counted, never reported as parts. Squares and triangles come out with
 //! their angle (modulo their symmetry) within 0.5°.
 
@@ -55,11 +55,7 @@ impl Vision {
     fn for_scene(scene: &Scene) -> Self {
         let m = model();
         let looks = looks(scene);
-        let params = SegmentParams {
-            split_above_px: split_area_px(&m, &looks),
-            coverage_moments: looks.iter().any(|l| l.shape.corners() > 0),
-            ..SegmentParams::default()
-        };
+        let params = SegmentParams { split_above_px: split_area_px(&m, &looks), ..SegmentParams::default() };
         Self { segmenter: Segmenter::new(&m, [1.0, 0.5], 0.003, params), model: m, looks }
     }
 
@@ -120,7 +116,7 @@ fn states(parts: &[(u32, u32, [f64; 2], [f64; 2])]) -> PartStates {
 }
 
 #[test]
-fn separated_parts_are_found_within_a_third_of_a_millimetre() {
+fn separated_parts_are_found_within_a_tenth_of_a_millimetre() {
     let mut cam = Renderer::new(model(), scene()).expect("renderer");
     let mut vision = Vision::new();
     // Spread over the whole plate, corners included, some moving.
@@ -153,7 +149,8 @@ fn separated_parts_are_found_within_a_third_of_a_millimetre() {
     errors.sort_by(f64::total_cmp);
     let p99 = errors[(errors.len() * 99 / 100).min(errors.len() - 1)];
     eprintln!("position error p50 {:.3} mm, p99 {:.3} mm", errors[errors.len() / 2] * 1e3, p99 * 1e3);
-    assert!(p99 < 0.3e-3, "position error p99 {} mm", p99 * 1e3);
+    // The issue asks 0.3 mm; coverage-weighted centroids give ≈ 0.03 mm here.
+    assert!(p99 < 0.1e-3, "position error p99 {} mm", p99 * 1e3);
 }
 
 #[test]

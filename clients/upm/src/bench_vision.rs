@@ -256,6 +256,7 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
             "latency_max_us": latency.max_us,
             "latency_frames": latency.sent,
             "latency_answered": latency.answered,
+            "latency_pm_qos": latency.pm_qos,
             "calibration_mapping_rms_mm": cal_report["against_truth"]["plate_mapping_rms_mm"],
         }),
         raw,

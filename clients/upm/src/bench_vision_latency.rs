@@ -6,8 +6,10 @@
 //! unpinned) segments, tracks and publishes PartStates stamped with the
 //! frame's stamp, then notifies the core's inbox. The bench stands in for
 //! the core: it sleeps on the inbox event and takes `now − stamp` when the
-//! message arrives. So the figure holds the frame's transport, vision's
-//! wake-up and work, and the PartStates hop to the core.
+//! message arrives, and it holds the PM QoS request a running core holds
+//! (/dev/cpu_dma_latency = 0, when it may). So the figure holds the
+//! frame's transport, vision's wake-up and work, and the PartStates hop to
+//! the core.
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -35,6 +37,8 @@ pub struct Latency {
     pub max_us: f64,
     pub answered: usize,
     pub sent: usize,
+    /// Whether the PM QoS request was held, as a running core holds it.
+    pub pm_qos: bool,
 }
 
 #[derive(Serialize)]
@@ -78,7 +82,10 @@ pub fn measure(
         .stderr(Stdio::null())
         .spawn()
         .context("starting upm vision")?;
-    let result = exchange(&mut out, &parts, &woken, frames, rounds, frame_hz, (w, h));
+    let pm_qos = rt_core::runtime::rt_setup::hold_cpu_dma_latency(0).ok();
+    let result = exchange(&mut out, &parts, &woken, frames, rounds, frame_hz, (w, h))
+        .map(|l| Latency { pm_qos: pm_qos.is_some(), ..l });
+    drop(pm_qos);
     // SAFETY: SIGINT to the child we started; it stops cleanly on it.
     #[allow(unsafe_code)]
     unsafe {
@@ -146,5 +153,6 @@ fn exchange(
         max_us: ages.last().copied().unwrap_or(f64::NAN),
         answered: ages.len(),
         sent: total - WARM_UP,
+        pm_qos: false,
     })
 }

@@ -285,9 +285,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
             config.validate(&path.display().to_string())?;
-            if camera == crate::launcher::CameraChoice::Rendered && config.planner.name() == "spin" {
+            let round = |p: &crate::config::SimPartSection| matches!(p.shape.as_str(), "disc" | "point");
+            if camera == crate::launcher::CameraChoice::Rendered
+                && config.planner.name() == "spin"
+                && config.sim.parts.iter().any(round)
+            {
                 anyhow::bail!(
-                    "--camera rendered: the spin planner needs each part's angle, and vision sees discs without one"
+                    "--camera rendered: the spin planner needs its part's angle, and vision cannot see a disc's \
+                     (give the part a square or triangle shape, as scenarios/spin_square.toml does)"
                 );
             }
             eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");

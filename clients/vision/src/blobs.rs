@@ -38,16 +38,17 @@ pub struct SegmentParams {
     /// two touching parts and split in two along its long axis; 0 never
     /// splits. Callers set it to 1.5 × a part's area.
     pub split_above_px: f64,
-    /// Measure the orientation moments (`mu3`, `mu4`) of each whole blob
-    /// again with every pixel of its box weighted by how dark it is, so
-    /// that edge pixels count by their coverage: a polygon's angle to a
-    /// fraction of a degree. Costs one pass over each blob's box.
+    /// Measure the centroid and orientation moments (`mu3`, `mu4`) of each
+    /// whole blob again with every pixel of its box weighted by how dark
+    /// it is, so that edge pixels count by their coverage: a polygon's
+    /// angle to a fraction of a degree, a centroid to a tenth of a pixel.
+    /// Costs one pass over each blob's box. On by default.
     pub coverage_moments: bool,
 }
 
 impl Default for SegmentParams {
     fn default() -> Self {
-        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17, split_above_px: 0.0, coverage_moments: false }
+        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17, split_above_px: 0.0, coverage_moments: true }
     }
 }
 
@@ -511,9 +512,9 @@ impl Segmenter {
         a + (b - a) * wy
     }
 
-    /// `mu3` and `mu4` of each whole blob from the pixels of its box (one
-    /// pixel around), weighted by coverage: 0 at the plate's brightness, 1
-    /// at the blob's own mean brightness.
+    /// Centroid, `mu3` and `mu4` of each whole blob from the pixels of its
+    /// box (one pixel around), weighted by coverage: 0 at the plate's
+    /// brightness, 1 at the blob's own mean brightness.
     fn coverage_moments(&mut self, pixels: &[u8], stride: usize) {
         // The background model reads a little above the plate's mean and
         // noise lifts some plate pixels: below this coverage a pixel is
@@ -542,8 +543,8 @@ impl Segmenter {
             }
             if s.m[0] > 0.0 {
                 let weighted = blob_of(&s);
-                self.blobs[b].mu3 = weighted.mu3;
-                self.blobs[b].mu4 = weighted.mu4;
+                let blob = &mut self.blobs[b];
+                (blob.u, blob.v, blob.mu3, blob.mu4) = (weighted.u, weighted.v, weighted.mu3, weighted.mu4);
             }
         }
     }

@@ -27,7 +27,6 @@ impl FramePipeline {
     pub fn new(cal: &Calibration, params: &FrameParams, tracker: TrackerParams) -> Self {
         let segment = SegmentParams {
             split_above_px: split_area_px(&cal.camera, &params.looks),
-            coverage_moments: params.looks.iter().any(|l| l.shape.corners() > 0),
             ..params.segment
         };
         Self {

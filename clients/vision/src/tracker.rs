@@ -1,6 +1,8 @@
 //! Multi-part tracking for the camera: detections carry no ids, so each is
 //! associated to the nearest predicted track within a gate; an alpha-beta
-//! filter per track smooths position and estimates velocity.
+//! filter per track smooths position and estimates velocity. A polygon's
+//! angle is seen modulo its symmetry; its track's angle is continuous from
+//! the first sighting on.
 
 use crate::shape::wrap_period;
 
@@ -94,7 +96,9 @@ impl Tracker {
             for k in 0..3 {
                 let mut r = z[k] - predicted[ti][k];
                 if k == 2 {
-                    // A square turned by 89° is one turned by -1°.
+                    // A square seen at 89° may be one at -1°: the residual
+                    // is taken modulo the symmetry, so the track's angle
+                    // stays continuous (a part turned by 90° reads 90°).
                     r = wrap_period(r, d.period);
                 }
                 t.pose[k] = predicted[ti][k] + p.alpha * r;
@@ -102,7 +106,6 @@ impl Tracker {
                     t.velocity[k] += p.beta * r / dt;
                 }
             }
-            t.pose[2] = wrap_period(t.pose[2], d.period);
             t.missed = 0;
         }
         for (ti, used) in track_used.iter().enumerate() {
