@@ -1,0 +1,120 @@
+//! ethercrab's MainDevice against the simulated chain, in process: every
+//! frame ethercrab sends is answered by `Chain::answer` on a transport
+//! thread and fed back to it, as a NIC would. Start-up reaches OP (identity
+//! and PDO mapping read from SII and CoE, SyncManagers and FMMUs written),
+//! an SDO written in PRE-OP reaches the drive, and the CiA 402 drives are
+//! switched on and follow their targets over cyclic process data with the
+//! working counter an ESC gives (3 per drive).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::task::{Wake, Waker};
+use std::thread;
+use std::time::Duration;
+
+use ethercat_sim::cia402::PowerState;
+use ethercat_sim::subdevice::al_state;
+use ethercat_sim::{Chain, SubDevice};
+use ethercrab::std::ethercat_now;
+use ethercrab::{MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, Timeouts};
+
+const DRIVES: usize = 3;
+static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
+
+struct Unpark(thread::Thread);
+
+impl Wake for Unpark {
+    fn wake(self: Arc<Self>) {
+        self.0.unpark();
+    }
+}
+
+/// The "wire": each frame ethercrab sends goes through `chain` and back.
+fn transport(mut tx: PduTx<'static>, mut rx: PduRx<'static>, chain: Arc<Mutex<Chain>>, stop: Arc<AtomicBool>) {
+    let waker = Waker::from(Arc::new(Unpark(thread::current())));
+    let mut buf = [0u8; 1514];
+    while !stop.load(Ordering::Relaxed) {
+        tx.replace_waker(&waker);
+        while let Some(frame) = tx.next_sendable_frame() {
+            let mut n = 0;
+            let sent = frame.send_blocking(|b| {
+                buf[..b.len()].copy_from_slice(b);
+                n = b.len();
+                Ok(n)
+            });
+            assert!(sent.is_ok(), "{sent:?}");
+            chain.lock().expect("chain").answer(&mut buf[..n]).expect("ethercrab's frames are well formed");
+            let received = rx.receive_frame(&buf[..n]);
+            assert!(received.is_ok(), "{received:?}");
+        }
+        thread::park_timeout(Duration::from_millis(1));
+    }
+}
+
+#[test]
+fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
+    let chain = Arc::new(Mutex::new(Chain::new((0..DRIVES).map(|_| SubDevice::servo_drive()).collect())));
+    let (tx, rx, pdu_loop) = STORAGE.try_split().expect("split once");
+    let stop = Arc::new(AtomicBool::new(false));
+    let wire = {
+        let (chain, stop) = (chain.clone(), stop.clone());
+        thread::spawn(move || transport(tx, rx, chain, stop))
+    };
+    let md = MainDevice::new(
+        pdu_loop,
+        Timeouts::default(),
+        MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
+    );
+    futures_lite::future::block_on(async {
+        let group = md.init_single_group::<4, 64>(ethercat_now).await.expect("init");
+        assert_eq!(group.len(), DRIVES);
+        for sd in group.iter(&md) {
+            assert_eq!(sd.name(), ethercat_sim::sii::NAME);
+            assert_eq!((sd.identity().vendor_id, sd.identity().product_id), (0x0055_504D, 0x402));
+            // Cyclic synchronous position, by SDO in PRE-OP.
+            sd.sdo_write(0x6060, 0, 8u8).await.expect("0x6060");
+            assert_eq!(sd.sdo_read::<u32>(0x1000, 0).await.expect("0x1000"), 0x0002_0192);
+            assert!(sd.sdo_read::<u32>(0x2000, 0).await.is_err(), "no such object: aborted");
+        }
+        let group = group.into_op(&md).await.expect("PRE-OP → OP");
+        for sd in group.iter(&md) {
+            let io = sd.io_raw();
+            assert_eq!((io.inputs().len(), io.outputs().len()), (7, 7));
+        }
+        // Shutdown → switch on → enable operation, then move.
+        let steps: [(u16, i32); 6] = [(0x06, 0), (0x07, 0), (0x0F, 0), (0x0F, 100), (0x0F, 250), (0x0F, -40)];
+        for (k, (controlword, target)) in steps.into_iter().enumerate() {
+            for (i, sd) in group.iter(&md).enumerate() {
+                let mut o = sd.outputs_raw_mut();
+                o[..2].copy_from_slice(&controlword.to_le_bytes());
+                o[2..6].copy_from_slice(&(target * (i as i32 + 1)).to_le_bytes());
+                o[6] = 8;
+            }
+            let r = group.tx_rx(&md).await.expect("tx_rx");
+            assert_eq!(r.working_counter, 3 * DRIVES as u16, "step {k}");
+            assert!(r.all_op());
+        }
+        // Inputs are latched as the frame passes, before the drive acts
+        // on the outputs it carries: they show a target one cycle later.
+        group.tx_rx(&md).await.expect("tx_rx");
+        for (i, sd) in group.iter(&md).enumerate() {
+            let inputs = sd.inputs_raw();
+            let status = u16::from_le_bytes([inputs[0], inputs[1]]);
+            let actual = i32::from_le_bytes([inputs[2], inputs[3], inputs[4], inputs[5]]);
+            assert_eq!(status & 0x006F, 0x0027, "drive {i}: operation enabled");
+            assert_eq!(actual, -40 * (i as i32 + 1), "drive {i}");
+        }
+        let group = group.into_safe_op(&md).await.expect("OP → SAFE-OP");
+        let _ = group.into_pre_op(&md).await.expect("SAFE-OP → PRE-OP");
+    });
+    stop.store(true, Ordering::Relaxed);
+    wire.join().expect("transport");
+    let chain = chain.lock().expect("chain");
+    for d in &chain.devices {
+        assert_eq!(d.al_state(), (al_state::PRE_OP, false));
+        assert_eq!(d.drive.mode, 8);
+        // Leaving OP stopped the drive.
+        assert_ne!(d.drive.state, PowerState::OperationEnabled);
+    }
+    assert_eq!(chain.refused, 0);
+}
