@@ -144,24 +144,23 @@ impl Sums {
     fn add_run(&mut self, a: f64, b: f64, v: f64) {
         let (a_, b_, v_) = (a.max(0.0) as u32, b.max(0.0) as u32, v.max(0.0) as u32);
         self.bbox = [self.bbox[0].min(a_), self.bbox[1].min(v_), self.bbox[2].max(b_), self.bbox[3].max(v_)];
-        self.add_weighted(a, b, v, 1.0);
+        let (hi, lo) = (power_sums(b - self.origin[0]), power_sums(a - 1.0 - self.origin[0]));
+        self.add_row(v, &[0, 1, 2, 3, 4].map(|p| hi[p] - lo[p]));
     }
 
     fn add_pixel(&mut self, u: f64, v: f64) {
         self.add_run(u, u, v);
     }
 
-    /// Pixels `a..=b` of row `v`, each counting `weight`.
-    fn add_weighted(&mut self, a: f64, b: f64, v: f64, weight: f64) {
-        let (hi, lo) = (power_sums(b - self.origin[0]), power_sums(a - 1.0 - self.origin[0]));
+    /// Row `v` given its sums Σ w·xᵖ (p ≤ 4, x about the origin).
+    fn add_row(&mut self, v: f64, along: &[f64; 5]) {
         let y = v - self.origin[1];
-        for order in 0..=4 {
-            let mut yq = 1.0;
-            for q in 0..=order {
-                let p = order - q;
-                self.m[at(p, q)] += weight * (hi[p] - lo[p]) * yq;
-                yq *= y;
+        let mut yq = 1.0;
+        for q in 0..=4 {
+            for p in 0..=4 - q {
+                self.m[at(p, q)] += along[p] * yq;
             }
+            yq *= y;
         }
     }
 }
@@ -530,16 +529,27 @@ impl Segmenter {
             let (u0, v0) = (u0.saturating_sub(1) as usize, v0.saturating_sub(1) as usize);
             let (u1, v1) = ((u1 as usize + 1).min(self.width - 1), (v1 as usize + 1).min(self.height - 1));
             let mut s = Sums::at([blob.u.round(), blob.v.round()]);
+            // cover = ((1 − p/bg) / (1 − ratio) − floor) / (1 − floor),
+            // as a − b·p/bg.
+            let scale = 1.0 / ((1.0 - blob.ratio) * (1.0 - COVER_FLOOR));
+            let a = (1.0 - (1.0 - blob.ratio) * COVER_FLOOR) * scale;
             for v in v0..=v1 {
-                let row = &pixels[v * stride..v * stride + self.width];
-                for (u, &p) in row.iter().enumerate().take(u1 + 1).skip(u0) {
-                    let bg = self.background_at(u, v).max(1.0) as f64;
-                    let cover = ((1.0 - p as f64 / bg) / (1.0 - blob.ratio) - COVER_FLOOR) / (1.0 - COVER_FLOOR);
+                self.fill_row_background(v, u0..u1 + 1);
+                let row = &pixels[v * stride + u0..v * stride + u1 + 1];
+                // Σ cover · xᵖ along the row, then into the moments once.
+                let mut along = [0.0f64; 5];
+                for (k, (&p, &bg)) in row.iter().zip(&self.row_bg[u0..=u1]).enumerate() {
+                    let cover = a - scale * f64::from(p) / f64::from(bg.max(1.0));
                     if cover > 0.0 {
-                        let cover = cover.min(1.0);
-                        s.add_weighted(u as f64, u as f64, v as f64, cover);
+                        let x = (u0 + k) as f64 - s.origin[0];
+                        let mut term = cover.min(1.0);
+                        for sum in &mut along {
+                            *sum += term;
+                            term *= x;
+                        }
                     }
                 }
+                s.add_row(v as f64, &along);
             }
             if s.m[0] > 0.0 {
                 let weighted = blob_of(&s);
