@@ -30,7 +30,6 @@ mod explicit_schedule;
 mod force_request;
 mod header;
 mod health;
-pub mod wake_event;
 mod latency_percentiles;
 mod part_states;
 pub mod ports;
@@ -41,6 +40,7 @@ mod schedule;
 pub mod service_names;
 mod telemetry;
 mod validation;
+pub mod wake_event;
 mod wire_code;
 
 pub use camera_frame::{FrameError, FrameHeader};

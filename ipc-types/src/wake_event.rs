@@ -105,6 +105,9 @@ impl WakeNotifier {
 }
 
 /// The listening side (the core's non-real-time receiver thread, vision).
-pub fn wake_listener(node: &Node<ipc::Service>, event: WakeEvent) -> Result<Listener<ipc::Service>, WakeEventError> {
+pub fn wake_listener(
+    node: &Node<ipc::Service>,
+    event: WakeEvent,
+) -> Result<Listener<ipc::Service>, WakeEventError> {
     open(node, event)?.listener_builder().create().map_err(WakeEventError::Listener)
 }

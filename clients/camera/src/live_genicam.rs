@@ -99,7 +99,8 @@ pub fn run_genicam(
             #[allow(unsafe_code)]
             let pixels = unsafe { std::slice::from_raw_parts(data, frame_bytes) };
             stats.published += 1;
-            let header = FrameHeader { seq: stats.published, stamp_ns: received, ..FrameHeader::mono8(width, height) };
+            let header =
+                FrameHeader { seq: stats.published, stamp_ns: received, ..FrameHeader::mono8(width, height) };
             let sent = out.publish(header, pixels);
             stream.push_buffer(buffer);
             sent?;

@@ -47,7 +47,8 @@ pub fn run_v4l2(
     if !caps.capabilities.contains(v4l::capability::Flags::VIDEO_CAPTURE) {
         anyhow::bail!("{shown} ({}): not a video capture device", caps.card);
     }
-    let pixels = negotiate(&dev, width, height).map_err(|e| anyhow::anyhow!("{shown} ({}): {e}", caps.card))?;
+    let pixels =
+        negotiate(&dev, width, height).map_err(|e| anyhow::anyhow!("{shown} ({}): {e}", caps.card))?;
     if fps.is_finite() && fps >= 1.0 {
         // A camera that cannot do the rate keeps its own; the stamps tell.
         let _ = dev.set_params(&v4l::video::capture::Parameters::with_fps(fps.round() as u32));

@@ -80,8 +80,10 @@ impl FrameOut {
     /// Loan a frame, fill it with `header` and `pixels`, send it, wake
     /// vision.
     pub fn publish(&mut self, header: FrameHeader, pixels: &[u8]) -> anyhow::Result<()> {
-        let mut sample =
-            self.frames.loan_slice_uninit(pixels.len()).map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
+        let mut sample = self
+            .frames
+            .loan_slice_uninit(pixels.len())
+            .map_err(|e| anyhow::anyhow!("loaning a frame: {e:?}"))?;
         *sample.user_header_mut() = header;
         sample.write_from_slice(pixels).send().map_err(|e| anyhow::anyhow!("publishing a frame: {e:?}"))?;
         self.wake.notify();

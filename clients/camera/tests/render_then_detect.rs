@@ -38,7 +38,10 @@ fn scene() -> Scene {
 }
 
 fn looks(s: &Scene) -> Vec<PartLook> {
-    s.classes.iter().map(|c| PartLook { ratio: c.level / s.plate_level, radius: c.radius, shape: c.shape }).collect()
+    s.classes
+        .iter()
+        .map(|c| PartLook { ratio: c.level / s.plate_level, radius: c.radius, shape: c.shape })
+        .collect()
 }
 
 struct Vision {

@@ -7,8 +7,8 @@ use std::time::Duration;
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
-use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::rig_node::rig_node;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
 
 use crate::Planner;

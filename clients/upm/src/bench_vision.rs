@@ -64,7 +64,11 @@ impl Case {
                 },
             ]
         } else {
-            [dark, grey].map(|level| upm_camera::ClassSection { level, radius_mm: 15.0, shape: PartShape::Disc })
+            [dark, grey].map(|level| upm_camera::ClassSection {
+                level,
+                radius_mm: 15.0,
+                shape: PartShape::Disc,
+            })
         }
     }
 }
@@ -85,7 +89,13 @@ fn camera_for(case: Case) -> CameraSection {
     let base = CameraSection::default();
     let h = base.mount_mm[2] * 1e-3;
     let focal = (case.width as f64 / 2.3).min(case.height as f64 / 1.3) * h;
-    CameraSection { width: case.width, height: case.height, focal_px: focal, classes: case.classes().to_vec(), ..base }
+    CameraSection {
+        width: case.width,
+        height: case.height,
+        focal_px: focal,
+        classes: case.classes().to_vec(),
+        ..base
+    }
 }
 
 /// Seeded separated parts, half of each class: (class, pose, velocity).
@@ -174,7 +184,8 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
                         class_errors += u64::from(d.class != *class);
                         let shape = frame_params.looks[*class as usize].shape;
                         if shape.corners() > 0 {
-                            angle_err_deg[*class as usize].push(shape.wrap(d.theta - p[2]).abs().to_degrees());
+                            angle_err_deg[*class as usize]
+                                .push(shape.wrap(d.theta - p[2]).abs().to_degrees());
                         }
                     } else {
                         near_err_mm.push(e * 1e3);
@@ -212,7 +223,8 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
         ..upm_vision::VisionSection::default()
     };
     let frame_list: Vec<&[u8]> = raw_bytes.chunks_exact((case.width * case.height) as usize).collect();
-    let latency = crate::bench_vision_latency::measure(&cal, &vision_section, &frame_list, rounds, 30.0, dir)?;
+    let latency =
+        crate::bench_vision_latency::measure(&cal, &vision_section, &frame_list, rounds, 30.0, dir)?;
     // The reference gets vision's region of interest as a mask.
     let mut mask = vec![0u8; (case.width * case.height) as usize];
     for (v, &(a, b)) in vision.roi_spans().iter().enumerate() {
@@ -254,6 +266,7 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
             "latency_p50_us": latency.p50_us,
             "latency_p99_us": latency.p99_us,
             "latency_max_us": latency.max_us,
+            "latency_source_publish_p50_us": latency.publish_p50_us,
             "latency_frames": latency.sent,
             "latency_answered": latency.answered,
             "latency_pm_qos": latency.pm_qos,

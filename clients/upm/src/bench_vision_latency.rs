@@ -37,6 +37,9 @@ pub struct Latency {
     pub max_us: f64,
     pub answered: usize,
     pub sent: usize,
+    /// Of which the source's own part: stamp → frame in shared memory and
+    /// vision notified (the copy into the loaned sample), p50 µs.
+    pub publish_p50_us: f64,
     /// Whether the PM QoS request was held, as a running core holds it.
     pub pm_qos: bool,
 }
@@ -115,6 +118,7 @@ fn exchange(
     let mut seq = 0u64;
     let mut answered_warm_up = false;
     let mut ages = Vec::new();
+    let mut publishing = Vec::new();
     let total = WARM_UP + rounds * frames.len();
     let mut sent = 0;
     while sent < total {
@@ -122,10 +126,13 @@ fn exchange(
         seq += 1;
         let stamp = monotonic_now_ns();
         out.publish(FrameHeader { seq, stamp_ns: stamp, ..FrameHeader::mono8(w, h) }, pixels)?;
+        let published = monotonic_now_ns() - stamp;
         let deadline = Instant::now() + period;
         let mut answer = None;
         while Instant::now() < deadline {
-            woken.timed_wait(|_| {}, deadline.saturating_duration_since(Instant::now())).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            woken
+                .timed_wait(|_| {}, deadline.saturating_duration_since(Instant::now()))
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
             while let Some(s) = parts.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
                 if s.payload().stamp_ns == stamp {
                     answer = Some(monotonic_now_ns() - stamp);
@@ -143,9 +150,11 @@ fn exchange(
             && let Some(ns) = answer
         {
             ages.push(ns as f64 / 1e3);
+            publishing.push(published as f64 / 1e3);
         }
     }
     ages.sort_by(f64::total_cmp);
+    publishing.sort_by(f64::total_cmp);
     let at = |q: f64| crate::bench_sort::percentile(&ages, q).unwrap_or(f64::NAN);
     Ok(Latency {
         p50_us: at(0.5),
@@ -153,6 +162,7 @@ fn exchange(
         max_us: ages.last().copied().unwrap_or(f64::NAN),
         answered: ages.len(),
         sent: total - WARM_UP,
+        publish_p50_us: crate::bench_sort::percentile(&publishing, 0.5).unwrap_or(f64::NAN),
         pm_qos: false,
     })
 }

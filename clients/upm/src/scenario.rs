@@ -11,9 +11,9 @@ use serde_json::{Value, json};
 use crate::config::{Config, SimPartSection};
 use crate::launcher::Trails;
 use upm_planner::PlannerConfig;
-use upm_vision::shape::PartShape;
 use upm_planner::sort::sort_side;
 use upm_planner::track::distance_to_rectangle;
+use upm_vision::shape::PartShape;
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]

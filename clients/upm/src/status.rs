@@ -202,7 +202,8 @@ pub fn send_resume(prefix: &str) -> anyhow::Result<()> {
     }
     let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
     let publisher = ipc_types::ports::publisher::<CoreCommand>(&node, service_names::CORE_COMMAND)?;
-    let mut notifier = ipc_types::wake_event::WakeNotifier::new(&node, ipc_types::wake_event::WakeEvent::Inbox)?;
+    let mut notifier =
+        ipc_types::wake_event::WakeNotifier::new(&node, ipc_types::wake_event::WakeEvent::Inbox)?;
     // The core's subscriber connects to a new publisher on its next look.
     std::thread::sleep(Duration::from_millis(100));
     publisher

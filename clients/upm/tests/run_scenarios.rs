@@ -126,8 +126,9 @@ fn spin_square_through_rendered_frames_turns_in_place() {
     let sc = Scenario::load(&resolve("spin_square")).expect("scenario");
     let config = sc.config(1, "unused_").expect("config");
     let mut planner = config.planner.build().expect("planner");
-    let r = upm_cli::closed_loop::run_seeing(&config, planner.as_mut(), sc.duration_s, CameraChoice::Rendered)
-        .expect("run");
+    let r =
+        upm_cli::closed_loop::run_seeing(&config, planner.as_mut(), sc.duration_s, CameraChoice::Rendered)
+            .expect("run");
     let m = sc.evaluate(&config, &r.trails);
     let err = m["spin_angle_error_deg"].as_f64().expect("error");
     eprintln!("spin_square through frames: angle error {err:.3}°");

@@ -48,7 +48,14 @@ pub struct SegmentParams {
 
 impl Default for SegmentParams {
     fn default() -> Self {
-        Self { threshold: 0.7, tile: 64, percentile: 0.9, max_runs: 1 << 17, split_above_px: 0.0, coverage_moments: true }
+        Self {
+            threshold: 0.7,
+            tile: 64,
+            percentile: 0.9,
+            max_runs: 1 << 17,
+            split_above_px: 0.0,
+            coverage_moments: true,
+        }
     }
 }
 
@@ -590,7 +597,7 @@ impl Segmenter {
                     h.ratio += (p as f32 / self.background_at(u, run.v as usize).max(1.0)) as f64;
                 }
             }
-            if halves.iter().all(|h| h.m[0] > 0.0) {
+            if halves.iter().all(|h| h.m[0] > 0.0) && self.blobs.len() < self.blobs.capacity() {
                 let [a, c] = halves.map(|h| Blob { split: true, ..blob_of(&h) });
                 self.blobs[b] = a;
                 self.blobs.push(c);

@@ -52,7 +52,8 @@ pub fn split_area_px(model: &CameraModel, looks: &[PartLook]) -> f64 {
     if area.is_finite() { area } else { 0.0 }
 }
 
-/// Blobs of one frame → detections (appended to `out`).
+/// Blobs of one frame → detections (appended to `out`, never beyond its
+/// capacity: a blob that does not fit counts as merged).
 pub fn detect(
     blobs: &[Blob],
     model: &CameraModel,
@@ -94,6 +95,11 @@ pub fn detect(
                 score(a).total_cmp(&score(c))
             })
             .map_or(0, |(i, _)| i as u32);
+        if out.len() == out.capacity() {
+            // More than the caller made room for: counted, not grown.
+            counts.merged += 1;
+            continue;
+        }
         counts.detected += 1;
         counts.split += u64::from(b.split);
         let shape = looks.get(class as usize).map_or(PartShape::Disc, |l| l.shape);

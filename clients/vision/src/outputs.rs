@@ -7,9 +7,9 @@ use std::time::Duration;
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
-use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::ports::Pub;
 use ipc_types::rig_node::rig_node;
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{PartState, PartStates, service_names};
 
 use crate::Track;

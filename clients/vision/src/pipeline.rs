@@ -25,10 +25,8 @@ impl FramePipeline {
     /// Allocates every buffer (the region of interest costs one
     /// unprojection per pixel); a frame then allocates nothing.
     pub fn new(cal: &Calibration, params: &FrameParams, tracker: TrackerParams) -> Self {
-        let segment = SegmentParams {
-            split_above_px: split_area_px(&cal.camera, &params.looks),
-            ..params.segment
-        };
+        let segment =
+            SegmentParams { split_above_px: split_area_px(&cal.camera, &params.looks), ..params.segment };
         Self {
             model: cal.camera,
             looks: params.looks.clone(),

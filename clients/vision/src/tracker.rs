@@ -49,16 +49,35 @@ impl Default for TrackerParams {
     }
 }
 
+/// Tracks a tracker keeps at most; more new parts wait for a free slot.
+pub const MAX_TRACKS: usize = 4 * ipc_types::MAX_PARTS;
+
 #[derive(Debug, Clone)]
 pub struct Tracker {
     params: TrackerParams,
     tracks: Vec<Track>,
     next_id: u32,
+    // Scratch, sized once: an update allocates nothing.
+    predicted: Vec<[f64; 3]>,
+    pairs: Vec<(f64, usize, usize)>,
+    track_used: Vec<bool>,
+    det_used: Vec<bool>,
+    /// Candidate pairs and new tracks that did not fit (counted, dropped).
+    pub overflow: u64,
 }
 
 impl Tracker {
     pub fn new(params: TrackerParams) -> Self {
-        Self { params, tracks: Vec::new(), next_id: 1 }
+        Self {
+            params,
+            tracks: Vec::with_capacity(MAX_TRACKS),
+            next_id: 1,
+            predicted: Vec::with_capacity(MAX_TRACKS),
+            pairs: Vec::with_capacity(MAX_TRACKS * 8),
+            track_used: Vec::with_capacity(MAX_TRACKS),
+            det_used: Vec::with_capacity(MAX_TRACKS),
+            overflow: 0,
+        }
     }
 
     pub fn tracks(&self) -> &[Track] {
@@ -70,54 +89,68 @@ impl Tracker {
     /// tracks get ids in detection order.
     pub fn update(&mut self, detections: &[Detection], dt: f64) {
         let p = self.params;
-        let predicted: Vec<[f64; 3]> =
-            self.tracks.iter().map(|t| [0, 1, 2].map(|k| t.pose[k] + t.velocity[k] * dt)).collect();
-        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
-        for (ti, pr) in predicted.iter().enumerate() {
+        // Detections beyond what the scratch holds are not considered.
+        let detections = &detections[..detections.len().min(MAX_TRACKS)];
+        self.predicted.clear();
+        self.predicted.extend(self.tracks.iter().map(|t| [0, 1, 2].map(|k| t.pose[k] + t.velocity[k] * dt)));
+        self.pairs.clear();
+        for (ti, pr) in self.predicted.iter().enumerate() {
             for (di, d) in detections.iter().enumerate() {
                 let dist = (d.x - pr[0]).hypot(d.y - pr[1]);
                 if dist <= p.gate_m && d.class == self.tracks[ti].class {
-                    pairs.push((dist, ti, di));
+                    if self.pairs.len() == self.pairs.capacity() {
+                        self.overflow += 1;
+                        continue;
+                    }
+                    self.pairs.push((dist, ti, di));
                 }
             }
         }
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-        let mut track_used = vec![false; self.tracks.len()];
-        let mut det_used = vec![false; detections.len()];
-        for (_, ti, di) in pairs {
-            if track_used[ti] || det_used[di] {
+        // A total order (distance, track, detection): unstable sorting
+        // gives the same result and allocates nothing.
+        self.pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        self.track_used.clear();
+        self.track_used.resize(self.tracks.len(), false);
+        self.det_used.clear();
+        self.det_used.resize(detections.len(), false);
+        for &(_, ti, di) in &self.pairs {
+            if self.track_used[ti] || self.det_used[di] {
                 continue;
             }
-            track_used[ti] = true;
-            det_used[di] = true;
+            self.track_used[ti] = true;
+            self.det_used[di] = true;
             let d = detections[di];
             let t = &mut self.tracks[ti];
             let z = [d.x, d.y, d.theta];
             for k in 0..3 {
-                let mut r = z[k] - predicted[ti][k];
+                let mut r = z[k] - self.predicted[ti][k];
                 if k == 2 {
                     // A square seen at 89° may be one at -1°: the residual
                     // is taken modulo the symmetry, so the track's angle
                     // stays continuous (a part turned by 90° reads 90°).
                     r = wrap_period(r, d.period);
                 }
-                t.pose[k] = predicted[ti][k] + p.alpha * r;
+                t.pose[k] = self.predicted[ti][k] + p.alpha * r;
                 if dt > 0.0 {
                     t.velocity[k] += p.beta * r / dt;
                 }
             }
             t.missed = 0;
         }
-        for (ti, used) in track_used.iter().enumerate() {
+        for (ti, used) in self.track_used.iter().enumerate() {
             if !used {
                 let t = &mut self.tracks[ti];
-                t.pose = predicted[ti];
+                t.pose = self.predicted[ti];
                 t.missed += 1;
             }
         }
         self.tracks.retain(|t| t.missed <= p.max_missed);
         for (di, d) in detections.iter().enumerate() {
-            if !det_used[di] {
+            if !self.det_used[di] {
+                if self.tracks.len() == self.tracks.capacity() {
+                    self.overflow += 1;
+                    continue;
+                }
                 self.tracks.push(Track {
                     id: self.next_id,
                     class: d.class,

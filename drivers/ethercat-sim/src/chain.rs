@@ -171,7 +171,10 @@ impl Chain {
                 _ => 0,
             };
             *wkc = wkc.wrapping_add(add);
-            if matches!(command, cmd::APRD | cmd::APWR | cmd::APRW | cmd::BRD | cmd::BWR | cmd::BRW | cmd::ARMW) {
+            if matches!(
+                command,
+                cmd::APRD | cmd::APWR | cmd::APRW | cmd::BRD | cmd::BWR | cmd::BRW | cmd::ARMW
+            ) {
                 adp = adp.wrapping_add(1);
             }
         }
@@ -237,7 +240,10 @@ mod tests {
             chain.answer(&mut f).expect("answered");
             assert_eq!(wkc(&f, 0), 1);
         }
-        let mut f = frame(&[(cmd::FPRD, 0x1002 | (0x0010 << 16), &[0, 0]), (cmd::FPRD, 0x1007 | (0x0010 << 16), &[0, 0])]);
+        let mut f = frame(&[
+            (cmd::FPRD, 0x1002 | (0x0010 << 16), &[0, 0]),
+            (cmd::FPRD, 0x1007 | (0x0010 << 16), &[0, 0]),
+        ]);
         chain.answer(&mut f).expect("answered");
         assert_eq!((wkc(&f, 0), wkc(&f, 1)), (1, 0), "only station 0x1002 exists");
         assert_eq!(f[6], 0x12, "the reply is marked");

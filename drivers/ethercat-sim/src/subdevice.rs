@@ -16,9 +16,9 @@
 //! - Logical commands go through the enabled FMMUs; when outputs arrive the
 //!   drive runs one cycle and refreshes the inputs.
 
+use crate::chain::LogicalKind;
 use crate::cia402::{Drive, INPUT_BYTES, OUTPUT_BYTES, PowerState};
 use crate::coe::{self, Identity};
-use crate::chain::LogicalKind;
 use crate::sii;
 
 const MEMORY: usize = 0x2000;
@@ -74,8 +74,13 @@ impl SubDevice {
     }
 
     pub fn with_identity(identity: Identity) -> Self {
-        let mut d =
-            Self { mem: vec![0; MEMORY], eeprom: sii::image(&identity), identity, drive: Drive::default(), cycles: 0 };
+        let mut d = Self {
+            mem: vec![0; MEMORY],
+            eeprom: sii::image(&identity),
+            identity,
+            drive: Drive::default(),
+            cycles: 0,
+        };
         d.mem[usize::from(reg::TYPE)] = 0x11;
         d.mem[usize::from(reg::FMMUS)] = 16;
         d.mem[usize::from(reg::SYNC_MANAGERS)] = 16;
@@ -314,7 +319,8 @@ impl SubDevice {
             if lo >= hi {
                 continue;
             }
-            let (in_frame, in_mem) = ((lo - u64::from(address)) as usize, phys + (lo - u64::from(start)) as usize);
+            let (in_frame, in_mem) =
+                ((lo - u64::from(address)) as usize, phys + (lo - u64::from(start)) as usize);
             let n = ((hi - lo) as usize).min(MEMORY.saturating_sub(in_mem));
             if direction & 1 != 0 && kind.read {
                 data[in_frame..in_frame + n].copy_from_slice(&self.mem[in_mem..in_mem + n]);
@@ -368,7 +374,10 @@ mod tests {
         request(&mut d, u16::from(al_state::PRE_OP));
         assert_eq!(d.u16_at(reg::AL_CODE), al_code::INVALID_TRANSITION);
         request(&mut d, 0x10 | u16::from(al_state::PRE_OP));
-        assert_eq!((d.al_state(), d.u16_at(reg::AL_CODE)), ((al_state::INIT, true), al_code::INVALID_MAILBOX));
+        assert_eq!(
+            (d.al_state(), d.u16_at(reg::AL_CODE)),
+            ((al_state::INIT, true), al_code::INVALID_MAILBOX)
+        );
         request(&mut d, 0x11);
         assert_eq!((d.al_state(), d.u16_at(reg::AL_CODE)), ((al_state::INIT, false), 0));
         // Read-only registers stay.

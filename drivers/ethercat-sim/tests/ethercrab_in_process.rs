@@ -30,7 +30,12 @@ impl Wake for Unpark {
 }
 
 /// The "wire": each frame ethercrab sends goes through `chain` and back.
-fn transport(mut tx: PduTx<'static>, mut rx: PduRx<'static>, chain: Arc<Mutex<Chain>>, stop: Arc<AtomicBool>) {
+fn transport(
+    mut tx: PduTx<'static>,
+    mut rx: PduRx<'static>,
+    chain: Arc<Mutex<Chain>>,
+    stop: Arc<AtomicBool>,
+) {
     let waker = Waker::from(Arc::new(Unpark(thread::current())));
     let mut buf = [0u8; 1514];
     while !stop.load(Ordering::Relaxed) {

@@ -8,9 +8,9 @@
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
-use ipc_types::wake_event::{WakeEvent, wake_listener};
 use ipc_types::ports::Sub;
 use ipc_types::rig_node::rig_node;
+use ipc_types::wake_event::{WakeEvent, wake_listener};
 use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, monotonic_now_ns, service_names};
 
 use super::inbox::{Inbound, Inbox, InboxBuffers};

@@ -8,8 +8,8 @@ use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
-use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::ports::{Pub, Sub, config_with_prefix};
+use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, HealthSource,
     MAX_PARTS, MAX_SLOTS, PartState, PartStates, RejectReason, RejectedKind, Rejection, Schedule, Telemetry,
