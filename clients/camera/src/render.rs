@@ -248,14 +248,14 @@ impl Renderer {
                     1.0
                 } else {
                     let mut inside = 0u32;
-                    for k in 0..samples {
+                    for (k, outline) in outlines.iter().enumerate().take(samples) {
                         let t = if samples > 1 { k as f64 * step } else { e / 2.0 };
                         let c = [start[0] + velocity[0] * t, start[1] + velocity[1] * t];
                         for su in SUB {
                             for sv in SUB {
                                 let dx = p[0] + ju[0] * su + jv[0] * sv - c[0];
                                 let dy = p[1] + ju[1] * su + jv[1] * sv - c[1];
-                                inside += u32::from(outlines[k].contains(dx, dy));
+                                inside += u32::from(outline.contains(dx, dy));
                             }
                         }
                     }

@@ -90,7 +90,7 @@ fn squares_and_triangles_are_found_with_their_angle_within_half_a_degree() {
         let (x, y) = (-0.85 + 0.075 * i as f64, if i % 2 == 0 { -0.3 } else { 0.25 });
         let theta = -3.0 + 0.27 * i as f64;
         let spin = if i % 4 == 1 { 2.0 } else { 0.0 };
-        let class = (i % 2) as u32;
+        let class = i % 2;
         truth.push(PartState::new(i, class, 0, [x, y, theta], [0.02, 0.0, spin])).expect("capacity");
         expected.push((class, x, y, theta));
     }

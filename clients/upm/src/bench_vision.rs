@@ -21,6 +21,7 @@
 //! background model, which follows uneven light. Without Python or the
 //! package the reference is skipped and says so.
 
+use core::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -106,7 +107,7 @@ fn parts(n: usize, seed: u64, turning: bool) -> Vec<(u32, [f64; 3], [f64; 3])> {
     while out.len() < n {
         let p = [rng.random_range(-0.85..0.85), rng.random_range(-0.38..0.38)];
         let (theta, omega) =
-            if turning { (rng.random_range(-3.14..3.14), rng.random_range(-2.0..2.0)) } else { (0.0, 0.0) };
+            if turning { (rng.random_range(-PI..PI), rng.random_range(-2.0..2.0)) } else { (0.0, 0.0) };
         if out.iter().all(|(_, q, _)| (q[0] - p[0]).hypot(q[1] - p[1]) > 0.1) {
             let v = [rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05), omega];
             out.push(((out.len() % 2) as u32, [p[0], p[1], theta], v));

@@ -164,8 +164,8 @@ impl Sums {
         let y = v - self.origin[1];
         let mut yq = 1.0;
         for q in 0..=4 {
-            for p in 0..=4 - q {
-                self.m[at(p, q)] += along[p] * yq;
+            for (p, sum) in along.iter().enumerate().take(5 - q) {
+                self.m[at(p, q)] += sum * yq;
             }
             yq *= y;
         }

@@ -122,15 +122,16 @@ impl Tracker {
             let d = detections[di];
             let t = &mut self.tracks[ti];
             let z = [d.x, d.y, d.theta];
-            for k in 0..3 {
-                let mut r = z[k] - self.predicted[ti][k];
+            let predicted = self.predicted[ti];
+            for (k, (zk, pk)) in z.into_iter().zip(predicted).enumerate() {
+                let mut r = zk - pk;
                 if k == 2 {
                     // A square seen at 89° may be one at -1°: the residual
                     // is taken modulo the symmetry, so the track's angle
                     // stays continuous (a part turned by 90° reads 90°).
                     r = wrap_period(r, d.period);
                 }
-                t.pose[k] = self.predicted[ti][k] + p.alpha * r;
+                t.pose[k] = pk + p.alpha * r;
                 if dt > 0.0 {
                     t.velocity[k] += p.beta * r / dt;
                 }
