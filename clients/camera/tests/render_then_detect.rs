@@ -65,7 +65,7 @@ impl Vision {
     fn see(&mut self, pixels: &[u8]) -> Result<(Vec<Detection>, BlobCounts), BadFrame> {
         let (w, h) = (self.model.width, self.model.height);
         let blobs = self.segmenter.segment(pixels, w, h, w as usize)?;
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(256);
         let mut counts = BlobCounts::default();
         detect(blobs, &self.model, &self.looks, &mut out, &mut counts);
         Ok((out, counts))
