@@ -29,6 +29,8 @@ pub enum FrameError {
     BadHeader,
     /// A datagram runs past the end of the frame.
     Overrun,
+    /// Lost on the wire, as injected by [`Chain::lose_frames`].
+    Lost,
 }
 
 impl fmt::Display for FrameError {
@@ -38,6 +40,7 @@ impl fmt::Display for FrameError {
             Self::NotEtherCat => "not an EtherCAT frame (EtherType)",
             Self::BadHeader => "EtherCAT header: not a datagram frame, or empty",
             Self::Overrun => "a datagram runs past the end of the frame",
+            Self::Lost => "lost on the wire (injected)",
         })
     }
 }
@@ -71,6 +74,11 @@ pub struct Chain {
     pub answered: u64,
     pub refused: u64,
     pub last_refusal: Option<FrameError>,
+    /// SubDevices a frame reaches: fewer than all when the cable is cut
+    /// after one ([`Chain::cut_after`]).
+    reachable: usize,
+    /// Frames still to be lost ([`Chain::lose_frames`]).
+    to_lose: u32,
 }
 
 impl Chain {
@@ -81,7 +89,18 @@ impl Chain {
         for (i, d) in devices.iter_mut().enumerate() {
             d.set_links(i + 1 < n);
         }
-        Self { devices, answered: 0, refused: 0, last_refusal: None }
+        Self { devices, answered: 0, refused: 0, last_refusal: None, reachable: n, to_lose: 0 }
+    }
+
+    /// Cut the chain after its first `n` SubDevices (the rest disappear
+    /// from the wire, as with a pulled cable); `n` ≥ the length mends it.
+    pub fn cut_after(&mut self, n: usize) {
+        self.reachable = n.min(self.devices.len());
+    }
+
+    /// Lose the next `n` frames (no answer at all).
+    pub fn lose_frames(&mut self, n: u32) {
+        self.to_lose = n;
     }
 
     /// Answer `frame` in place. A refused frame is counted and left as it
@@ -99,6 +118,10 @@ impl Chain {
     }
 
     fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
+        if self.to_lose > 0 {
+            self.to_lose -= 1;
+            return Err(FrameError::Lost);
+        }
         if frame.len() < ETH_HEADER + 2 {
             return Err(FrameError::TooShort);
         }
@@ -150,7 +173,7 @@ impl Chain {
         let mut adp = u16::from_le_bytes([head[2], head[3]]);
         let ado = u16::from_le_bytes([head[4], head[5]]);
         let logical = u32::from_le_bytes([head[2], head[3], head[4], head[5]]);
-        for d in &mut self.devices {
+        for d in &mut self.devices[..self.reachable] {
             let here = adp == 0;
             let fixed = adp == d.station_address();
             let add = match command {

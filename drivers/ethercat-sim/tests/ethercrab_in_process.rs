@@ -4,7 +4,10 @@
 //! and PDO mapping read from SII and CoE, SyncManagers and FMMUs written),
 //! an SDO written in PRE-OP reaches the drive, and the CiA 402 drives are
 //! switched on and follow their targets over cyclic process data with the
-//! working counter an ESC gives (3 per drive).
+//! working counter an ESC gives (3 per drive). Faults as the wire shows
+//! them: a cut cable lowers the working counter, a lost frame is a
+//! timeout, a drive fault shows in its statusword and is reset through
+//! the controlword, all without restarting anything.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -14,12 +17,16 @@ use std::time::Duration;
 
 use ethercat_sim::cia402::PowerState;
 use ethercat_sim::subdevice::al_state;
-use ethercat_sim::{Chain, SubDevice};
+use ethercat_sim::{Chain, FrameError, SubDevice};
 use ethercrab::std::ethercat_now;
 use ethercrab::{MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, Timeouts};
 
 const DRIVES: usize = 3;
+/// Generous: the transport thread may wait for a CPU while the rest of the
+/// test suite runs; only the injected lost frame should ever time out.
+const PDU_TIMEOUT: Duration = Duration::from_millis(500);
 static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
+static FAULT_STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
 
 struct Unpark(thread::Thread);
 
@@ -48,9 +55,14 @@ fn transport(
                 Ok(n)
             });
             assert!(sent.is_ok(), "{sent:?}");
-            chain.lock().expect("chain").answer(&mut buf[..n]).expect("ethercrab's frames are well formed");
-            let received = rx.receive_frame(&buf[..n]);
-            assert!(received.is_ok(), "{received:?}");
+            match chain.lock().expect("chain").answer(&mut buf[..n]) {
+                Ok(()) => {
+                    let received = rx.receive_frame(&buf[..n]);
+                    assert!(received.is_ok(), "{received:?}");
+                }
+                Err(FrameError::Lost) => {}
+                Err(e) => panic!("ethercrab's frames are well formed: {e}"),
+            }
         }
         thread::park_timeout(Duration::from_millis(1));
     }
@@ -67,7 +79,7 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
     };
     let md = MainDevice::new(
         pdu_loop,
-        Timeouts::default(),
+        Timeouts { pdu: PDU_TIMEOUT, ..Timeouts::default() },
         MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
     );
     futures_lite::future::block_on(async {
@@ -122,4 +134,74 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
         assert_ne!(d.drive.state, PowerState::OperationEnabled);
     }
     assert_eq!(chain.refused, 0);
+}
+
+#[test]
+fn faults_on_the_wire_and_in_a_drive_are_seen_and_recovered() {
+    let chain = Arc::new(Mutex::new(Chain::new((0..DRIVES).map(|_| SubDevice::servo_drive()).collect())));
+    let (tx, rx, pdu_loop) = FAULT_STORAGE.try_split().expect("split once");
+    let stop = Arc::new(AtomicBool::new(false));
+    let wire = {
+        let (chain, stop) = (chain.clone(), stop.clone());
+        thread::spawn(move || transport(tx, rx, chain, stop))
+    };
+    let md = MainDevice::new(
+        pdu_loop,
+        Timeouts { pdu: PDU_TIMEOUT, ..Timeouts::default() },
+        MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
+    );
+    let full = 3 * DRIVES as u16;
+    futures_lite::future::block_on(async {
+        let group = md.init_single_group::<4, 64>(ethercat_now).await.expect("init");
+        let group = group.into_op(&md).await.expect("op");
+        // Outputs for every drive: controlword, target × (i + 1), CSP.
+        let set_outputs = |controlword: u16, target: i32| {
+            for (i, sd) in group.iter(&md).enumerate() {
+                let mut o = sd.outputs_raw_mut();
+                o[..2].copy_from_slice(&controlword.to_le_bytes());
+                o[2..6].copy_from_slice(&(target * (i as i32 + 1)).to_le_bytes());
+                o[6] = 8;
+            }
+        };
+        for cw in [0x06, 0x07, 0x0F] {
+            set_outputs(cw, 0);
+            group.tx_rx(&md).await.expect("tx_rx");
+        }
+        // The cable pulled after the first drive: the others stop counting.
+        chain.lock().expect("chain").cut_after(1);
+        set_outputs(0x0F, 10);
+        let r = group.tx_rx(&md).await;
+        assert!(r.as_ref().is_ok_and(|r| r.working_counter == 3), "{:?}", r.map(|r| r.working_counter));
+        chain.lock().expect("chain").cut_after(DRIVES);
+        assert_eq!(group.tx_rx(&md).await.expect("tx_rx").working_counter, full, "plugged back");
+        // A lost frame: this exchange times out, the next one works.
+        chain.lock().expect("chain").lose_frames(1);
+        assert!(group.tx_rx(&md).await.is_err(), "a lost frame is a timeout");
+        assert_eq!(group.tx_rx(&md).await.expect("tx_rx").working_counter, full);
+        // Drive 1 faults: its statusword says so and it stops following.
+        chain.lock().expect("chain").devices[1].drive.fault();
+        set_outputs(0x0F, 20);
+        group.tx_rx(&md).await.expect("tx_rx");
+        group.tx_rx(&md).await.expect("tx_rx");
+        let status = |i: usize| {
+            let sd = group.iter(&md).nth(i).expect("drive");
+            let inputs = sd.inputs_raw();
+            (
+                u16::from_le_bytes([inputs[0], inputs[1]]),
+                i32::from_le_bytes([inputs[2], inputs[3], inputs[4], inputs[5]]),
+            )
+        };
+        assert_ne!(status(1).0 & 0x0008, 0, "fault bit");
+        assert_eq!(status(0), (0x0237, 20), "the others go on");
+        assert_ne!(status(1).1, 40, "a faulted drive does not follow");
+        // Fault reset, then switched on again: it follows.
+        for cw in [0x80, 0x06, 0x07, 0x0F, 0x0F, 0x0F] {
+            set_outputs(cw, 30);
+            group.tx_rx(&md).await.expect("tx_rx");
+        }
+        assert_eq!(status(1), (0x0237, 60), "recovered");
+    });
+    stop.store(true, Ordering::Relaxed);
+    wire.join().expect("transport");
+    assert_eq!(chain.lock().expect("chain").devices[1].drive.faults, 1);
 }
