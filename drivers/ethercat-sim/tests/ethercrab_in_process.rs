@@ -25,8 +25,8 @@ const DRIVES: usize = 3;
 /// Generous: the transport thread may wait for a CPU while the rest of the
 /// test suite runs; only the injected lost frame should ever time out.
 const PDU_TIMEOUT: Duration = Duration::from_millis(500);
-static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
-static FAULT_STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
+static STORAGE: Storage = PduStorage::new();
+static FAULT_STORAGE: Storage = PduStorage::new();
 
 struct Unpark(thread::Thread);
 
@@ -68,20 +68,43 @@ fn transport(
     }
 }
 
+type Storage = PduStorage<16, { PduStorage::element_size(1100) }>;
+
+/// A chain of `DRIVES` drives on a transport thread, and the MainDevice
+/// that talks to it.
+struct Wire {
+    chain: Arc<Mutex<Chain>>,
+    stop: Arc<AtomicBool>,
+    thread: thread::JoinHandle<()>,
+}
+
+impl Wire {
+    fn start(storage: &'static Storage) -> (Self, MainDevice<'static>) {
+        let chain = Arc::new(Mutex::new(Chain::new((0..DRIVES).map(|_| SubDevice::servo_drive()).collect())));
+        let (tx, rx, pdu_loop) = storage.try_split().expect("split once");
+        let stop = Arc::new(AtomicBool::new(false));
+        let thread = {
+            let (chain, stop) = (chain.clone(), stop.clone());
+            thread::spawn(move || transport(tx, rx, chain, stop))
+        };
+        let md = MainDevice::new(
+            pdu_loop,
+            Timeouts { pdu: PDU_TIMEOUT, ..Timeouts::default() },
+            MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
+        );
+        (Self { chain, stop, thread }, md)
+    }
+
+    fn stop(self) {
+        self.stop.store(true, Ordering::Relaxed);
+        self.thread.join().expect("transport");
+    }
+}
+
 #[test]
 fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
-    let chain = Arc::new(Mutex::new(Chain::new((0..DRIVES).map(|_| SubDevice::servo_drive()).collect())));
-    let (tx, rx, pdu_loop) = STORAGE.try_split().expect("split once");
-    let stop = Arc::new(AtomicBool::new(false));
-    let wire = {
-        let (chain, stop) = (chain.clone(), stop.clone());
-        thread::spawn(move || transport(tx, rx, chain, stop))
-    };
-    let md = MainDevice::new(
-        pdu_loop,
-        Timeouts { pdu: PDU_TIMEOUT, ..Timeouts::default() },
-        MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
-    );
+    let (wire, md) = Wire::start(&STORAGE);
+    let chain = wire.chain.clone();
     futures_lite::future::block_on(async {
         let group = md.init_single_group::<4, 64>(ethercat_now).await.expect("init");
         assert_eq!(group.len(), DRIVES);
@@ -124,8 +147,7 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
         let group = group.into_safe_op(&md).await.expect("OP → SAFE-OP");
         let _ = group.into_pre_op(&md).await.expect("SAFE-OP → PRE-OP");
     });
-    stop.store(true, Ordering::Relaxed);
-    wire.join().expect("transport");
+    wire.stop();
     let chain = chain.lock().expect("chain");
     for d in &chain.devices {
         assert_eq!(d.al_state(), (al_state::PRE_OP, false));
@@ -138,18 +160,8 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
 
 #[test]
 fn faults_on_the_wire_and_in_a_drive_are_seen_and_recovered() {
-    let chain = Arc::new(Mutex::new(Chain::new((0..DRIVES).map(|_| SubDevice::servo_drive()).collect())));
-    let (tx, rx, pdu_loop) = FAULT_STORAGE.try_split().expect("split once");
-    let stop = Arc::new(AtomicBool::new(false));
-    let wire = {
-        let (chain, stop) = (chain.clone(), stop.clone());
-        thread::spawn(move || transport(tx, rx, chain, stop))
-    };
-    let md = MainDevice::new(
-        pdu_loop,
-        Timeouts { pdu: PDU_TIMEOUT, ..Timeouts::default() },
-        MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
-    );
+    let (wire, md) = Wire::start(&FAULT_STORAGE);
+    let chain = wire.chain.clone();
     let full = 3 * DRIVES as u16;
     futures_lite::future::block_on(async {
         let group = md.init_single_group::<4, 64>(ethercat_now).await.expect("init");
@@ -201,7 +213,6 @@ fn faults_on_the_wire_and_in_a_drive_are_seen_and_recovered() {
         }
         assert_eq!(status(1), (0x0237, 60), "recovered");
     });
-    stop.store(true, Ordering::Relaxed);
-    wire.join().expect("transport");
+    wire.stop();
     assert_eq!(chain.lock().expect("chain").devices[1].drive.faults, 1);
 }
