@@ -106,6 +106,18 @@ impl CameraSection {
         Ok(model)
     }
 
+    /// `[vision] classes` that see this camera's classes as they are.
+    pub fn vision_classes(&self) -> Vec<upm_vision::VisionClass> {
+        self.classes
+            .iter()
+            .map(|c| upm_vision::VisionClass {
+                ratio: c.level / self.plate_level,
+                radius_mm: c.radius_mm,
+                shape: c.shape,
+            })
+            .collect()
+    }
+
     /// The scene with the calibration board lying on the plate, no parts.
     pub fn board_scene(&self) -> Result<Scene, String> {
         Ok(Scene { board: Some(self.board), ..self.scene()? })

@@ -17,6 +17,7 @@ use ipc_types::PartStates;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
+use upm_vision::detect::PartLook;
 use upm_vision::lens::CameraModel;
 use upm_vision::shape::PartShape;
 
@@ -56,6 +57,15 @@ impl Scene {
         let m = 0.6 * self.fiducial_side + 0.01;
         let (hx, hy) = (self.plate_half_extent[0] + m, self.plate_half_extent[1] + m);
         [[-hx, -hy], [0.0, -hy], [hx, -hy], [hx, 0.0], [hx, hy], [0.0, hy], [-hx, hy], [-hx, 0.0]]
+    }
+
+    /// How vision knows each class: brightness relative to the plate,
+    /// outline and circumradius, as this scene draws them.
+    pub fn part_looks(&self) -> Vec<PartLook> {
+        self.classes
+            .iter()
+            .map(|c| PartLook { ratio: c.level / self.plate_level, radius: c.radius, shape: c.shape })
+            .collect()
     }
 
     /// Reflectance of the still scene (plate, surround, markers) at a point.

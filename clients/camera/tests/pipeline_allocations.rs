@@ -8,7 +8,6 @@ use rt_core::runtime::{RtAllocCounter, alloc_count};
 use upm_camera::CameraSection;
 use upm_camera::Renderer;
 use upm_vision::calibration::Calibration;
-use upm_vision::detect::PartLook;
 use upm_vision::pipeline::FramePipeline;
 use upm_vision::shape::PartShape;
 use upm_vision::{FrameParams, TrackerParams};
@@ -23,11 +22,7 @@ fn a_frame_allocates_nothing_after_warm_up() {
     cam.classes[1].radius_mm = 17.0;
     let model = cam.model().expect("model");
     let scene = cam.scene().expect("scene");
-    let looks: Vec<PartLook> = scene
-        .classes
-        .iter()
-        .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius, shape: c.shape })
-        .collect();
+    let looks = scene.part_looks();
     let params = FrameParams {
         calibration: std::path::PathBuf::new(),
         looks,

@@ -37,13 +37,6 @@ fn scene() -> Scene {
     }
 }
 
-fn looks(s: &Scene) -> Vec<PartLook> {
-    s.classes
-        .iter()
-        .map(|c| PartLook { ratio: c.level / s.plate_level, radius: c.radius, shape: c.shape })
-        .collect()
-}
-
 struct Vision {
     segmenter: Segmenter,
     model: CameraModel,
@@ -57,7 +50,7 @@ impl Vision {
 
     fn for_scene(scene: &Scene) -> Self {
         let m = model();
-        let looks = looks(scene);
+        let looks = scene.part_looks();
         let params = SegmentParams { split_above_px: split_area_px(&m, &looks), ..SegmentParams::default() };
         Self { segmenter: Segmenter::new(&m, [1.0, 0.5], 0.003, params), model: m, looks }
     }

@@ -123,11 +123,7 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
     // Vision works through what calibration found, as in a real rig.
     let (cal, cal_report) = crate::calibrate_camera::from_rendered(&cam, scene.plate_half_extent)?;
     let model = cal.camera;
-    let looks: Vec<PartLook> = scene
-        .classes
-        .iter()
-        .map(|c| PartLook { ratio: c.level / scene.plate_level, radius: c.radius, shape: c.shape })
-        .collect();
+    let looks = scene.part_looks();
     let frame_params = FrameParams {
         calibration: PathBuf::new(),
         looks,
@@ -211,18 +207,8 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
     }
     std::fs::write(&raw, &raw_bytes)?;
     // The same frames again, through a real vision process.
-    let vision_section = upm_vision::VisionSection {
-        classes: case
-            .classes()
-            .iter()
-            .map(|c| upm_vision::VisionClass {
-                ratio: c.level / scene.plate_level,
-                radius_mm: c.radius_mm,
-                shape: c.shape,
-            })
-            .collect(),
-        ..upm_vision::VisionSection::default()
-    };
+    let vision_section =
+        upm_vision::VisionSection { classes: cam.vision_classes(), ..upm_vision::VisionSection::default() };
     let frame_list: Vec<&[u8]> = raw_bytes.chunks_exact((case.width * case.height) as usize).collect();
     let latency =
         crate::bench_vision_latency::measure(&cal, &vision_section, &frame_list, rounds, 30.0, dir)?;

@@ -149,16 +149,7 @@ impl Scenario {
                 }
             })
             .collect();
-        c.vision.classes = c
-            .camera
-            .classes
-            .iter()
-            .map(|k| upm_vision::VisionClass {
-                ratio: k.level / c.camera.plate_level,
-                radius_mm: k.radius_mm,
-                shape: k.shape,
-            })
-            .collect();
+        c.vision.classes = c.camera.vision_classes();
         // The planner's model of the parts: the rig's μmg, the parts' mass.
         c.planner = self.planner.clone();
         let drive = c.planner.drive_mut();
