@@ -163,15 +163,21 @@ pub fn deterministic<D: PlateDriver>(make: impl Fn() -> D) {
 }
 
 /// Playing whole cycles of a closed motion brings the plate home (to `tol`
-/// in pose units; 1e-12 for a driver that lands on its commands).
-pub fn closed_motion_returns_home<D: PlateDriver>(make: impl Fn() -> D, tol: f64) {
+/// in pose units; 1e-12 for a driver that lands on its commands). A
+/// driver whose readings lag its commands by `latency_ticks` (a fieldbus:
+/// transport and interpolation) is read that many ticks into the next
+/// cycle, when what it reports is the end of the cycle before.
+pub fn closed_motion_returns_home<D: PlateDriver>(make: impl Fn() -> D, tol: f64, latency_ticks: u64) {
     let mut d = make();
     let motion = demo_motion();
     let rig = Rig::new(RigParams::default()).ok();
     let Some(rig) = rig.filter(|r| r.count() == d.limits().count) else { return };
     let mut s = PlateState::default();
+    let n = motion.cycle_ticks();
+    assert!(latency_ticks < n / 4, "a latency of {latency_ticks} ticks is a quarter of the demo cycle or more");
     for c in 0..4 {
-        assert!(play(&mut d, &rig, &motion, c * motion.cycle_ticks(), motion.cycle_ticks(), &mut s).is_ok());
+        let (start, ticks) = if c == 0 { (0, n + latency_ticks) } else { (c * n + latency_ticks, n) };
+        assert!(play(&mut d, &rig, &motion, start, ticks, &mut s).is_ok());
         let off = s.pose.x.abs().max(s.pose.y.abs()).max(s.pose.theta.abs());
         assert!(off <= tol, "cycle {c}: pose {:?} not home within {tol:e}", s.pose);
         assert_eq!(s.clamped, 0, "the demo motion is within limits and must not be clamped");
@@ -191,13 +197,30 @@ pub fn demo_motion() -> PlateMotion {
     m
 }
 
-/// Every check above.
+/// How closely a driver is held to its commands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// Ticks to reach a held command.
+    pub settle: usize,
+    /// How close to home whole cycles end (pose units).
+    pub home: f64,
+    /// Ticks by which readings lag commands.
+    pub latency_ticks: u64,
+}
+
+/// Every check above, for a driver without latency.
 pub fn run_all<D: PlateDriver>(make: impl Fn() -> D, settle: usize, home_tol: f64) {
+    run_all_with(make, Tolerances { settle, home: home_tol, latency_ticks: 0 });
+}
+
+/// Every check above.
+pub fn run_all_with<D: PlateDriver>(make: impl Fn() -> D, t: Tolerances) {
+    let Tolerances { settle, home: home_tol, latency_ticks } = t;
     starts_home(&make);
     follows_held_command(&make, settle);
     clamps_beyond_limits(&make, settle);
     rejects_non_finite(&make);
     hold_returns_home(&make, settle);
     deterministic(&make);
-    closed_motion_returns_home(&make, home_tol);
+    closed_motion_returns_home(&make, home_tol, latency_ticks);
 }

@@ -5,13 +5,16 @@
 //! (statusword bit 3); a rising fault-reset bit (controlword bit 7) clears
 //! it back to *switch on disabled*.
 //!
-//! Process image, as the default PDO mapping (0x1600 / 0x1A00) lays it out:
-//! outputs (SM2) `controlword u16, target i32, mode i8`; inputs (SM3)
-//! `statusword u16, actual i32, mode display i8`.
+//! Process image, as the default PDO mapping (0x1600 / 0x1A00) lays it out
+//! (little-endian, packed):
+//! outputs (SM2) `controlword u16, target i32, velocity offset i32,
+//! torque offset i16, mode i8`; inputs (SM3) `statusword u16, actual i32,
+//! torque actual i16, mode display i8`. Torques are per mille of the rated
+//! torque (0x6076), as the profile has them.
 
 /// Bytes of the output and of the input image.
-pub const OUTPUT_BYTES: usize = 7;
-pub const INPUT_BYTES: usize = 7;
+pub const OUTPUT_BYTES: usize = 13;
+pub const INPUT_BYTES: usize = 9;
 
 /// Modes of operation (0x6060): cyclic synchronous position.
 pub const MODE_CSP: i8 = 8;
@@ -42,6 +45,17 @@ impl PowerState {
     }
 }
 
+/// Who moves the drive's position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Servo {
+    /// The actual position is the target at once (protocol tests).
+    Instant,
+    /// A plant outside the drive sets `actual` and `torque_actual` each
+    /// cycle (the physics simulator, in `rig`); the drive only checks the
+    /// following error.
+    External,
+}
+
 /// One drive.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drive {
@@ -49,7 +63,16 @@ pub struct Drive {
     pub controlword: u16,
     pub mode: i8,
     pub target: i32,
+    /// Velocity feed-forward (counts/s, 0x60B1).
+    pub velocity_offset: i32,
+    /// Torque feed-forward (per mille of rated, 0x60B2).
+    pub torque_offset: i16,
     pub actual: i32,
+    /// Per mille of rated (0x6077).
+    pub torque_actual: i16,
+    /// Rated torque (0x6076; mN·m, or mN for a linear motor).
+    pub rated_torque: u32,
+    pub servo: Servo,
     /// Largest |target − actual| before a following-error fault (counts).
     pub following_error_window: u32,
     /// Faults entered (injected or following error).
@@ -63,7 +86,12 @@ impl Default for Drive {
             controlword: 0,
             mode: 0,
             target: 0,
+            velocity_offset: 0,
+            torque_offset: 0,
             actual: 0,
+            torque_actual: 0,
+            rated_torque: 1000,
+            servo: Servo::Instant,
             following_error_window: u32::MAX,
             faults: 0,
         }
@@ -109,15 +137,23 @@ impl Drive {
     pub fn cycle(&mut self, outputs: &[u8; OUTPUT_BYTES]) -> [u8; INPUT_BYTES] {
         self.command(u16::from_le_bytes([outputs[0], outputs[1]]));
         self.target = i32::from_le_bytes([outputs[2], outputs[3], outputs[4], outputs[5]]);
-        self.mode = outputs[6] as i8;
-        if self.state == PowerState::OperationEnabled && self.mode == MODE_CSP {
+        self.velocity_offset = i32::from_le_bytes([outputs[6], outputs[7], outputs[8], outputs[9]]);
+        self.torque_offset = i16::from_le_bytes([outputs[10], outputs[11]]);
+        self.mode = outputs[12] as i8;
+        if self.is_following() {
             if self.target.abs_diff(self.actual) > self.following_error_window {
                 self.fault();
-            } else {
+            } else if self.servo == Servo::Instant {
                 self.actual = self.target;
             }
         }
         self.inputs()
+    }
+
+    /// Operation enabled in cyclic synchronous position: the target moves
+    /// the drive.
+    pub fn is_following(&self) -> bool {
+        self.state == PowerState::OperationEnabled && self.mode == MODE_CSP
     }
 
     /// The input image as it stands.
@@ -125,7 +161,8 @@ impl Drive {
         let mut i = [0u8; INPUT_BYTES];
         i[..2].copy_from_slice(&self.statusword().to_le_bytes());
         i[2..6].copy_from_slice(&self.actual.to_le_bytes());
-        i[6] = self.mode as u8;
+        i[6..8].copy_from_slice(&self.torque_actual.to_le_bytes());
+        i[8] = self.mode as u8;
         i
     }
 }
@@ -138,7 +175,7 @@ mod tests {
         let mut o = [0u8; OUTPUT_BYTES];
         o[..2].copy_from_slice(&controlword.to_le_bytes());
         o[2..6].copy_from_slice(&target.to_le_bytes());
-        o[6] = MODE_CSP as u8;
+        o[12] = MODE_CSP as u8;
         o
     }
 

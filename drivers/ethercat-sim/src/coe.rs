@@ -30,8 +30,8 @@ pub mod abort {
 
 /// The default PDO mapping: RxPDO 0x1600 (outputs) and TxPDO 0x1A00
 /// (inputs), entries `index << 16 | subindex << 8 | bits`.
-pub const RX_PDO: [u32; 3] = [0x6040_0010, 0x607A_0020, 0x6060_0008];
-pub const TX_PDO: [u32; 3] = [0x6041_0010, 0x6064_0020, 0x6061_0008];
+pub const RX_PDO: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x60B1_0020, 0x60B2_0010, 0x6060_0008];
+pub const TX_PDO: [u32; 4] = [0x6041_0010, 0x6064_0020, 0x6077_0010, 0x6061_0008];
 
 /// The identity object 0x1018: vendor, product, revision, serial.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,7 +47,7 @@ type Value = (u32, u8);
 
 /// Read object `index:sub`.
 pub fn read(index: u16, sub: u8, drive: &Drive, id: &Identity) -> Result<Value, u32> {
-    let mapping = |entries: &[u32; 3]| match sub {
+    let mapping = |entries: &[u32]| match sub {
         0 => Ok((entries.len() as u32, 1)),
         s => entries.get(usize::from(s) - 1).map(|e| (*e, 4)).ok_or(abort::NO_SUBINDEX),
     };
@@ -75,7 +75,11 @@ pub fn read(index: u16, sub: u8, drive: &Drive, id: &Identity) -> Result<Value, 
         0x6060 | 0x6061 => only((u32::from(drive.mode as u8), 1)),
         0x6064 => only((drive.actual as u32, 4)),
         0x6065 => only((drive.following_error_window, 4)),
+        0x6076 => only((drive.rated_torque, 4)),
+        0x6077 => only((u32::from(drive.torque_actual as u16), 2)),
         0x607A => only((drive.target as u32, 4)),
+        0x60B1 => only((drive.velocity_offset as u32, 4)),
+        0x60B2 => only((u32::from(drive.torque_offset as u16), 2)),
         _ => Err(abort::NO_OBJECT),
     }
 }
@@ -83,7 +87,7 @@ pub fn read(index: u16, sub: u8, drive: &Drive, id: &Identity) -> Result<Value, 
 /// Write object `index:sub` with `size` bytes of `value`.
 pub fn write(index: u16, sub: u8, value: u32, size: u8, drive: &mut Drive, id: &Identity) -> Result<(), u32> {
     let (_, expected) = read(index, sub, drive, id)?;
-    let writable = sub == 0 && matches!(index, 0x6040 | 0x6060 | 0x6065 | 0x607A);
+    let writable = sub == 0 && matches!(index, 0x6040 | 0x6060 | 0x6065 | 0x607A | 0x60B1 | 0x60B2);
     if !writable {
         return Err(abort::READ_ONLY);
     }
@@ -94,6 +98,8 @@ pub fn write(index: u16, sub: u8, value: u32, size: u8, drive: &mut Drive, id: &
         0x6040 => drive.command(value as u16),
         0x6060 => drive.mode = value as u8 as i8,
         0x6065 => drive.following_error_window = value,
+        0x60B1 => drive.velocity_offset = value as i32,
+        0x60B2 => drive.torque_offset = value as u16 as i16,
         _ => drive.target = value as i32,
     }
     Ok(())
@@ -175,6 +181,7 @@ mod tests {
         assert_eq!(ask(&mut d, request(0x40, 0x1C12, 0, 0)), (0x4F, 1), "u8");
         assert_eq!(ask(&mut d, request(0x40, 0x1C12, 1, 0)), (0x4B, 0x1600), "u16");
         assert_eq!(ask(&mut d, request(0x40, 0x1A00, 2, 0)), (0x43, 0x6064_0020), "u32");
+        assert_eq!(ask(&mut d, request(0x40, 0x1600, 0, 0)), (0x4F, 5), "five outputs mapped");
         // 0x6060 = 8 (one byte): 0x2F.
         assert_eq!(ask(&mut d, request(0x2F, 0x6060, 0, 8)), (0x60, 0));
         assert_eq!(d.mode, 8);

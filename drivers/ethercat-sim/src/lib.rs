@@ -24,8 +24,10 @@
 pub mod chain;
 pub mod cia402;
 pub mod coe;
+pub mod rig;
 pub mod sii;
 pub mod subdevice;
 
 pub use chain::{Chain, FrameError};
+pub use rig::SimulatedRig;
 pub use subdevice::SubDevice;

@@ -34,7 +34,7 @@ fn sm(start: u16, len: u16, control: u8, usage: u8) -> [u8; 8] {
 }
 
 /// A PDO description: header, then its entries.
-fn pdo(index: u16, sm: u8, entries: &[u32; 3]) -> Vec<u8> {
+fn pdo(index: u16, sm: u8, entries: &[u32]) -> Vec<u8> {
     let mut d = index.to_le_bytes().to_vec();
     d.extend_from_slice(&[entries.len() as u8, sm, 0, 0, 0, 0]);
     for e in entries {

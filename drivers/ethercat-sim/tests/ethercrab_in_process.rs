@@ -106,7 +106,7 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
     let (wire, md) = Wire::start(&STORAGE);
     let chain = wire.chain.clone();
     futures_lite::future::block_on(async {
-        let group = md.init_single_group::<4, 64>(ethercat_now).await.expect("init");
+        let group = md.init_single_group::<4, 128>(ethercat_now).await.expect("init");
         assert_eq!(group.len(), DRIVES);
         for sd in group.iter(&md) {
             assert_eq!(sd.name(), ethercat_sim::sii::NAME);
@@ -119,7 +119,7 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
         let group = group.into_op(&md).await.expect("PRE-OP → OP");
         for sd in group.iter(&md) {
             let io = sd.io_raw();
-            assert_eq!((io.inputs().len(), io.outputs().len()), (7, 7));
+            assert_eq!((io.inputs().len(), io.outputs().len()), (9, 13));
         }
         // Shutdown → switch on → enable operation, then move.
         let steps: [(u16, i32); 6] = [(0x06, 0), (0x07, 0), (0x0F, 0), (0x0F, 100), (0x0F, 250), (0x0F, -40)];
@@ -128,7 +128,7 @@ fn ethercrab_brings_the_chain_to_op_and_drives_follow_their_targets() {
                 let mut o = sd.outputs_raw_mut();
                 o[..2].copy_from_slice(&controlword.to_le_bytes());
                 o[2..6].copy_from_slice(&(target * (i as i32 + 1)).to_le_bytes());
-                o[6] = 8;
+                o[12] = 8;
             }
             let r = group.tx_rx(&md).await.expect("tx_rx");
             assert_eq!(r.working_counter, 3 * DRIVES as u16, "step {k}");
@@ -164,7 +164,7 @@ fn faults_on_the_wire_and_in_a_drive_are_seen_and_recovered() {
     let chain = wire.chain.clone();
     let full = 3 * DRIVES as u16;
     futures_lite::future::block_on(async {
-        let group = md.init_single_group::<4, 64>(ethercat_now).await.expect("init");
+        let group = md.init_single_group::<4, 128>(ethercat_now).await.expect("init");
         let group = group.into_op(&md).await.expect("op");
         // Outputs for every drive: controlword, target × (i + 1), CSP.
         let set_outputs = |controlword: u16, target: i32| {
@@ -172,7 +172,7 @@ fn faults_on_the_wire_and_in_a_drive_are_seen_and_recovered() {
                 let mut o = sd.outputs_raw_mut();
                 o[..2].copy_from_slice(&controlword.to_le_bytes());
                 o[2..6].copy_from_slice(&(target * (i as i32 + 1)).to_le_bytes());
-                o[6] = 8;
+                o[12] = 8;
             }
         };
         for cw in [0x06, 0x07, 0x0F] {

@@ -12,9 +12,11 @@
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
+mod health;
 mod limits;
 
 pub use crate::motion::{MAX_ACTUATORS, Pose, Twist};
+pub use health::{BusState, DriverHealth, DriverKind};
 pub use limits::{ActuatorLimits, apply_limits};
 
 use core::fmt;
@@ -113,7 +115,14 @@ pub trait PlateDriver {
     /// Command home at rest and zero feed-forward until the next `write`.
     fn hold(&mut self);
 
-    /// Let one tick of time pass. Hardware advances by itself (no-op);
-    /// simulators integrate one tick here.
+    /// Let one tick of time pass: a simulator integrates one tick, a
+    /// fieldbus driver exchanges its process data (the command just
+    /// written goes out, the next reading comes in).
     fn advance(&mut self) {}
+
+    /// Bus state, faults and lost frames ([`DriverHealth::SIMULATED`] for
+    /// drivers without a bus).
+    fn health(&self) -> DriverHealth {
+        DriverHealth::SIMULATED
+    }
 }
