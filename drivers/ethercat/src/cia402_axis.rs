@@ -57,14 +57,19 @@ pub struct Cia402Axis {
 }
 
 impl Cia402Axis {
+    /// Take in a statusword as it arrives (counts entries into fault).
+    pub fn observe(&mut self, statusword: u16) {
+        let fault = PowerState::from_statusword(statusword).is_fault();
+        if fault && !self.in_fault {
+            self.faults += 1;
+        }
+        self.in_fault = fault;
+    }
+
     /// The controlword for this cycle given the drive's `statusword`.
     pub fn controlword(&mut self, statusword: u16) -> u16 {
         use controlword::*;
         let state = PowerState::from_statusword(statusword);
-        if state.is_fault() && !self.in_fault {
-            self.faults += 1;
-        }
-        self.in_fault = state.is_fault();
         if state != PowerState::Fault {
             self.reset_high = false;
         }
@@ -91,16 +96,20 @@ mod tests {
     #[test]
     fn walks_to_operation_enabled_and_resets_faults_on_rising_edges() {
         let mut a = Cia402Axis::default();
-        assert_eq!(a.controlword(0x0240), controlword::SHUTDOWN);
-        assert_eq!(a.controlword(0x0231), controlword::SWITCH_ON);
-        assert_eq!(a.controlword(0x0233), controlword::ENABLE_OPERATION);
-        assert_eq!(a.controlword(0x0237), controlword::ENABLE_OPERATION);
+        let mut step = |a: &mut Cia402Axis, s: u16| {
+            a.observe(s);
+            a.controlword(s)
+        };
+        assert_eq!(step(&mut a, 0x0240), controlword::SHUTDOWN);
+        assert_eq!(step(&mut a, 0x0231), controlword::SWITCH_ON);
+        assert_eq!(step(&mut a, 0x0233), controlword::ENABLE_OPERATION);
+        assert_eq!(step(&mut a, 0x0237), controlword::ENABLE_OPERATION);
         assert_eq!(PowerState::from_statusword(0x0237), PowerState::OperationEnabled);
-        let pulses: Vec<u16> = (0..4).map(|_| a.controlword(0x0208)).collect();
+        let pulses: Vec<u16> = (0..4).map(|_| step(&mut a, 0x0208)).collect();
         assert_eq!(pulses, [0x0080, 0x0000, 0x0080, 0x0000]);
         assert_eq!(a.faults, 1, "one fault, however long it lasts");
-        assert_eq!(a.controlword(0x0240), controlword::SHUTDOWN);
-        a.controlword(0x0208);
+        assert_eq!(step(&mut a, 0x0240), controlword::SHUTDOWN);
+        step(&mut a, 0x0208);
         assert_eq!(a.faults, 2);
     }
 }

@@ -16,6 +16,7 @@
 use core::pin::pin;
 use core::task::{Context, Poll, Waker};
 use std::sync::Arc;
+use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
 use ethercrab::std::ethercat_now;
@@ -172,7 +173,6 @@ impl<W: Wire> EthercatDriver<W> {
 
     /// Frames carried, lost, refused by ethercrab.
     pub fn wire_counters(&self) -> (u64, u64, u64) {
-        use std::sync::atomic::Ordering::Relaxed;
         let c = &self.pump.counters;
         (c.frames.load(Relaxed), c.lost.load(Relaxed), c.bad.load(Relaxed))
     }
@@ -234,6 +234,7 @@ impl<W: Wire> EthercatDriver<W> {
                 false
             }
         };
+        self.health.bad_frames = self.pump.counters.bad.load(Relaxed);
         if !self.link_ok {
             self.health.lost_frames += 1;
             return;
@@ -242,6 +243,7 @@ impl<W: Wire> EthercatDriver<W> {
             let inputs = sd.inputs_raw();
             let Some(b) = inputs.get(..INPUT_BYTES) else { continue };
             self.statusword[i] = u16::from_le_bytes([b[0], b[1]]);
+            self.axes[i].observe(self.statusword[i]);
             let actual = f64::from(i32::from_le_bytes([b[2], b[3], b[4], b[5]])) / p.counts_per_metre;
             self.speed[i] = (actual - self.actual[i]) / self.cycle_s;
             self.actual[i] = actual;
@@ -250,11 +252,9 @@ impl<W: Wire> EthercatDriver<W> {
         for i in 0..p.count {
             self.health.faults[i] = self.axes[i].faults;
         }
-        if self.link_ok && !self.all_enabled() {
+        if !self.all_enabled() {
             self.health.state = BusState::Fault;
         }
-        use std::sync::atomic::Ordering::Relaxed;
-        self.health.bad_frames = self.pump.counters.bad.load(Relaxed);
     }
 }
 

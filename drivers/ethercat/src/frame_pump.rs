@@ -35,6 +35,8 @@ struct Pump<W> {
     rx: PduRx<'static>,
     wire: W,
     frame: [u8; MAX_FRAME],
+    /// The frame as sent, to hand back when the wire fails part way.
+    sent: [u8; MAX_FRAME],
 }
 
 /// The sender's waker: carries every sendable frame through the wire.
@@ -53,7 +55,7 @@ impl<W: Wire> FramePump<W> {
     /// Build the pump and register it as ethercrab's sender.
     pub(crate) fn start(tx: PduTx<'static>, rx: PduRx<'static>, wire: W) -> Arc<Self> {
         let pump = Arc::new(Self {
-            pump: Mutex::new(Pump { tx, rx, wire, frame: [0; MAX_FRAME] }),
+            pump: Mutex::new(Pump { tx, rx, wire, frame: [0; MAX_FRAME], sent: [0; MAX_FRAME] }),
             counters: WireCounters::default(),
         });
         if let Ok(p) = pump.pump.lock() {
@@ -81,6 +83,7 @@ impl<W: Wire> FramePump<W> {
             let copied = sendable.send_blocking(|bytes| {
                 let n = bytes.len().min(MAX_FRAME);
                 p.frame[..n].copy_from_slice(&bytes[..n]);
+                p.sent[..n].copy_from_slice(&bytes[..n]);
                 len = n;
                 Ok(n)
             });
@@ -92,9 +95,11 @@ impl<W: Wire> FramePump<W> {
             let frame = &mut p.frame[..len];
             if p.wire.round_trip(frame).is_err() {
                 self.counters.lost.fetch_add(1, Relaxed);
-                // Handed back untouched; a changed source address, as a
-                // chain's first device would give it, so that ethercrab
-                // does not take it for its own outgoing frame.
+                // Handed back as sent, whatever the wire left in it; with
+                // a changed source address, as a chain's first device
+                // would give it, so that ethercrab does not take it for
+                // its own outgoing frame.
+                frame.copy_from_slice(&p.sent[..len]);
                 frame[6] |= 0x02;
             }
             match p.rx.receive_frame(frame) {

@@ -1,0 +1,65 @@
+//! After start-up, the EtherCAT driver's read / write / hold / advance
+//! allocate nothing, on the healthy path and on every fault path (a drive
+//! fault and its reset, lost frames, a cut cable). Shown able to fail: a
+//! planted allocation in the same closure is counted.
+
+use drivers::conformance::demo_motion;
+use drivers::playback::play;
+use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use ethercat_sim::SimulatedRig;
+use rt_core::driver::{PlateDriver, PlateState};
+use rt_core::motion::Rig;
+use rt_core::runtime::alloc_count::{RtAllocCounter, allocations_in, counter_installed};
+use upm_ethercat::{EthercatDriver, EthercatParams};
+
+#[global_allocator]
+static A: RtAllocCounter = RtAllocCounter;
+
+fn driver() -> EthercatDriver<SimulatedRig> {
+    let cfg = SimConfig::default();
+    let parts = [PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: 0.04, position: [0.2, 0.1], angle: 0.0 }];
+    let sim = Simulator::new(cfg, &parts).expect("sim");
+    let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
+    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    EthercatDriver::start(rig, p, cfg.rig).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn hold<D: PlateDriver>(d: &mut D, ticks: usize) {
+    let mut s = PlateState::default();
+    for _ in 0..ticks {
+        let _ = d.read(&mut s);
+        d.hold();
+        d.advance();
+    }
+}
+
+#[test]
+fn exchanges_allocate_nothing_on_any_path() {
+    assert!(counter_installed(), "the counter must see allocations");
+    let mut d = driver();
+    let rig = Rig::new(SimConfig::default().rig).expect("rig");
+    let m = demo_motion();
+    let mut s = PlateState::default();
+    let mut run = |d: &mut EthercatDriver<SimulatedRig>, planted: bool| {
+        for c in 0..5 {
+            let _ = play(d, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut s);
+        }
+        let _ = d.with_wire(|w| w.chain.devices[2].drive.fault());
+        hold(d, 200);
+        let _ = d.with_wire(|w| w.chain.lose_frames(4));
+        hold(d, 100);
+        let _ = d.with_wire(|w| w.chain.cut_after(1));
+        hold(d, 50);
+        let _ = d.with_wire(|w| w.chain.cut_after(usize::MAX));
+        hold(d, 100);
+        if planted {
+            std::hint::black_box(vec![0u8; 8]);
+        }
+    };
+    let ((), allocated) = allocations_in(|| run(&mut d, false));
+    let h = d.health();
+    assert!(h.faults[2] == 1 && h.lost_frames >= 14, "the fault paths ran: {h:?}");
+    assert_eq!(allocated, 0, "the EtherCAT hot path allocated");
+    let ((), planted) = allocations_in(|| run(&mut d, true));
+    assert!(planted >= 1, "a planted allocation must be counted");
+}
