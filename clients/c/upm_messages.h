@@ -15,7 +15,7 @@
 #define UPM_ALIGNOF _Alignof
 #endif
 
-#define UPM_PROTOCOL_VERSION 2u
+#define UPM_PROTOCOL_VERSION 3u
 #define UPM_MAX_PARTS 64
 #define UPM_MAX_CURLS 16
 #define UPM_MAX_SLOTS 192
@@ -30,8 +30,8 @@
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
-/* iceoryx2 type name "upm::PartState.v2", 64 bytes, align 8 */
-#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v2"
+/* iceoryx2 type name "upm::PartState.v3", 64 bytes, align 8 */
+#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v3"
 typedef struct {
     uint32_t id;
     uint32_t class_;
@@ -57,8 +57,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartState, vx) == 40, "upm_PartState.vx offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, vy) == 48, "upm_PartState.vy offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, omega) == 56, "upm_PartState.omega offset");
 
-/* iceoryx2 type name "upm::PartStates.v2", 4120 bytes, align 8 */
-#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v2"
+/* iceoryx2 type name "upm::PartStates.v3", 4120 bytes, align 8 */
+#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -74,8 +74,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartStates, seq) == 8, "upm_PartStates.seq offset
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, stamp_ns) == 16, "upm_PartStates.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, parts) == 24, "upm_PartStates.parts offset");
 
-/* iceoryx2 type name "upm::ForceEntry.v2", 40 bytes, align 8 */
-#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v2"
+/* iceoryx2 type name "upm::ForceEntry.v3", 40 bytes, align 8 */
+#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v3"
 typedef struct {
     uint32_t part_id;
     uint32_t force_flag;
@@ -95,8 +95,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fx) == 16, "upm_ForceEntry.fx offset"
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fy) == 24, "upm_ForceEntry.fy offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, curl) == 32, "upm_ForceEntry.curl offset");
 
-/* iceoryx2 type name "upm::ForceRequest.v2", 2592 bytes, align 8 */
-#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v2"
+/* iceoryx2 type name "upm::ForceRequest.v3", 2592 bytes, align 8 */
+#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -114,8 +114,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, stamp_ns) == 16, "upm_ForceRequest.
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, deadline_ns) == 24, "upm_ForceRequest.deadline_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, entries) == 32, "upm_ForceRequest.entries offset");
 
-/* iceoryx2 type name "upm::ExplicitSlot.v2", 16 bytes, align 8 */
-#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v2"
+/* iceoryx2 type name "upm::ExplicitSlot.v3", 16 bytes, align 8 */
+#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v3"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -127,8 +127,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, center_index) == 0, "upm_ExplicitSl
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, reserved) == 4, "upm_ExplicitSlot.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, k) == 8, "upm_ExplicitSlot.k offset");
 
-/* iceoryx2 type name "upm::ExplicitSchedule.v2", 3096 bytes, align 8 */
-#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v2"
+/* iceoryx2 type name "upm::ExplicitSchedule.v3", 3096 bytes, align 8 */
+#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -144,8 +144,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, seq) == 8, "upm_ExplicitSchedul
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, stamp_ns) == 16, "upm_ExplicitSchedule.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, slots) == 24, "upm_ExplicitSchedule.slots offset");
 
-/* iceoryx2 type name "upm::CoreCommand.v2", 24 bytes, align 8 */
-#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v2"
+/* iceoryx2 type name "upm::CoreCommand.v3", 24 bytes, align 8 */
+#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t command;
@@ -159,8 +159,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, command) == 4, "upm_CoreCommand.comm
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, seq) == 8, "upm_CoreCommand.seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, stamp_ns) == 16, "upm_CoreCommand.stamp_ns offset");
 
-/* iceoryx2 type name "upm::ScheduleSlot.v2", 32 bytes, align 8 */
-#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v2"
+/* iceoryx2 type name "upm::ScheduleSlot.v3", 32 bytes, align 8 */
+#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v3"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -176,8 +176,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, x) == 8, "upm_ScheduleSlot.x offset
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, y) == 16, "upm_ScheduleSlot.y offset");
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, k) == 24, "upm_ScheduleSlot.k offset");
 
-/* iceoryx2 type name "upm::Schedule.v2", 6208 bytes, align 8 */
-#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v2"
+/* iceoryx2 type name "upm::Schedule.v3", 6208 bytes, align 8 */
+#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -205,8 +205,8 @@ UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 56, "upm_Schedule.rank offset"
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 60, "upm_Schedule.saturated offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 64, "upm_Schedule.slots offset");
 
-/* iceoryx2 type name "upm::Rejection.v2", 160 bytes, align 8 */
-#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v2"
+/* iceoryx2 type name "upm::Rejection.v3", 160 bytes, align 8 */
+#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t kind;
@@ -228,8 +228,8 @@ UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 32, "upm_Rejection.reason o
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 36, "upm_Rejection.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 40, "upm_Rejection.detail offset");
 
-/* iceoryx2 type name "upm::FrameHeader.v2", 48 bytes, align 8 */
-#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v2"
+/* iceoryx2 type name "upm::FrameHeader.v3", 48 bytes, align 8 */
+#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t pixel_format;
@@ -253,8 +253,25 @@ UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, seq) == 24, "upm_FrameHeader.seq off
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stamp_ns) == 32, "upm_FrameHeader.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, exposure_ns) == 40, "upm_FrameHeader.exposure_ns offset");
 
-/* iceoryx2 type name "upm::CoreCounters.v2", 96 bytes, align 8 */
-#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v2"
+/* iceoryx2 type name "upm::DriverTelemetry.v3", 88 bytes, align 8 */
+#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v3"
+typedef struct {
+    uint32_t kind;
+    uint32_t state;
+    uint64_t faults[8];
+    uint64_t lost_frames;
+    uint64_t bad_frames;
+} upm_DriverTelemetry;
+UPM_STATIC_ASSERT(sizeof(upm_DriverTelemetry) == 88, "upm_DriverTelemetry size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_DriverTelemetry) == 8, "upm_DriverTelemetry align");
+UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, kind) == 0, "upm_DriverTelemetry.kind offset");
+UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, state) == 4, "upm_DriverTelemetry.state offset");
+UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, faults) == 8, "upm_DriverTelemetry.faults offset");
+UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, lost_frames) == 72, "upm_DriverTelemetry.lost_frames offset");
+UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, bad_frames) == 80, "upm_DriverTelemetry.bad_frames offset");
+
+/* iceoryx2 type name "upm::CoreCounters.v3", 96 bytes, align 8 */
+#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v3"
 typedef struct {
     uint64_t ticks;
     uint64_t overruns;
@@ -284,8 +301,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_rejected) == 72, "upm_CoreCo
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, fault_holds) == 80, "upm_CoreCounters.fault_holds offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, resumes) == 88, "upm_CoreCounters.resumes offset");
 
-/* iceoryx2 type name "upm::LatencyPercentiles.v2", 40 bytes, align 8 */
-#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v2"
+/* iceoryx2 type name "upm::LatencyPercentiles.v3", 40 bytes, align 8 */
+#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v3"
 typedef struct {
     uint64_t samples;
     uint64_t p50_ns;
@@ -301,8 +318,8 @@ UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p99_ns) == 16, "upm_LatencyPe
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p999_ns) == 24, "upm_LatencyPercentiles.p999_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, max_ns) == 32, "upm_LatencyPercentiles.max_ns offset");
 
-/* iceoryx2 type name "upm::CoreLatencies.v2", 160 bytes, align 8 */
-#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v2"
+/* iceoryx2 type name "upm::CoreLatencies.v3", 160 bytes, align 8 */
+#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v3"
 typedef struct {
     upm_LatencyPercentiles motor_wakeup;
     upm_LatencyPercentiles solver;
@@ -316,8 +333,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, solver) == 40, "upm_CoreLatencies.
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, ipc_vision_to_core) == 80, "upm_CoreLatencies.ipc_vision_to_core offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, frame_to_schedule) == 120, "upm_CoreLatencies.frame_to_schedule offset");
 
-/* iceoryx2 type name "upm::Telemetry.v2", 744 bytes, align 8 */
-#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v2"
+/* iceoryx2 type name "upm::Telemetry.v3", 832 bytes, align 8 */
+#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v3"
 typedef struct {
     uint32_t protocol_version;
     uint32_t state;
@@ -341,8 +358,9 @@ typedef struct {
     uint32_t health_source;
     uint32_t health_cause;
     uint8_t health_detail[120];
+    upm_DriverTelemetry driver;
 } upm_Telemetry;
-UPM_STATIC_ASSERT(sizeof(upm_Telemetry) == 744, "upm_Telemetry size");
+UPM_STATIC_ASSERT(sizeof(upm_Telemetry) == 832, "upm_Telemetry size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Telemetry) == 8, "upm_Telemetry align");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, protocol_version) == 0, "upm_Telemetry.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, state) == 4, "upm_Telemetry.state offset");
@@ -366,5 +384,6 @@ UPM_STATIC_ASSERT(offsetof(upm_Telemetry, rejected_by_reason) == 360, "upm_Telem
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_source) == 616, "upm_Telemetry.health_source offset");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_cause) == 620, "upm_Telemetry.health_cause offset");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_detail) == 624, "upm_Telemetry.health_detail offset");
+UPM_STATIC_ASSERT(offsetof(upm_Telemetry, driver) == 744, "upm_Telemetry.driver offset");
 
 #endif /* UPM_MESSAGES_H */

@@ -174,7 +174,10 @@ pub fn closed_motion_returns_home<D: PlateDriver>(make: impl Fn() -> D, tol: f64
     let Some(rig) = rig.filter(|r| r.count() == d.limits().count) else { return };
     let mut s = PlateState::default();
     let n = motion.cycle_ticks();
-    assert!(latency_ticks < n / 4, "a latency of {latency_ticks} ticks is a quarter of the demo cycle or more");
+    assert!(
+        latency_ticks < n / 4,
+        "a latency of {latency_ticks} ticks is a quarter of the demo cycle or more"
+    );
     for c in 0..4 {
         let (start, ticks) = if c == 0 { (0, n + latency_ticks) } else { (c * n + latency_ticks, n) };
         assert!(play(&mut d, &rig, &motion, start, ticks, &mut s).is_ok());

@@ -26,6 +26,7 @@ mod core_command;
 mod core_state;
 mod counted_message;
 pub mod discovery;
+mod driver_telemetry;
 mod explicit_schedule;
 mod force_request;
 mod header;
@@ -48,6 +49,7 @@ pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;
 pub use core_command::{CoreCommand, CoreCommandError};
 pub use core_state::CoreState;
+pub use driver_telemetry::{DRIVER_AXES, DriverTelemetry, bus_state, driver_kind};
 pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};
 pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
 pub use header::HeaderError;
@@ -63,4 +65,4 @@ pub use validation::ValidationLimits;
 /// Version of the wire format. Bump it on any layout or meaning change; it is
 /// also part of every payload's iceoryx2 `type_name`, so mismatched builds
 /// fail when opening a service instead of misreading each other.
-pub const PROTOCOL_VERSION: u32 = 2;
+pub const PROTOCOL_VERSION: u32 = 3;

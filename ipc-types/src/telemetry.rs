@@ -7,6 +7,7 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 use crate::core_state::CoreState;
+use crate::driver_telemetry::DriverTelemetry;
 use crate::health::{HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};
 use crate::latency_percentiles::LatencyPercentiles;
 use crate::reject_reason::REJECT_REASONS;
@@ -15,7 +16,7 @@ use crate::validation::{ValidationLimits, first_non_finite};
 /// Monotonic counters since core start.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreCounters.v2")]
+#[type_name("upm::CoreCounters.v3")]
 pub struct CoreCounters {
     /// Motor-loop ticks.
     pub ticks: u64,
@@ -48,7 +49,7 @@ const _: () = assert!(size_of::<CoreCounters>() == 12 * 8);
 /// Latency of each measured path (ns, see [`LatencyPercentiles`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreLatencies.v2")]
+#[type_name("upm::CoreLatencies.v3")]
 pub struct CoreLatencies {
     /// Motor-thread wake-up lateness against its period.
     pub motor_wakeup: LatencyPercentiles,
@@ -65,7 +66,7 @@ const _: () = assert!(size_of::<CoreLatencies>() == 4 * size_of::<LatencyPercent
 /// Core → all: a snapshot of the core, published periodically.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Telemetry.v2")]
+#[type_name("upm::Telemetry.v3")]
 pub struct Telemetry {
     pub protocol_version: u32,
     /// [`CoreState`] code: idle 0, running 1, hold 2, fault 3.
@@ -105,6 +106,8 @@ pub struct Telemetry {
     pub health_cause: u32,
     /// What happened, UTF-8, NUL-padded (e.g. where a thread panicked).
     pub health_detail: [u8; HEALTH_DETAIL_BYTES],
+    /// The plate driver's bus state, faults and lost frames.
+    pub driver: DriverTelemetry,
 }
 
 const _: () = assert!(
@@ -120,6 +123,7 @@ const _: () = assert!(
             + REJECT_REASONS * 8
             + 2 * 4
             + HEALTH_DETAIL_BYTES
+            + size_of::<DriverTelemetry>()
 );
 
 /// Why a [`Telemetry`] was rejected.
@@ -134,6 +138,10 @@ pub enum TelemetryError {
     UnknownHealth {
         source: u32,
         cause: u32,
+    },
+    UnknownDriver {
+        kind: u32,
+        state: u32,
     },
     NonFinite {
         field: &'static str,
@@ -154,6 +162,9 @@ impl fmt::Display for TelemetryError {
             Self::UnknownState { code } => write!(f, "telemetry.state {code} is not a known state code"),
             Self::UnknownHealth { source, cause } => {
                 write!(f, "telemetry.health_source {source} / health_cause {cause} is not a known code")
+            }
+            Self::UnknownDriver { kind, state } => {
+                write!(f, "telemetry.driver.kind {kind} / state {state} is not a known code")
             }
             Self::NonFinite { field } => write!(f, "telemetry.{field} is not finite"),
             Self::NegativeAge { field } => write!(f, "telemetry.{field} is negative"),
@@ -225,6 +236,7 @@ impl Telemetry {
             health_source: 0,
             health_cause: 0,
             health_detail: [0; HEALTH_DETAIL_BYTES],
+            driver: DriverTelemetry::SIMULATED,
         }
     }
 
@@ -263,6 +275,9 @@ impl Telemetry {
                 source: self.health_source,
                 cause: self.health_cause,
             });
+        }
+        if self.driver.kind_str().is_none() || self.driver.state_str().is_none() {
+            return Err(TelemetryError::UnknownDriver { kind: self.driver.kind, state: self.driver.state });
         }
         let floats = [
             ("plate_x", self.plate_x),

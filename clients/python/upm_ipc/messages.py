@@ -7,7 +7,7 @@ import ctypes
 import time
 
 # ipc-types/src/lib.rs and capacity.rs
-PROTOCOL_VERSION = 2
+PROTOCOL_VERSION = 3
 MAX_PARTS = 64
 MAX_CURLS = 16
 MAX_SLOTS = 192
@@ -61,7 +61,7 @@ class PartState(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartState.v2"
+        return "upm::PartState.v3"
 
 
 class PartStates(ctypes.Structure):
@@ -76,7 +76,7 @@ class PartStates(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartStates.v2"
+        return "upm::PartStates.v3"
 
     def used(self):
         """The used entries (count clamped to the capacity, as in Rust)."""
@@ -95,7 +95,7 @@ class ForceEntry(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceEntry.v2"
+        return "upm::ForceEntry.v3"
 
 
 class ForceRequest(ctypes.Structure):
@@ -111,7 +111,7 @@ class ForceRequest(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceRequest.v2"
+        return "upm::ForceRequest.v3"
 
     def __init__(self):
         super().__init__()
@@ -138,7 +138,7 @@ class ScheduleSlot(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ScheduleSlot.v2"
+        return "upm::ScheduleSlot.v3"
 
 
 class Schedule(ctypes.Structure):
@@ -159,7 +159,7 @@ class Schedule(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Schedule.v2"
+        return "upm::Schedule.v3"
 
 
 # Rejection.kind codes and the reject reasons (docs/protocol.md).
@@ -189,7 +189,7 @@ class Rejection(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Rejection.v2"
+        return "upm::Rejection.v3"
 
     def __str__(self):
         kind = REJECTED_KINDS[self.kind] if self.kind < len(REJECTED_KINDS) else "unknown"
@@ -215,7 +215,7 @@ class FrameHeader(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::FrameHeader.v2"
+        return "upm::FrameHeader.v3"
 
 
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.

@@ -73,6 +73,13 @@ pub enum Command {
         /// pipeline).
         #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
         camera: crate::launcher::CameraChoice,
+        /// What moves the plate, instead of the scenario's `[driver]`:
+        /// `sim` (the physics simulator), `ethercat-sim` (the EtherCAT
+        /// driver over a simulated chain of CiA 402 drives whose servos
+        /// move the simulator, in process) or `ethercat` (drives on
+        /// `driver.interface`).
+        #[arg(long, value_enum)]
+        driver: Option<crate::config::DriverChoice>,
     },
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
@@ -271,6 +278,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             planner_cmd,
             vision_cmd,
             camera,
+            driver,
         } => {
             let path = crate::scenario::resolve(&scenario);
             let sc = crate::scenario::Scenario::load(&path)?;
@@ -281,7 +289,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 None => sc.duration_s,
             };
             let prefix = prefix.unwrap_or_else(|| format!("upm_run_{}_", std::process::id()));
-            let config = sc.config(seed, &prefix)?;
+            let mut config = sc.config(seed, &prefix)?;
+            if let Some(kind) = driver {
+                config.driver.kind = kind;
+            }
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
             config.validate(&path.display().to_string())?;

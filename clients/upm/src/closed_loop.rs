@@ -5,12 +5,12 @@
 //! Much faster than real time and bit-identical for a seed: used by the
 //! tests.
 
-use drivers::Simulator;
 use ipc_types::{ForceRequest, PartStates};
 use rt_core::runtime::lockstep::Lockstep;
 
-use crate::config::Config;
+use crate::config::{Config, DriverChoice, SimParts};
 use crate::launcher::{CameraChoice, PartTrail, Trails};
+use crate::plate_driver::SimulatedPlant;
 use crate::rendered_sight::RenderedSight;
 use upm_planner::Planner;
 
@@ -37,7 +37,9 @@ pub fn run(config: &Config, planner: &mut dyn Planner, seconds: f64) -> anyhow::
     run_seeing(config, planner, seconds, CameraChoice::Truth)
 }
 
-/// Run `seconds` of simulated time, the planner seeing what `camera` shows.
+/// Run `seconds` of simulated time, the planner seeing what `camera` shows,
+/// on the plate `[driver]` names (the simulator, or the EtherCAT driver
+/// over the simulated chain).
 pub fn run_seeing(
     config: &Config,
     planner: &mut dyn Planner,
@@ -45,12 +47,33 @@ pub fn run_seeing(
     camera: CameraChoice,
 ) -> anyhow::Result<LoopResult> {
     let shown = "scenario";
-    let params = config.core_params(shown)?;
-    let parts = config.sim_parts(shown)?;
-    let sim = Simulator::new(config.sim_config(shown)?, &parts.specs).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut core = Lockstep::new(&params, sim, 1_000_000_000).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let fill = crate::core_process::truth_fill(parts.ids.clone(), parts.classes.clone());
-    let mut fill = fill;
+    match config.driver.kind {
+        DriverChoice::Sim => {
+            let (sim, parts) = crate::plate_driver::simulator(config, shown)?;
+            run_on(config, sim, parts, planner, seconds, camera)
+        }
+        DriverChoice::EthercatSim => {
+            let (driver, parts) = crate::plate_driver::ethercat_sim(config, shown)?;
+            run_on(config, driver, parts, planner, seconds, camera)
+        }
+        DriverChoice::Ethercat => anyhow::bail!(
+            "driver.kind = \"ethercat\" moves a real plate in real time; a lock-step run needs a simulated one \
+             (\"sim\" or \"ethercat-sim\")"
+        ),
+    }
+}
+
+fn run_on<D: SimulatedPlant>(
+    config: &Config,
+    driver: D,
+    parts: SimParts,
+    planner: &mut dyn Planner,
+    seconds: f64,
+    camera: CameraChoice,
+) -> anyhow::Result<LoopResult> {
+    let params = config.core_params("scenario")?;
+    let mut core = Lockstep::new(&params, driver, 1_000_000_000).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut fill = crate::core_process::truth_fill::<D>(parts.ids, parts.classes);
     let tick_hz = params.motion.tick_hz;
     let frame_ticks = (tick_hz / config.vision.frame_hz).round().max(1.0) as u64;
     let total = (seconds * tick_hz) as u64;

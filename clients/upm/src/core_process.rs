@@ -1,15 +1,16 @@
-//! `upm-core --config F`: load and validate the config, build the default
-//! driver (the physics simulator), and run the RT core until SIGINT/SIGTERM.
+//! `upm-core --config F`: load and validate the config, build the driver
+//! `[driver]` names (the physics simulator by default), and run the RT core
+//! until SIGINT/SIGTERM.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Parser;
-use drivers::Simulator;
 use ipc_types::PartStates;
-use rt_core::runtime::{RunOptions, RunReport, TruthFill, run_core_with_truth};
+use rt_core::runtime::{CoreParams, RunOptions, RunReport, TruthFill, run_core_with_truth};
 
-use crate::config::Config;
+use crate::config::{Config, DriverChoice};
+use crate::plate_driver::SimulatedPlant;
 
 #[derive(Debug, Parser)]
 #[command(name = "upm-core", version, about = "UPM real-time core: motor loop, solver, iceoryx2 messages")]
@@ -28,18 +29,30 @@ pub struct CoreArgs {
 
 /// Ground truth of the simulator's parts as PartStates (world frame, ids
 /// and classes as configured). The closure only reads preallocated data.
-pub fn truth_fill(ids: Vec<u32>, classes: Vec<u32>) -> TruthFill<Simulator> {
-    Box::new(move |sim: &Simulator, out: &mut PartStates| {
+pub fn truth_fill<D: SimulatedPlant>(ids: Vec<u32>, classes: Vec<u32>) -> TruthFill<D> {
+    Box::new(move |driver: &D, out: &mut PartStates| {
         out.clear();
-        for (i, p) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
-            let id = ids.get(i).copied().unwrap_or(i as u32 + 1);
-            let class = classes.get(i).copied().unwrap_or(0);
-            let pose = [p.position[0], p.position[1], p.angle];
-            let vel = [p.velocity[0], p.velocity[1], p.angular_velocity];
-            // Capacity equals the simulator's part limit or more.
-            let _ = out.push(ipc_types::PartState::new(id, class, 0, pose, vel));
-        }
+        driver.with_simulator(&mut |sim| {
+            for (i, p) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
+                let id = ids.get(i).copied().unwrap_or(i as u32 + 1);
+                let class = classes.get(i).copied().unwrap_or(0);
+                let pose = [p.position[0], p.position[1], p.angle];
+                let vel = [p.velocity[0], p.velocity[1], p.angular_velocity];
+                // Capacity equals the simulator's part limit or more.
+                let _ = out.push(ipc_types::PartState::new(id, class, 0, pose, vel));
+            }
+        });
     })
+}
+
+fn run_simulated<D: SimulatedPlant>(
+    params: &CoreParams,
+    driver: D,
+    parts: crate::config::SimParts,
+    options: &RunOptions,
+) -> anyhow::Result<RunReport> {
+    let fill = truth_fill::<D>(parts.ids, parts.classes);
+    run_core_with_truth(params, driver, Some(fill), options).context("upm-core")
 }
 
 /// Print the one-line summary of a finished run; a run whose thread died
@@ -77,9 +90,6 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         config.service.prefix.clone_from(prefix);
     }
     let params = config.core_params(&shown)?;
-    let specs = config.sim_parts(&shown)?;
-    let sim = Simulator::new(config.sim_config(&shown)?, &specs.specs)
-        .map_err(|e| anyhow::anyhow!("simulator: {e}"))?;
     if !(args.truth_hz.is_finite() && args.truth_hz >= 0.0 && args.truth_hz <= params.motion.tick_hz) {
         anyhow::bail!("--truth-hz must be in 0..={}, got {}", params.motion.tick_hz, args.truth_hz);
     }
@@ -91,18 +101,31 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         truth_hz: args.truth_hz,
     };
     eprintln!(
-        "upm-core: prefix {:?}, {} centers, {} Hz motor loop, pid {}",
+        "upm-core: prefix {:?}, {} centers, {} Hz motor loop, driver {:?}, pid {}",
         options.prefix,
         params.centers.len(),
         params.motion.tick_hz,
+        config.driver.kind,
         std::process::id()
     );
     if std::env::var_os("UPM_ABORT_ON_RT_ALLOCATION").is_some() {
         // Debugging aid: stop at the first RT-thread allocation (run under gdb).
         rt_core::runtime::alloc_count::abort_on_rt_allocation(true);
     }
-    let fill = truth_fill(specs.ids, specs.classes);
-    let report = run_core_with_truth(&params, sim, Some(fill), &options).context("upm-core")?;
+    let report = match config.driver.kind {
+        DriverChoice::Sim => {
+            let (sim, parts) = crate::plate_driver::simulator(&config, &shown)?;
+            run_simulated(&params, sim, parts, &options)?
+        }
+        DriverChoice::EthercatSim => {
+            let (driver, parts) = crate::plate_driver::ethercat_sim(&config, &shown)?;
+            run_simulated(&params, driver, parts, &options)?
+        }
+        DriverChoice::Ethercat => {
+            let driver = crate::plate_driver::ethercat(&config, &shown)?;
+            run_core_with_truth(&params, driver, None, &options).context("upm-core")?
+        }
+    };
     let rt = report.realtime;
     if !rt.is_realtime() {
         eprintln!(

@@ -21,6 +21,7 @@ pub mod die_with_parent;
 pub mod feeder;
 pub mod host_facts;
 pub mod launcher;
+pub mod plate_driver;
 pub mod rendered_sight;
 pub mod scenario;
 pub mod soak;

@@ -62,11 +62,23 @@ fn health_json(t: &Telemetry) -> Value {
     json!({ "ok": t.health_source == 0, "source": source, "cause": cause, "detail": t.health_detail_str() })
 }
 
+/// The driver's kind, bus state, faults per axis and frames lost.
+pub fn driver_json(t: &Telemetry) -> Value {
+    let d = &t.driver;
+    json!({
+        "kind": d.kind_str().unwrap_or("unknown"),
+        "state": d.state_str().unwrap_or("unknown"),
+        "faults": &d.faults[..],
+        "lost_frames": d.lost_frames,
+        "bad_frames": d.bad_frames,
+    })
+}
+
 /// The `upm status --json` document.
 pub fn to_json(t: &Telemetry) -> Value {
     let flag = |b: u32| t.realtime_flags & b != 0;
     let c = &t.counters;
-    json!({
+    let mut doc = json!({
         "state": t.core_state().map_or("unknown", |s| s.as_str()),
         "health": health_json(t),
         "cycle": t.cycle,
@@ -84,7 +96,7 @@ pub fn to_json(t: &Telemetry) -> Value {
             "planner_age_s": age_s(t.planner_started_ns),
         },
         "driver": {
-            "faults": c.driver_faults,
+            "fault_reads": c.driver_faults,
             "clamped": c.driver_clamped,
             "rejected": c.driver_rejected,
             "fault_holds": c.fault_holds,
@@ -113,7 +125,13 @@ pub fn to_json(t: &Telemetry) -> Value {
             "pm_qos_held": flag(Telemetry::RT_PM_QOS_HELD),
             "allocations_counted": flag(Telemetry::RT_ALLOCATIONS_COUNTED),
         },
-    })
+    });
+    if let (Some(d), Value::Object(more)) =
+        (doc.get_mut("driver").and_then(Value::as_object_mut), driver_json(t))
+    {
+        d.extend(more);
+    }
+    doc
 }
 
 /// A few human-readable lines.
@@ -140,7 +158,8 @@ pub fn to_text(t: &Telemetry) -> String {
         "state {}  health {}\n\
          cycle {}  ticks {}  overruns {}  holds {}\n\
          ages: parts {:.1} ms, request {:.1} ms;  rejected: parts {}, requests {}{}\n\
-         driver: faults {}, fault holds {}, resumes {}, clamped {}, rejected {}\n\
+         driver: {} {}, axis faults {:?}, lost frames {}, bad frames {}\n\
+         driver faults read {}, fault holds {}, resumes {}, clamped {}, rejected {}\n\
          motor wake-up µs: p50 {:.1}  p99 {:.1}  p99.9 {:.1}  max {:.1}\n\
          real-time: {}  PM QoS held: {}  rt allocations: {}\n\
          processes: core pid {}; vision {}; planner {}",
@@ -155,6 +174,11 @@ pub fn to_text(t: &Telemetry) -> String {
         c.rejected_parts,
         c.rejected_requests,
         if reasons.is_empty() { String::new() } else { format!(" ({})", reasons.join(", ")) },
+        t.driver.kind_str().unwrap_or("unknown"),
+        t.driver.state_str().unwrap_or("unknown"),
+        t.driver.faults,
+        t.driver.lost_frames,
+        t.driver.bad_frames,
         c.driver_faults,
         c.fault_holds,
         c.resumes,

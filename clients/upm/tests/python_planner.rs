@@ -107,7 +107,7 @@ while rig.newest_part_states() is None:
 req = upm_ipc.ForceRequest()
 req.push_force(1, 0.001, 0.0)
 now = upm_ipc.monotonic_now_ns()
-req.protocol_version, req.seq, req.stamp_ns, req.deadline_ns = 1, 42, now, now + upm_ipc.REQUEST_LIFETIME_NS
+req.protocol_version, req.seq, req.stamp_ns, req.deadline_ns = 2, 42, now, now + upm_ipc.REQUEST_LIFETIME_NS
 rig.send_request(req)
 while rig.wait(0.01):
     for r in rig.rejections():
@@ -120,7 +120,7 @@ while rig.wait(0.01):
     let _ = std::fs::remove_file(&script_path);
     assert!(r.out.status.success(), "{}", String::from_utf8_lossy(&r.out.stderr));
     let why = "force_request seq 42 rejected: wrong_protocol_version \
-               (force_request.protocol_version is 1, expected 2)";
+               (force_request.protocol_version is 2, expected 3)";
     assert!(r.planner_log.contains(&format!("told: {why}")), "planner.log:\n{}", r.planner_log);
     assert!(r.core_log.contains(why), "core.log:\n{}", r.core_log);
 }

@@ -8,7 +8,7 @@
 //! not following holds its actuator where it stands (a brake).
 
 use drivers::Simulator;
-use rt_core::driver::{ActuatorCommand, MAX_ACTUATORS, PlateDriver, PlateState};
+use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState};
 use upm_ethercat::{Wire, WireError};
 
 use crate::chain::{Chain, FrameError};
@@ -75,7 +75,8 @@ impl SimulatedRig {
             // force linear: position, velocity and force stay consistent.
             let s = f64::from(k) / f64::from(ticks);
             let (s2, s3) = (s * s, s * s * s);
-            let (h00, h10, h01, h11) = (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2);
+            let (h00, h10, h01, h11) =
+                (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2);
             let (d00, d10, d11) = (6.0 * s2 - 6.0 * s, 3.0 * s2 - 4.0 * s + 1.0, 3.0 * s2 - 2.0 * s);
             for i in 0..n {
                 let (p0, p1, v0, v1) = (a.position[i], b.position[i], a.velocity[i], b.velocity[i]);
@@ -92,7 +93,8 @@ impl SimulatedRig {
         let _ = self.sim.read(&mut self.state);
         for (i, d) in self.chain.devices.iter_mut().enumerate().take(n) {
             d.drive.actual = (self.state.actuator_position[i] * self.counts_per_metre).round() as i32;
-            d.drive.torque_actual = (self.state.actuator_force[i] / self.rated_force_n * 1000.0).round() as i16;
+            d.drive.torque_actual =
+                (self.state.actuator_force[i] / self.rated_force_n * 1000.0).round() as i16;
         }
     }
 }

@@ -79,9 +79,9 @@ impl Cia402Axis {
                 self.reset_high = !self.reset_high;
                 if self.reset_high { FAULT_RESET } else { DISABLE_VOLTAGE }
             }
-            PowerState::NotReadyToSwitchOn | PowerState::FaultReactionActive | PowerState::QuickStopActive => {
-                DISABLE_VOLTAGE
-            }
+            PowerState::NotReadyToSwitchOn
+            | PowerState::FaultReactionActive
+            | PowerState::QuickStopActive => DISABLE_VOLTAGE,
             PowerState::SwitchOnDisabled => SHUTDOWN,
             PowerState::ReadyToSwitchOn => SWITCH_ON,
             PowerState::SwitchedOn | PowerState::OperationEnabled => ENABLE_OPERATION,

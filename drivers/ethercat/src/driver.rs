@@ -23,8 +23,8 @@ use ethercrab::std::ethercat_now;
 use ethercrab::subdevice_group::Op;
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceGroup, SubDeviceState, Timeouts};
 use rt_core::driver::{
-    ActuatorCommand, ActuatorLimits, BusState, DriverHealth, DriverKind, MAX_ACTUATORS, PlateDriver, PlateState,
-    ReadError, WriteError, apply_limits,
+    ActuatorCommand, ActuatorLimits, BusState, DriverHealth, DriverKind, MAX_ACTUATORS, PlateDriver,
+    PlateState, ReadError, WriteError, apply_limits,
 };
 use rt_core::motion::{Rig, RigParams};
 
@@ -119,7 +119,8 @@ impl<W: Wire> EthercatDriver<W> {
         // The PDU storage lives as long as the process (ethercrab borrows it
         // for 'static); one per driver started.
         let storage: &'static Storage = Box::leak(Box::new(Storage::new()));
-        let (tx, rx, pdu_loop) = storage.try_split().map_err(|()| StartError::Bus(ethercrab::error::Error::Internal))?;
+        let (tx, rx, pdu_loop) =
+            storage.try_split().map_err(|()| StartError::Bus(ethercrab::error::Error::Internal))?;
         let pump = FramePump::start(tx, rx, wire);
         let maindevice = MainDevice::new(
             pdu_loop,
@@ -149,7 +150,11 @@ impl<W: Wire> EthercatDriver<W> {
             rejected: 0,
             holding: false,
             link_ok: false,
-            health: DriverHealth { kind: DriverKind::Ethercat, state: BusState::Op, ..DriverHealth::SIMULATED },
+            health: DriverHealth {
+                kind: DriverKind::Ethercat,
+                state: BusState::Op,
+                ..DriverHealth::SIMULATED
+            },
         };
         for _ in 0..params.enable_cycles {
             driver.exchange();
@@ -219,7 +224,7 @@ impl<W: Wire> EthercatDriver<W> {
         let outcome = exchanged.poll(&mut Context::from_waker(Waker::noop()));
         self.link_ok = match outcome {
             Poll::Ready(Ok(r)) => {
-                let lowest = r.subdevice_states.iter().map(|s| bus_state(*s)).min_by_key(|s| s.code());
+                let lowest = r.subdevice_states.iter().map(|s| bus_state(*s)).min();
                 self.health.state = match lowest {
                     _ if r.working_counter != expected => BusState::Fault,
                     Some(s) => s,
@@ -259,7 +264,8 @@ impl<W: Wire> EthercatDriver<W> {
 }
 
 async fn bring_up(md: &MainDevice<'static>, p: &EthercatParams) -> Result<Group, StartError> {
-    let group = md.init_single_group::<MAX_ACTUATORS, PDI_BYTES>(ethercat_now).await.map_err(StartError::Bus)?;
+    let group =
+        md.init_single_group::<MAX_ACTUATORS, PDI_BYTES>(ethercat_now).await.map_err(StartError::Bus)?;
     for (position, sd) in group.iter(md).enumerate() {
         let id = sd.identity();
         let fits = p.expected[..p.count]

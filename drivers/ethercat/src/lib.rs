@@ -16,10 +16,12 @@ pub mod cia402_axis;
 pub mod driver;
 mod frame_pump;
 pub mod params;
+pub mod raw_socket;
 pub mod start_error;
 pub mod wire;
 
 pub use driver::EthercatDriver;
 pub use params::{EthercatParams, ExpectedSubDevice, ParamsError};
+pub use raw_socket::RawSocketWire;
 pub use start_error::StartError;
 pub use wire::{MAX_FRAME, Wire, WireError};

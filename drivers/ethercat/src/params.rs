@@ -99,7 +99,9 @@ impl EthercatParams {
         if !positive(self.counts_per_metre) {
             return Err(ParamsError::CountsPerMetre);
         }
-        if !positive(self.following_error_m) || self.following_error_m * self.counts_per_metre >= u32::MAX as f64 {
+        if !positive(self.following_error_m)
+            || self.following_error_m * self.counts_per_metre >= u32::MAX as f64
+        {
             return Err(ParamsError::FollowingError);
         }
         if !positive(self.rated_force_n) {

@@ -8,20 +8,41 @@ use crate::params::{ExpectedSubDevice, ParamsError};
 pub enum StartError {
     Params(ParamsError),
     /// The rig's actuator count differs from the drives configured.
-    RigCount { rig: usize, drives: usize },
+    RigCount {
+        rig: usize,
+        drives: usize,
+    },
     /// Bus scan, state change or ethercrab internals failed.
     Bus(ethercrab::error::Error),
     /// Fewer SubDevices answered than the rig expects.
-    Missing { position: usize, expected: ExpectedSubDevice },
+    Missing {
+        position: usize,
+        expected: ExpectedSubDevice,
+    },
     /// A SubDevice that is not the one expected at its position (or one
     /// more than expected).
-    Unexpected { position: usize, vendor: u32, product: u32 },
+    Unexpected {
+        position: usize,
+        vendor: u32,
+        product: u32,
+    },
     /// An SDO the driver writes at start-up failed.
-    Sdo { position: usize, index: u16, error: ethercrab::error::Error },
+    Sdo {
+        position: usize,
+        index: u16,
+        error: ethercrab::error::Error,
+    },
     /// The process image is not the one mapped (inputs, outputs in bytes).
-    ProcessImage { position: usize, inputs: usize, outputs: usize },
+    ProcessImage {
+        position: usize,
+        inputs: usize,
+        outputs: usize,
+    },
     /// A drive did not reach *operation enabled* in time.
-    Enable { position: usize, statusword: u16 },
+    Enable {
+        position: usize,
+        statusword: u16,
+    },
 }
 
 impl fmt::Display for StartError {

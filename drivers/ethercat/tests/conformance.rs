@@ -9,7 +9,8 @@ use upm_ethercat::{EthercatDriver, EthercatParams};
 
 fn ethercat() -> EthercatDriver<SimulatedRig> {
     let cfg = SimConfig::default();
-    let parts = [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
+    let parts =
+        [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
     let sim = Simulator::new(cfg, &parts).expect("default sim");
     let params = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
     let rig = SimulatedRig::new(sim, params.counts_per_metre, params.rated_force_n, params.cycle_divisor);

@@ -11,7 +11,8 @@ use upm_ethercat::{EthercatDriver, EthercatParams, ExpectedSubDevice, StartError
 
 fn rig(params: &EthercatParams) -> SimulatedRig {
     let cfg = SimConfig::default();
-    let parts = [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
+    let parts =
+        [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
     let sim = Simulator::new(cfg, &parts).expect("default sim");
     SimulatedRig::new(sim, params.counts_per_metre, params.rated_force_n, params.cycle_divisor)
 }

@@ -17,7 +17,8 @@ static A: RtAllocCounter = RtAllocCounter;
 
 fn driver() -> EthercatDriver<SimulatedRig> {
     let cfg = SimConfig::default();
-    let parts = [PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: 0.04, position: [0.2, 0.1], angle: 0.0 }];
+    let parts =
+        [PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: 0.04, position: [0.2, 0.1], angle: 0.0 }];
     let sim = Simulator::new(cfg, &parts).expect("sim");
     let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
     let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);

@@ -5,8 +5,9 @@ use core::mem::{align_of, offset_of, size_of};
 
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
-    CoreCommand, CoreCounters, CoreLatencies, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest,
-    FrameHeader, LatencyPercentiles, PartState, PartStates, Rejection, Schedule, ScheduleSlot, Telemetry,
+    CoreCommand, CoreCounters, CoreLatencies, DriverTelemetry, ExplicitSchedule, ExplicitSlot, ForceEntry,
+    ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, Rejection, Schedule, ScheduleSlot,
+    Telemetry,
 };
 
 /// One field: where it is, how wide, and its Rust type (paths dropped).
@@ -22,7 +23,7 @@ pub struct Field {
 pub struct Layout {
     /// The Rust name (`PartStates`).
     pub rust: &'static str,
-    /// The iceoryx2 type name (`upm::PartStates.v2`).
+    /// The iceoryx2 type name (`upm::PartStates.v3`).
     pub type_name: &'static str,
     pub size: usize,
     pub align: usize,
@@ -133,8 +134,10 @@ pub fn all() -> Vec<Layout> {
             rejected_by_reason,
             health_source,
             health_cause,
-            health_detail
+            health_detail,
+            driver
         }),
+        layout!(DriverTelemetry { kind, state, faults, lost_frames, bad_frames }),
         layout!(CoreCounters {
             ticks,
             overruns,

@@ -5,46 +5,26 @@
 
 use super::MAX_ACTUATORS;
 
-/// Which kind of driver runs the plate (telemetry code in parentheses).
+/// Which kind of driver runs the plate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DriverKind {
-    /// The physics simulator or a mock (0).
+    /// The physics simulator or a mock.
     Simulated,
-    /// CiA 402 drives over EtherCAT (1).
+    /// CiA 402 drives over EtherCAT.
     Ethercat,
 }
 
 /// The bus state of a fieldbus driver, as EtherCAT names them (the lowest
-/// state of any device on the bus); a simulator is always `Op`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// state of any device on the bus); a simulator is always `Op`. Ordered
+/// from worst to best.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum BusState {
+    /// A device or the link reports a fault; the core holds.
+    Fault,
     Init,
     PreOp,
     SafeOp,
     Op,
-    /// A device or the link reports a fault; the core holds.
-    Fault,
-}
-
-impl DriverKind {
-    pub const fn code(self) -> u32 {
-        match self {
-            Self::Simulated => 0,
-            Self::Ethercat => 1,
-        }
-    }
-}
-
-impl BusState {
-    pub const fn code(self) -> u32 {
-        match self {
-            Self::Init => 1,
-            Self::PreOp => 2,
-            Self::SafeOp => 4,
-            Self::Op => 8,
-            Self::Fault => 0x10,
-        }
-    }
 }
 
 /// A driver's health snapshot (`Copy`, read by the motor every tick).

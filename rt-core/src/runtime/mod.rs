@@ -10,6 +10,7 @@
 pub mod alloc_count;
 mod clock;
 mod doorbell;
+mod driver_cell;
 #[cfg(feature = "fault-injection")]
 pub mod fault_injection;
 mod handoff;

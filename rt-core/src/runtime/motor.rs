@@ -165,6 +165,7 @@ impl<D: PlateDriver> MotorLoop<D> {
         let read = self.inject.driver_read(read, now_ns);
         self.shared.driver_clamped.store(self.state.clamped, Relaxed);
         self.shared.driver_rejected.store(self.state.rejected, Relaxed);
+        self.shared.driver.store(&self.driver.health());
         // update: a fault holds at once; otherwise decisions only at a cycle
         // boundary, where the plate is home
         if self.holds_for_fault(read) {

@@ -574,4 +574,5 @@ pub fn fill_telemetry(
     t.health_source = health.source as u32;
     t.health_cause = health.cause as u32;
     t.health_detail = health.detail;
+    t.driver = shared.driver.load();
 }

@@ -60,6 +60,8 @@ pub struct CoreShared {
     thread_fault: Health,
     /// The driver reported a fault and the motor holds (cleared on resume).
     driver_fault: AtomicU32,
+    /// The driver's bus state, faults and lost frames (motor → telemetry).
+    pub driver: super::driver_cell::DriverCell,
 }
 
 /// The first death of a core thread: written once, then published by a

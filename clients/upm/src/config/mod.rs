@@ -1,11 +1,13 @@
 //! The rig's one TOML config, as `upm` and `upm-core` validate it whole:
 //! every section and field is optional and has a default; unknown fields
 //! are errors, and every message names the field. One module per concern:
-//! [`rig`] (plate, motion), [`core`] (rt, safety, telemetry), [`sim`]; the
+//! [`rig`] (plate, motion), [`core`] (rt, safety, telemetry), [`sim`],
+//! [`driver`]; the
 //! `[vision]`, `[planner]` and `[camera]` sections belong to their crates,
 //! which read them alone from the same file. Parsing has no side effects.
 
 pub mod core;
+pub mod driver;
 pub mod rig;
 pub mod sim;
 
@@ -19,6 +21,7 @@ use upm_planner::PlannerConfig;
 use upm_vision::{CameraParams, TrackerParams, VisionSection};
 
 pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
+pub use driver::{DriverChoice, DriverSection, SubDeviceSection};
 pub use rig::{MotionSection, PlateSection};
 pub use sim::{SimPartSection, SimParts, SimSection};
 
@@ -32,6 +35,7 @@ pub struct Config {
     pub safety: SafetySection,
     pub telemetry: TelemetrySection,
     pub sim: SimSection,
+    pub driver: DriverSection,
     pub vision: VisionSection,
     pub planner: PlannerConfig,
     pub camera: upm_camera::CameraSection,
@@ -84,6 +88,12 @@ impl Config {
             .map_err(|m| ConfigError::invalid(path, m))
     }
 
+    /// The EtherCAT driver's parameters (for an EtherCAT `driver.kind`).
+    pub fn ethercat_params(&self, path: &str) -> Result<upm_ethercat::EthercatParams, ConfigError> {
+        let count = RigParams::default().count;
+        self.driver.ethercat_params(self.motion.tick_hz, count).map_err(|m| ConfigError::invalid(path, m))
+    }
+
     /// `[[sim.parts]]` as simulator part specs; ids must be unique.
     pub fn sim_parts(&self, path: &str) -> Result<SimParts, ConfigError> {
         self.sim.parts().map_err(|m| ConfigError::invalid(path, m))
@@ -99,6 +109,9 @@ impl Config {
         self.core_params(path)?;
         self.sim_parts(path)?;
         self.sim_config(path)?;
+        if self.driver.kind != DriverChoice::Sim {
+            self.ethercat_params(path)?;
+        }
         self.vision_params(path)?;
         self.vision.frames().map_err(|m| ConfigError::invalid(path, m))?;
         self.camera.model().map_err(|m| ConfigError::invalid(path, m))?;

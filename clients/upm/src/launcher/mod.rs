@@ -248,6 +248,7 @@ pub fn run_plan(
             "rejected_by_reason": crate::status::rejected_by_reason(&t),
             "realtime_flags": t.realtime_flags,
             "pm_qos_held": t.realtime_flags & ipc_types::Telemetry::RT_PM_QOS_HELD != 0,
+            "driver": crate::status::driver_json(&t),
             "exit_ok": core_exit.is_some_and(|s| s.success()),
             "died": core_failed.map(|s| s.to_string()),
         },
