@@ -19,6 +19,8 @@ pub struct SortBench {
     /// The planner sees the simulator's truth, or rendered frames through
     /// vision's pipeline.
     pub camera: crate::launcher::CameraChoice,
+    /// What moves the plate (the scenario's `[driver]` if None).
+    pub driver: Option<crate::config::DriverChoice>,
 }
 
 /// One seed's outcome.
@@ -27,8 +29,12 @@ fn one_seed(
     seed: u64,
     seconds: f64,
     camera: crate::launcher::CameraChoice,
+    driver: Option<crate::config::DriverChoice>,
 ) -> anyhow::Result<Value> {
-    let config = sc.config(seed, "unused_")?;
+    let mut config = sc.config(seed, "unused_")?;
+    if let Some(kind) = driver {
+        config.driver.kind = kind;
+    }
     let mut planner = config.planner.build().map_err(anyhow::Error::msg)?;
     let r = crate::closed_loop::run_seeing(&config, planner.as_mut(), seconds, camera)?;
     let m = sc.evaluate(&config, &r.trails);
@@ -71,7 +77,7 @@ pub fn run(b: &SortBench) -> anyhow::Result<Value> {
     let (first_seeds, second_seeds) = seeds.split_at(first.len());
     let fill = |slots: &mut [Value], seeds: &[u64]| -> anyhow::Result<()> {
         for (slot, &seed) in slots.iter_mut().zip(seeds) {
-            *slot = one_seed(&sc, seed, seconds, b.camera)?;
+            *slot = one_seed(&sc, seed, seconds, b.camera, b.driver)?;
         }
         Ok(())
     };
@@ -89,6 +95,7 @@ pub fn run(b: &SortBench) -> anyhow::Result<Value> {
         "scenario": sc.name,
         "planner": sc.planner.name(),
         "camera": format!("{:?}", b.camera).to_lowercase(),
+        "driver": b.driver.map_or_else(|| "scenario".to_owned(), |d| format!("{d:?}")),
         "seeds": b.seeds,
         "first_seed": b.first_seed,
         "seconds_per_seed": seconds,

@@ -121,6 +121,10 @@ pub enum Command {
         /// vision's pipeline, in the same process).
         #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
         camera: crate::launcher::CameraChoice,
+        /// sort: what moves the plate, instead of the scenario's `[driver]`
+        /// (`ethercat-sim`: the EtherCAT driver over the simulated chain).
+        #[arg(long, value_enum)]
+        driver: Option<crate::config::DriverChoice>,
     },
     /// Calibrate the camera from its view of the calibration board
     /// (`[camera.board]`): rendered by the rig's `[camera]`, or PNG files.
@@ -219,6 +223,10 @@ pub enum BenchTarget {
     /// The camera path: accuracy against the rendered truth, time per
     /// frame beside OpenCV on the same frames.
     Vision,
+    /// EtherCAT process-data round trip over veth at 1 and 4 kHz, the
+    /// driver's motor-thread poll beside ethercrab's io_uring task, with
+    /// the cycle thread's wake-up (needs root).
+    Ethercat,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -337,6 +345,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             first_seed,
             scenario,
             camera,
+            driver,
         } => {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
@@ -368,11 +377,16 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         first_seed,
                         seconds: quick.then_some(30.0),
                         camera,
+                        driver,
                     };
                     (crate::bench_sort::run(&b)?, crate::bench_sort::to_text)
                 }
                 (BenchTarget::Vision, None) => {
                     (crate::bench_vision::run(quick)?, crate::bench_vision::to_text)
+                }
+                (BenchTarget::Ethercat, None) => {
+                    let s = if quick { seconds.min(1.0) } else { seconds };
+                    (crate::bench_ethercat::run(s)?, crate::bench_ethercat::to_text)
                 }
             };
             if json {

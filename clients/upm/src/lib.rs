@@ -4,6 +4,7 @@
 //! is all a fresh checkout needs; vision and planner are their own crates
 //! (`upm-vision`, `upm-planner`) with their own thin binaries.
 
+pub mod bench_ethercat;
 pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_solver;

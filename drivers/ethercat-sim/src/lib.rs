@@ -25,8 +25,10 @@ pub mod chain;
 pub mod cia402;
 pub mod coe;
 pub mod rig;
+pub mod serve;
 pub mod sii;
 pub mod subdevice;
+pub mod veth;
 
 pub use chain::{Chain, FrameError};
 pub use rig::SimulatedRig;

@@ -96,7 +96,7 @@ mod tests {
     #[test]
     fn walks_to_operation_enabled_and_resets_faults_on_rising_edges() {
         let mut a = Cia402Axis::default();
-        let mut step = |a: &mut Cia402Axis, s: u16| {
+        let step = |a: &mut Cia402Axis, s: u16| {
             a.observe(s);
             a.controlword(s)
         };

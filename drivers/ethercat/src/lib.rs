@@ -22,6 +22,6 @@ pub mod wire;
 
 pub use driver::EthercatDriver;
 pub use params::{EthercatParams, ExpectedSubDevice, ParamsError};
-pub use raw_socket::RawSocketWire;
+pub use raw_socket::{RawSocket, RawSocketWire};
 pub use start_error::StartError;
 pub use wire::{MAX_FRAME, Wire, WireError};

@@ -1,5 +1,5 @@
 //! [`RawSocketWire`]: EtherCAT frames on a NIC (or one end of a veth pair)
-//! through an `AF_PACKET` socket bound to EtherType 0x88A4.
+//! through an `AF_PACKET` socket ([`RawSocket`]) bound to EtherType 0x88A4.
 //!
 //! A round trip is a `send` and a bounded wait for the answer: `recv` with
 //! the socket's receive timeout as the frame's deadline. Answers that are
@@ -48,26 +48,16 @@ impl fmt::Display for OpenError {
 
 impl core::error::Error for OpenError {}
 
-/// An EtherCAT wire on a network interface.
+/// An `AF_PACKET` socket for EtherCAT frames on one interface, with a
+/// receive timeout. Own outgoing frames are not looped back to it.
 #[derive(Debug)]
-pub struct RawSocketWire {
+pub struct RawSocket {
     fd: OwnedFd,
-    /// Where late answers are drained to.
-    scratch: Box<[u8; MAX_FRAME]>,
-    /// Answers skipped (not the frame just sent).
-    pub stale: u64,
 }
 
-/// Foreign or late frames skipped while waiting for one answer, at most.
-const MAX_SKIPPED: u32 = 8;
-
-fn errno() -> i32 {
-    std::io::Error::last_os_error().raw_os_error().unwrap_or(0)
-}
-
-impl RawSocketWire {
-    /// Open `interface`; each frame waits at most `deadline` for its answer.
-    pub fn open(interface: &str, deadline: Duration) -> Result<Self, OpenError> {
+impl RawSocket {
+    /// Open `interface`; a receive waits at most `timeout`.
+    pub fn open(interface: &str, timeout: Duration) -> Result<Self, OpenError> {
         let name = CString::new(interface).map_err(|_| OpenError::NoInterface)?;
         // SAFETY: a NUL-terminated name.
         let index = unsafe { libc::if_nametoindex(name.as_ptr()) };
@@ -101,11 +91,36 @@ impl RawSocketWire {
         let one: libc::c_int = 1;
         set(&fd, libc::SOL_PACKET, libc::PACKET_IGNORE_OUTGOING, &one, "setsockopt(PACKET_IGNORE_OUTGOING)")?;
         let tv = libc::timeval {
-            tv_sec: deadline.as_secs() as libc::time_t,
-            tv_usec: deadline.subsec_micros().max(1) as libc::suseconds_t,
+            tv_sec: timeout.as_secs() as libc::time_t,
+            tv_usec: timeout.subsec_micros().max(1) as libc::suseconds_t,
         };
         set(&fd, libc::SOL_SOCKET, libc::SO_RCVTIMEO, &tv, "setsockopt(SO_RCVTIMEO)")?;
-        Ok(Self { fd, scratch: Box::new([0; MAX_FRAME]), stale: 0 })
+        Ok(Self { fd })
+    }
+
+    /// Send one whole frame.
+    pub fn send(&self, frame: &[u8]) -> Result<(), WireError> {
+        // SAFETY: readable for `frame.len()` bytes.
+        let sent = unsafe { libc::send(self.fd.as_raw_fd(), frame.as_ptr().cast(), frame.len(), 0) };
+        match sent {
+            n if n == frame.len() as isize => Ok(()),
+            n if n < 0 => Err(WireError::Io(errno())),
+            _ => Err(WireError::Refused),
+        }
+    }
+
+    /// Receive one frame into `buf` (waiting at most the timeout, or not at
+    /// all with `wait` false): its length on the wire, which may exceed
+    /// `buf` (the rest is cut).
+    pub fn recv(&self, buf: &mut [u8], wait: bool) -> Result<usize, WireError> {
+        let flags = libc::MSG_TRUNC | if wait { 0 } else { libc::MSG_DONTWAIT };
+        // SAFETY: writable for `buf.len()` bytes.
+        let got = unsafe { libc::recv(self.fd.as_raw_fd(), buf.as_mut_ptr().cast(), buf.len(), flags) };
+        if got >= 0 {
+            return Ok(got as usize);
+        }
+        let e = errno();
+        Err(if e == libc::EAGAIN || e == libc::EWOULDBLOCK { WireError::Lost } else { WireError::Io(e) })
     }
 }
 
@@ -123,35 +138,47 @@ fn set<T>(fd: &OwnedFd, level: i32, name: i32, value: &T, call: &'static str) ->
     if r != 0 { Err(OpenError::Os { call, errno: errno() }) } else { Ok(()) }
 }
 
+/// An EtherCAT wire on a network interface.
+#[derive(Debug)]
+pub struct RawSocketWire {
+    socket: RawSocket,
+    /// Where late answers are drained to.
+    scratch: Box<[u8; MAX_FRAME]>,
+    /// Answers skipped (not the frame just sent).
+    pub stale: u64,
+}
+
+/// Foreign or late frames skipped while waiting for one answer, at most.
+const MAX_SKIPPED: u32 = 8;
+
+fn errno() -> i32 {
+    std::io::Error::last_os_error().raw_os_error().unwrap_or(0)
+}
+
+impl RawSocketWire {
+    /// Open `interface`; each frame waits at most `deadline` for its answer.
+    pub fn open(interface: &str, deadline: Duration) -> Result<Self, OpenError> {
+        Ok(Self {
+            socket: RawSocket::open(interface, deadline)?,
+            scratch: Box::new([0; MAX_FRAME]),
+            stale: 0,
+        })
+    }
+}
+
 impl Wire for RawSocketWire {
     fn round_trip(&mut self, frame: &mut [u8]) -> Result<(), WireError> {
         let len = frame.len();
         let Some(&index) = frame.get(INDEX_AT) else { return Err(WireError::Refused) };
-        let fd = self.fd.as_raw_fd();
         // Answers that came after their frame was given up on.
-        let scratch = self.scratch.as_mut_ptr().cast();
-        // SAFETY: `scratch` is writable for MAX_FRAME bytes.
-        while unsafe { libc::recv(fd, scratch, MAX_FRAME, libc::MSG_DONTWAIT) } >= 0 {
+        while self.socket.recv(&mut self.scratch[..], false).is_ok() {
             self.stale += 1;
         }
-        // SAFETY: readable for `len` bytes; a short send is an error below.
-        let sent = unsafe { libc::send(fd, frame.as_ptr().cast(), len, 0) };
-        if sent != len as isize {
-            return Err(if sent < 0 { WireError::Io(errno()) } else { WireError::Refused });
-        }
+        self.socket.send(frame)?;
         for _ in 0..MAX_SKIPPED {
-            // SAFETY: writable for `len` bytes; MSG_TRUNC gives the real length.
-            let got = unsafe { libc::recv(fd, frame.as_mut_ptr().cast(), len, libc::MSG_TRUNC) };
-            if got < 0 {
-                let e = errno();
-                return Err(if e == libc::EAGAIN || e == libc::EWOULDBLOCK {
-                    WireError::Lost
-                } else {
-                    WireError::Io(e)
-                });
-            }
+            let got = self.socket.recv(frame, true)?;
             // An answer is the frame sent, as long or padded longer.
-            if got as usize >= len && frame[INDEX_AT] == index {
+            if got >= len && frame[INDEX_AT] == index {
                 return Ok(());
             }
             self.stale += 1;

@@ -1,0 +1,282 @@
+//! `upm bench ethercat`: the EtherCAT process-data round trip over a veth
+//! pair whose far end (the simulated chain, answering on a raw socket) sits
+//! in its own network namespace, at 1 and 4 kHz, through two paths:
+//!
+//! - **motor-thread poll** (what `EthercatDriver` does): the motor thread
+//!   sends the frame and waits for its answer itself;
+//! - **ethercrab's io_uring task**: a TX/RX thread owns the socket, the
+//!   motor thread awaits the exchange (woken through a futex).
+//!
+//! Beside each, in the same run, the cycle thread's wake-up lateness (the
+//! motor loop's own figure). Threads as the core places them: the cycle
+//! thread SCHED_FIFO 80 on the last CPU, the io_uring task FIFO 81 there
+//! too, the chain FIFO 70 on another CPU; memory locked, PM QoS held.
+//! Needs root (the namespace, raw sockets, FIFO).
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+use std::time::Duration;
+
+use anyhow::Context;
+use drivers::{SimConfig, Simulator};
+use ethercat_sim::SimulatedRig;
+use ethercat_sim::serve::{ServeCounters, serve};
+use ethercat_sim::veth::VethPair;
+use hdrhistogram::Histogram;
+use rt_core::driver::{ActuatorCommand, PlateDriver};
+use rt_core::runtime::rt_setup::{
+    hold_cpu_dma_latency, lock_memory, make_current_thread_realtime_on, online_cpus,
+};
+use serde_json::{Value, json};
+use upm_ethercat::{EthercatDriver, EthercatParams, RawSocket, RawSocketWire};
+
+use crate::bench_latency::summary_ns;
+
+/// Simulator ticks per second behind the chain (the plant's own step).
+const PLANT_HZ: f64 = 8_000.0;
+const CYCLE_PRIORITY: u8 = 80;
+const CHAIN_PRIORITY: u8 = 70;
+
+fn histogram() -> anyhow::Result<Histogram<u64>> {
+    Histogram::new_with_bounds(1, 10_000_000_000, 3).context("histogram")
+}
+
+fn clock_ns() -> u64 {
+    ipc_types::monotonic_now_ns()
+}
+
+fn sleep_until(ns: u64) {
+    let ts =
+        libc::timespec { tv_sec: (ns / 1_000_000_000) as libc::time_t, tv_nsec: (ns % 1_000_000_000) as _ };
+    // SAFETY: a valid timespec; absolute CLOCK_MONOTONIC sleep.
+    unsafe { libc::clock_nanosleep(libc::CLOCK_MONOTONIC, libc::TIMER_ABSTIME, &ts, core::ptr::null_mut()) };
+}
+
+/// The chain behind the far end, answering until dropped.
+struct Chain {
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<Result<Result<(), String>, String>>>,
+}
+
+impl Chain {
+    fn start(pair: &VethPair, rate_hz: f64, cpu: usize) -> anyhow::Result<Self> {
+        let cfg = SimConfig { tick_hz: PLANT_HZ, ..SimConfig::default() };
+        let sim = Simulator::new(cfg, &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let p = EthercatParams::default();
+        let ticks = (PLANT_HZ / rate_hz).round() as u32;
+        let mut rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, ticks);
+        let stop = Arc::new(AtomicBool::new(false));
+        let far = pair.far.clone();
+        let s = stop.clone();
+        let thread = pair.in_namespace(move || {
+            make_current_thread_realtime_on(CHAIN_PRIORITY, cpu);
+            let socket = RawSocket::open(&far, Duration::from_millis(10)).map_err(|e| e.to_string())?;
+            serve(&mut rig, &socket, &s, &ServeCounters::default());
+            Ok(())
+        });
+        Ok(Self { stop, thread: Some(thread) })
+    }
+}
+
+impl Drop for Chain {
+    fn drop(&mut self) {
+        self.stop.store(true, Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// What one path measured.
+struct PathRun {
+    round_trip: Histogram<u64>,
+    wakeup: Histogram<u64>,
+    lost: u64,
+}
+
+/// `cycles` periods of `period_ns` on a FIFO thread on `cpu`: wake up,
+/// note the lateness, time `exchange`.
+fn cycle_loop(
+    cpu: usize,
+    period_ns: u64,
+    cycles: u64,
+    mut exchange: impl FnMut() -> bool,
+) -> anyhow::Result<(Histogram<u64>, Histogram<u64>, u64)> {
+    let (mut rtt, mut wake) = (histogram()?, histogram()?);
+    let mut lost = 0;
+    let placed = make_current_thread_realtime_on(CYCLE_PRIORITY, cpu);
+    anyhow::ensure!(placed.fifo, "SCHED_FIFO {CYCLE_PRIORITY} on CPU {cpu} refused (run as root)");
+    let mut next = clock_ns() + 10 * period_ns;
+    for _ in 0..cycles {
+        sleep_until(next);
+        let woke = clock_ns();
+        let _ = wake.record(woke.saturating_sub(next).max(1));
+        let ok = exchange();
+        let done = clock_ns();
+        let _ = rtt.record(done.saturating_sub(woke).max(1));
+        lost += u64::from(!ok);
+        // Skip rather than catch up, as the motor loop does.
+        next += period_ns;
+        while next <= done {
+            next += period_ns;
+        }
+    }
+    Ok((rtt, wake, lost))
+}
+
+fn poll_path(pair: &VethPair, rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<PathRun> {
+    let _chain = Chain::start(pair, rate_hz, cpus.0)?;
+    let p = EthercatParams { tick_hz: rate_hz, cycle_divisor: 1, ..EthercatParams::default() };
+    // Checked against the 1–4 kHz rule with divisor 1.
+    let wire = RawSocketWire::open(&pair.near, Duration::from_secs_f64(0.5 / rate_hz))
+        .map_err(anyhow::Error::msg)?;
+    let near = std::thread::scope(|s| {
+        s.spawn(|| -> anyhow::Result<PathRun> {
+            let mut d = EthercatDriver::start(wire, p, rt_core::motion::RigParams::default())
+                .map_err(anyhow::Error::msg)?;
+            let mut lost_before = d.health().lost_frames;
+            let (round_trip, wakeup, lost) = cycle_loop(cpus.1, (1e9 / rate_hz) as u64, cycles, || {
+                let _ = d.write(&ActuatorCommand::HOME);
+                d.advance();
+                let now = d.health().lost_frames;
+                let ok = now == lost_before;
+                lost_before = now;
+                ok
+            })?;
+            Ok(PathRun { round_trip, wakeup, lost })
+        })
+        .join()
+    });
+    near.map_err(|_| anyhow::anyhow!("the cycle thread panicked"))?
+}
+
+type Storage = ethercrab::PduStorage<16, { ethercrab::PduStorage::element_size(1100) }>;
+
+fn io_uring_path(
+    pair: &VethPair,
+    rate_hz: f64,
+    cycles: u64,
+    cpus: (usize, usize),
+) -> anyhow::Result<PathRun> {
+    use ethercrab::{MainDevice, MainDeviceConfig, Timeouts};
+    use futures_lite::future::block_on;
+    let _chain = Chain::start(pair, rate_hz, cpus.0)?;
+    let storage: &'static Storage = Box::leak(Box::new(Storage::new()));
+    let (tx, rx, pdu_loop) = storage.try_split().map_err(|()| anyhow::anyhow!("PDU storage split twice"))?;
+    let near = pair.near.clone();
+    let task = std::thread::spawn(move || {
+        make_current_thread_realtime_on(CYCLE_PRIORITY + 1, cpus.1);
+        ethercrab::std::tx_rx_task_io_uring(&near, tx, rx).map(|_| ())
+    });
+    let md = MainDevice::new(
+        pdu_loop,
+        Timeouts { pdu: Duration::from_millis(100), ..Timeouts::default() },
+        MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
+    );
+    let run = std::thread::scope(|s| {
+        s.spawn(|| -> anyhow::Result<PathRun> {
+            let group = block_on(md.init_single_group::<8, 256>(ethercrab::std::ethercat_now))
+                .map_err(|e| anyhow::anyhow!("io_uring path: bus start-up: {e}"))?;
+            for sd in group.iter(&md) {
+                block_on(sd.sdo_write(0x6060, 0, 8i8))
+                    .map_err(|e| anyhow::anyhow!("io_uring path: SDO: {e}"))?;
+            }
+            let group =
+                block_on(group.into_op(&md)).map_err(|e| anyhow::anyhow!("io_uring path: OP: {e}"))?;
+            let expected = 3 * group.len() as u16;
+            let (round_trip, wakeup, lost) = cycle_loop(cpus.1, (1e9 / rate_hz) as u64, cycles, || {
+                // Controlword 0 (drives stay disabled): the same frame size
+                // and work for the bus, no motion needed.
+                for sd in group.iter(&md) {
+                    let mut o = sd.outputs_raw_mut();
+                    o.fill(0);
+                }
+                block_on(group.tx_rx(&md)).is_ok_and(|r| r.working_counter == expected)
+            })?;
+            Ok(PathRun { round_trip, wakeup, lost })
+        })
+        .join()
+    });
+    // SAFETY: the group lived and died inside the scope above, so no group
+    // of this MainDevice is used again; releasing wakes the io_uring task,
+    // which sees the exit flag and returns.
+    let _ = unsafe { md.release_all() };
+    let _ = task.join();
+    run.map_err(|_| anyhow::anyhow!("the cycle thread panicked"))?
+}
+
+/// Both paths at 1 and 4 kHz for `seconds` each.
+pub fn run(seconds: f64) -> anyhow::Result<Value> {
+    let pair = VethPair::create(&format!("b{}", std::process::id() % 10_000_000))
+        .map_err(|why| anyhow::anyhow!("upm bench ethercat: {why}"))?;
+    let cpus = match online_cpus() {
+        0 | 1 => (0, 0),
+        n => (0, n - 1),
+    };
+    let memory_locked = lock_memory();
+    let pm_qos = hold_cpu_dma_latency(0).ok();
+    let mut rows = Vec::new();
+    for rate in [1000.0, 4000.0] {
+        let cycles = (seconds * rate) as u64;
+        for (path, r) in [
+            ("motor-thread poll", poll_path(&pair, rate, cycles, cpus)),
+            ("ethercrab io_uring task", io_uring_path(&pair, rate, cycles, cpus)),
+        ] {
+            let r = r.with_context(|| format!("{path} at {rate} Hz"))?;
+            rows.push(json!({
+                "rate_hz": rate,
+                "path": path,
+                "round_trip_us": summary_ns(&r.round_trip),
+                "wakeup_us": summary_ns(&r.wakeup),
+                "lost_frames": r.lost,
+            }));
+        }
+    }
+    Ok(json!({
+        "seconds_per_run": seconds,
+        "rows": rows,
+        "memory_locked": memory_locked,
+        "pm_qos_held": pm_qos.is_some(),
+        "cpus": { "chain": cpus.0, "cycle": cpus.1 },
+        "host": crate::host_facts::read_all(),
+    }))
+}
+
+pub fn to_text(v: &Value) -> String {
+    let mut out = format!(
+        "EtherCAT process data over veth (simulated chain in a network namespace), {} s per run\n\
+         {:<6} {:<24} {:>38}   {:>38}   {:>6}\n",
+        v["seconds_per_run"],
+        "rate",
+        "path",
+        "round trip µs p50 / p99 / p99.9 / max",
+        "wake-up µs p50 / p99 / p99.9 / max",
+        "lost"
+    );
+    let q = |s: &Value| {
+        format!(
+            "{:>8.1} {:>8.1} {:>9.1} {:>9.1}",
+            s["p50"].as_f64().unwrap_or(f64::NAN),
+            s["p99"].as_f64().unwrap_or(f64::NAN),
+            s["p999"].as_f64().unwrap_or(f64::NAN),
+            s["max"].as_f64().unwrap_or(f64::NAN)
+        )
+    };
+    for r in v["rows"].as_array().into_iter().flatten() {
+        out += &format!(
+            "{:<6} {:<24} {}   {}   {:>6}\n",
+            format!("{} Hz", r["rate_hz"].as_f64().unwrap_or(0.0)),
+            r["path"].as_str().unwrap_or("?"),
+            q(&r["round_trip_us"]),
+            q(&r["wakeup_us"]),
+            r["lost_frames"]
+        );
+    }
+    out += &format!(
+        "memory locked {}, PM QoS held {}; {}",
+        v["memory_locked"],
+        v["pm_qos_held"],
+        crate::host_facts::to_text(&v["host"])
+    );
+    out
+}
