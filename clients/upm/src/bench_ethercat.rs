@@ -13,14 +13,12 @@
 //! too, the chain FIFO 70 on another CPU; memory locked, PM QoS held.
 //! Needs root (the namespace, raw sockets, FIFO).
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::time::Duration;
 
 use anyhow::Context;
 use drivers::{SimConfig, Simulator};
 use ethercat_sim::SimulatedRig;
-use ethercat_sim::serve::{ServeCounters, serve};
+use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use hdrhistogram::Histogram;
 use rt_core::driver::{ActuatorCommand, PlateDriver};
@@ -28,7 +26,7 @@ use rt_core::runtime::rt_setup::{
     hold_cpu_dma_latency, lock_memory, make_current_thread_realtime_on, online_cpus,
 };
 use serde_json::{Value, json};
-use upm_ethercat::{EthercatDriver, EthercatParams, RawSocket, RawSocketWire};
+use upm_ethercat::{EthercatDriver, EthercatParams, RawSocketWire};
 
 use crate::bench_latency::summary_ns;
 
@@ -52,39 +50,17 @@ fn sleep_until(ns: u64) {
     unsafe { libc::clock_nanosleep(libc::CLOCK_MONOTONIC, libc::TIMER_ABSTIME, &ts, core::ptr::null_mut()) };
 }
 
-/// The chain behind the far end, answering until dropped.
-struct Chain {
-    stop: Arc<AtomicBool>,
-    thread: Option<std::thread::JoinHandle<Result<Result<(), String>, String>>>,
-}
-
-impl Chain {
-    fn start(pair: &VethPair, rate_hz: f64, cpu: usize) -> anyhow::Result<Self> {
-        let cfg = SimConfig { tick_hz: PLANT_HZ, ..SimConfig::default() };
-        let sim = Simulator::new(cfg, &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let p = EthercatParams::default();
-        let ticks = (PLANT_HZ / rate_hz).round() as u32;
-        let mut rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, ticks);
-        let stop = Arc::new(AtomicBool::new(false));
-        let far = pair.far.clone();
-        let s = stop.clone();
-        let thread = pair.in_namespace(move || {
-            make_current_thread_realtime_on(CHAIN_PRIORITY, cpu);
-            let socket = RawSocket::open(&far, Duration::from_millis(10)).map_err(|e| e.to_string())?;
-            serve(&mut rig, &socket, &s, &ServeCounters::default());
-            Ok(())
-        });
-        Ok(Self { stop, thread: Some(thread) })
-    }
-}
-
-impl Drop for Chain {
-    fn drop(&mut self) {
-        self.stop.store(true, Relaxed);
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
+/// A veth pair with the chain answering on its far end, until dropped.
+fn chain(rate_hz: f64, cpu: usize) -> anyhow::Result<ChainServer<SimulatedRig>> {
+    let pair = VethPair::create(&format!("b{}", std::process::id() % 10_000_000))
+        .map_err(|why| anyhow::anyhow!("upm bench ethercat: {why}"))?;
+    let cfg = SimConfig { tick_hz: PLANT_HZ, ..SimConfig::default() };
+    let sim = Simulator::new(cfg, &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let p = EthercatParams::default();
+    let ticks = (PLANT_HZ / rate_hz).round() as u32;
+    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, ticks);
+    ChainServer::start(pair, rig, ServerPlacement { realtime: Some((CHAIN_PRIORITY, cpu)) })
+        .map_err(|why| anyhow::anyhow!("the simulated chain: {why}"))
 }
 
 /// What one path measured.
@@ -124,11 +100,11 @@ fn cycle_loop(
     Ok((rtt, wake, lost))
 }
 
-fn poll_path(pair: &VethPair, rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<PathRun> {
-    let _chain = Chain::start(pair, rate_hz, cpus.0)?;
+fn poll_path(rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<PathRun> {
+    let chain = chain(rate_hz, cpus.0)?;
     let p = EthercatParams { tick_hz: rate_hz, cycle_divisor: 1, ..EthercatParams::default() };
     // Checked against the 1–4 kHz rule with divisor 1.
-    let wire = RawSocketWire::open(&pair.near, Duration::from_secs_f64(0.5 / rate_hz))
+    let wire = RawSocketWire::open(chain.near(), Duration::from_secs_f64(0.5 / rate_hz))
         .map_err(anyhow::Error::msg)?;
     let near = std::thread::scope(|s| {
         s.spawn(|| -> anyhow::Result<PathRun> {
@@ -152,18 +128,13 @@ fn poll_path(pair: &VethPair, rate_hz: f64, cycles: u64, cpus: (usize, usize)) -
 
 type Storage = ethercrab::PduStorage<16, { ethercrab::PduStorage::element_size(1100) }>;
 
-fn io_uring_path(
-    pair: &VethPair,
-    rate_hz: f64,
-    cycles: u64,
-    cpus: (usize, usize),
-) -> anyhow::Result<PathRun> {
+fn io_uring_path(rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<PathRun> {
     use ethercrab::{MainDevice, MainDeviceConfig, Timeouts};
     use futures_lite::future::block_on;
-    let _chain = Chain::start(pair, rate_hz, cpus.0)?;
+    let chain = chain(rate_hz, cpus.0)?;
     let storage: &'static Storage = Box::leak(Box::new(Storage::new()));
     let (tx, rx, pdu_loop) = storage.try_split().map_err(|()| anyhow::anyhow!("PDU storage split twice"))?;
-    let near = pair.near.clone();
+    let near = chain.near().to_string();
     let task = std::thread::spawn(move || {
         make_current_thread_realtime_on(CYCLE_PRIORITY + 1, cpus.1);
         ethercrab::std::tx_rx_task_io_uring(&near, tx, rx).map(|_| ())
@@ -207,8 +178,6 @@ fn io_uring_path(
 
 /// Both paths at 1 and 4 kHz for `seconds` each.
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
-    let pair = VethPair::create(&format!("b{}", std::process::id() % 10_000_000))
-        .map_err(|why| anyhow::anyhow!("upm bench ethercat: {why}"))?;
     let cpus = match online_cpus() {
         0 | 1 => (0, 0),
         n => (0, n - 1),
@@ -219,8 +188,8 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
     for rate in [1000.0, 4000.0] {
         let cycles = (seconds * rate) as u64;
         for (path, r) in [
-            ("motor-thread poll", poll_path(&pair, rate, cycles, cpus)),
-            ("ethercrab io_uring task", io_uring_path(&pair, rate, cycles, cpus)),
+            ("motor-thread poll", poll_path(rate, cycles, cpus)),
+            ("ethercrab io_uring task", io_uring_path(rate, cycles, cpus)),
         ] {
             let r = r.with_context(|| format!("{path} at {rate} Hz"))?;
             rows.push(json!({

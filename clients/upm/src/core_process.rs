@@ -117,10 +117,20 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
             let (sim, parts) = crate::plate_driver::simulator(&config, &shown)?;
             run_simulated(&params, sim, parts, &options)?
         }
-        DriverChoice::EthercatSim => {
-            let (driver, parts) = crate::plate_driver::ethercat_sim(&config, &shown)?;
-            run_simulated(&params, driver, parts, &options)?
-        }
+        DriverChoice::EthercatSim => match crate::plate_driver::ethercat_over_veth(&config, &shown)? {
+            Ok((driver, parts)) => {
+                eprintln!(
+                    "upm-core: ethercat-sim over veth {} (the chain answers from its own network namespace)",
+                    driver.interface()
+                );
+                run_simulated(&params, driver, parts, &options)?
+            }
+            Err(why) => {
+                eprintln!("upm-core: ethercat-sim in process ({why})");
+                let (driver, parts) = crate::plate_driver::ethercat_sim(&config, &shown)?;
+                run_simulated(&params, driver, parts, &options)?
+            }
+        },
         DriverChoice::Ethercat => {
             let driver = crate::plate_driver::ethercat(&config, &shown)?;
             run_core_with_truth(&params, driver, None, &options).context("upm-core")?

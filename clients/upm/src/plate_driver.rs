@@ -5,6 +5,8 @@
 use anyhow::Context;
 use drivers::Simulator;
 use ethercat_sim::SimulatedRig;
+use ethercat_sim::serve::{ChainServer, ServerPlacement};
+use ethercat_sim::veth::VethPair;
 use rt_core::driver::PlateDriver;
 use upm_ethercat::EthercatDriver;
 
@@ -62,4 +64,91 @@ pub fn ethercat(config: &Config, shown: &str) -> anyhow::Result<EthercatDriver<u
         .with_context(|| format!("driver.interface {:?}", config.driver.interface))?;
     let rig = config.core_params(shown)?.rig;
     EthercatDriver::start(wire, p, rig).map_err(anyhow::Error::msg).context("driver.kind = \"ethercat\"")
+}
+
+/// The EtherCAT driver talking over a veth pair to the simulated chain on
+/// its far end (a network namespace of its own, served by a thread of
+/// this process): frames cross the kernel's network stack as they would
+/// to a NIC. Dropping it stops the chain and deletes the pair.
+#[derive(Debug)]
+pub struct EthercatOverVeth {
+    driver: EthercatDriver<upm_ethercat::RawSocketWire>,
+    chain: ChainServer<SimulatedRig>,
+}
+
+impl EthercatOverVeth {
+    /// The MainDevice's end of the pair.
+    pub fn interface(&self) -> &str {
+        self.chain.near()
+    }
+}
+
+impl PlateDriver for EthercatOverVeth {
+    fn limits(&self) -> rt_core::driver::ActuatorLimits {
+        self.driver.limits()
+    }
+    fn tick_period(&self) -> f64 {
+        self.driver.tick_period()
+    }
+    fn read(&mut self, state: &mut rt_core::driver::PlateState) -> Result<(), rt_core::driver::ReadError> {
+        self.driver.read(state)
+    }
+    fn write(
+        &mut self,
+        command: &rt_core::driver::ActuatorCommand,
+    ) -> Result<(), rt_core::driver::WriteError> {
+        self.driver.write(command)
+    }
+    fn hold(&mut self) {
+        self.driver.hold();
+    }
+    fn advance(&mut self) {
+        self.driver.advance();
+    }
+    fn health(&self) -> rt_core::driver::DriverHealth {
+        self.driver.health()
+    }
+}
+
+impl SimulatedPlant for EthercatOverVeth {
+    fn with_simulator(&self, f: &mut dyn FnMut(&Simulator)) {
+        // The chain's thread (SCHED_FIFO, just below the motor, on its CPU)
+        // holds the lock only while it answers a frame: a futex another RT
+        // thread releases within microseconds.
+        if let Ok(rig) = self.chain.wire.lock() {
+            f(&rig.sim);
+        }
+    }
+}
+
+/// `ethercat-sim` over a veth pair, when this process may create one
+/// (root); `Ok(Err(why))` when it may not, so the caller can fall back to
+/// the in-process chain and say why.
+pub fn ethercat_over_veth(
+    config: &Config,
+    shown: &str,
+) -> anyhow::Result<Result<(EthercatOverVeth, SimParts), String>> {
+    let pair = match VethPair::create(&format!("c{}", std::process::id() % 10_000_000)) {
+        Ok(pair) => pair,
+        Err(why) => return Ok(Err(why)),
+    };
+    let (sim, parts) = simulator(config, shown)?;
+    let p = config.ethercat_params(shown)?;
+    let core = config.core_params(shown)?;
+    let rig = *sim.rig().params();
+    let chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let placement = ServerPlacement {
+        realtime: Some((core.rt.motor_priority.saturating_sub(1).max(1), core.rt.motor_cpu.unwrap_or(0))),
+    };
+    let chain = ChainServer::start(pair, chain, placement)
+        .map_err(anyhow::Error::msg)
+        .context("driver.kind = \"ethercat-sim\": the simulated chain on the veth pair")?;
+    let deadline = std::time::Duration::from_secs_f64(0.5 / p.cycle_hz());
+    let wire = upm_ethercat::RawSocketWire::open(chain.near(), deadline)
+        .map_err(anyhow::Error::msg)
+        .with_context(|| format!("driver.kind = \"ethercat-sim\": {}", chain.near()))?;
+    let driver = EthercatDriver::start(wire, p, rig)
+        .map_err(anyhow::Error::msg)
+        .context("driver.kind = \"ethercat-sim\" over veth")?;
+    Ok(Ok((EthercatOverVeth { driver, chain }, parts)))
 }

@@ -155,6 +155,13 @@ fn upm_run_sort_with_the_ethercat_sim_driver_and_upm_status_shows_it() {
     }
     let o = child.wait_with_output().expect("wait");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let core_log = std::fs::read_to_string(out.join("logs/core.log")).unwrap_or_default();
+    // As root the chain answers from the far end of a veth pair; otherwise
+    // in process, and the core says why.
+    // SAFETY: geteuid has no preconditions.
+    let root = unsafe { libc::geteuid() } == 0;
+    let transport = if root { "ethercat-sim over veth" } else { "ethercat-sim in process" };
+    assert!(core_log.contains(transport), "expected {transport:?} in the core's log:\n{core_log}");
     let d = &status["driver"];
     assert_eq!((d["kind"].as_str(), d["state"].as_str()), (Some("ethercat"), Some("op")), "{status}");
     assert_eq!(d["faults"], serde_json::json!([0, 0, 0, 0, 0, 0, 0, 0]));

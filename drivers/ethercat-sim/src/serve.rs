@@ -5,8 +5,13 @@
 //! network namespace ([`crate::veth`]).
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::Duration;
 
 use upm_ethercat::{MAX_FRAME, RawSocket, Wire, WireError};
+
+use crate::veth::VethPair;
 
 /// What the server saw.
 #[derive(Debug, Default)]
@@ -53,5 +58,100 @@ impl Wire for crate::Chain {
             Err(crate::FrameError::Lost) => Err(WireError::Lost),
             Err(_) => Err(WireError::Refused),
         }
+    }
+}
+
+/// A chain served from the far end of a veth pair on a thread of its own,
+/// until dropped (which stops the thread, then deletes the pair).
+#[derive(Debug)]
+pub struct ChainServer<W: Wire + Send + 'static> {
+    /// The chain behind the far end; the server holds the lock only while
+    /// it answers one frame.
+    pub wire: Arc<Mutex<W>>,
+    /// While set, frames go unanswered (a pulled cable).
+    pub mute: Arc<AtomicBool>,
+    pub counters: Arc<ServeCounters>,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<Result<Result<(), String>, String>>>,
+    pair: VethPair,
+}
+
+/// Where the server thread runs: SCHED_FIFO `priority` on `cpu`, or
+/// normal scheduling with `None`.
+#[derive(Debug, Clone, Copy)]
+pub struct ServerPlacement {
+    pub realtime: Option<(u8, usize)>,
+}
+
+struct Muted<W> {
+    wire: Arc<Mutex<W>>,
+    mute: Arc<AtomicBool>,
+}
+
+impl<W: Wire> Wire for Muted<W> {
+    fn round_trip(&mut self, frame: &mut [u8]) -> Result<(), WireError> {
+        if self.mute.load(Relaxed) {
+            return Err(WireError::Lost);
+        }
+        self.wire.lock().map_err(|_| WireError::Refused)?.round_trip(frame)
+    }
+}
+
+impl<W: Wire + Send + 'static> ChainServer<W> {
+    /// Serve `wire` on the far end of `pair`; returns once the far end's
+    /// socket is open (or why it could not be).
+    pub fn start(pair: VethPair, wire: W, placement: ServerPlacement) -> Result<Self, String> {
+        let wire = Arc::new(Mutex::new(wire));
+        let (mute, stop) = (Arc::new(AtomicBool::new(false)), Arc::new(AtomicBool::new(false)));
+        let counters = Arc::new(ServeCounters::default());
+        let far = pair.far.clone();
+        let (ready_tx, ready) = std::sync::mpsc::channel();
+        let thread = {
+            let (wire, mute, stop, counters) = (wire.clone(), mute.clone(), stop.clone(), counters.clone());
+            pair.in_namespace(move || {
+                if let Some((priority, cpu)) = placement.realtime {
+                    rt_core::runtime::rt_setup::make_current_thread_realtime_on(priority, cpu);
+                }
+                let socket =
+                    RawSocket::open(&far, Duration::from_millis(10)).map_err(|e| format!("{far}: {e}"));
+                let _ = ready_tx.send(socket.as_ref().map(|_| ()).map_err(Clone::clone));
+                let socket = socket?;
+                serve(&mut Muted { wire, mute }, &socket, &stop, &counters);
+                Ok(())
+            })
+        };
+        let mut server = Self { wire, mute, counters, stop, thread: Some(thread), pair };
+        match ready.recv() {
+            Ok(Ok(())) => Ok(server),
+            Ok(Err(why)) => Err(why),
+            // The thread ended before it could say (setns failed).
+            Err(_) => Err(server.halt().err().unwrap_or_else(|| "the chain's server ended".into())),
+        }
+    }
+
+    /// The MainDevice's end of the cable.
+    pub fn near(&self) -> &str {
+        &self.pair.near
+    }
+
+    /// Stop serving; the server's own error if it failed to start.
+    pub fn stop(mut self) -> Result<(), String> {
+        self.halt()
+    }
+
+    fn halt(&mut self) -> Result<(), String> {
+        self.stop.store(true, Relaxed);
+        match self.thread.take().map(JoinHandle::join) {
+            None => Ok(()),
+            Some(Ok(Ok(r))) => r,
+            Some(Ok(Err(why))) => Err(why),
+            Some(Err(_)) => Err("the chain's server thread panicked".into()),
+        }
+    }
+}
+
+impl<W: Wire + Send + 'static> Drop for ChainServer<W> {
+    fn drop(&mut self) {
+        let _ = self.halt();
     }
 }

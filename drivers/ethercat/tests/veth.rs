@@ -5,34 +5,18 @@
 //! answering) holds with frames counted lost, then recovers when it
 //! answers again. Needs root; skipped with the reason otherwise.
 
-use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
-use std::sync::{Arc, Mutex};
+use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
 use drivers::conformance::demo_motion;
 use drivers::playback::play;
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use ethercat_sim::SimulatedRig;
-use ethercat_sim::serve::{ServeCounters, serve};
+use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use rt_core::driver::{BusState, PlateDriver, PlateState, ReadError};
 use rt_core::motion::Rig;
-use upm_ethercat::{EthercatDriver, EthercatParams, RawSocket, RawSocketWire, Wire, WireError};
-
-/// The rig behind the far end, shared with the test; `mute` stops answers.
-struct Far {
-    rig: Arc<Mutex<SimulatedRig>>,
-    mute: Arc<AtomicBool>,
-}
-
-impl Wire for Far {
-    fn round_trip(&mut self, frame: &mut [u8]) -> Result<(), WireError> {
-        if self.mute.load(Relaxed) {
-            return Err(WireError::Lost);
-        }
-        self.rig.lock().map_err(|_| WireError::Refused)?.round_trip(frame)
-    }
-}
+use upm_ethercat::{EthercatDriver, EthercatParams, RawSocketWire};
 
 #[test]
 fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
@@ -48,21 +32,11 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
         [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
     let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
     let sim = Simulator::new(cfg, &parts).expect("sim");
-    let rig =
-        Arc::new(Mutex::new(SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor)));
-    let (stop, mute) = (Arc::new(AtomicBool::new(false)), Arc::new(AtomicBool::new(false)));
-    let counters = Arc::new(ServeCounters::default());
-    let far = pair.far.clone();
-    let server = {
-        let (rig, stop, mute, counters) = (rig.clone(), stop.clone(), mute.clone(), counters.clone());
-        pair.in_namespace(move || {
-            let socket = RawSocket::open(&far, Duration::from_millis(10)).map_err(|e| e.to_string())?;
-            serve(&mut Far { rig, mute }, &socket, &stop, &counters);
-            Ok::<(), String>(())
-        })
-    };
+    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let server =
+        ChainServer::start(pair, rig, ServerPlacement { realtime: None }).expect("the chain's server");
     // A generous deadline: the far end is a normal thread on a shared VM.
-    let wire = RawSocketWire::open(&pair.near, Duration::from_millis(20)).expect("near end");
+    let wire = RawSocketWire::open(server.near(), Duration::from_millis(20)).expect("near end");
     let mut d = EthercatDriver::start(wire, p, cfg.rig).unwrap_or_else(|e| panic!("{e}"));
     let motion = demo_motion();
     let plate = Rig::new(cfg.rig).expect("rig");
@@ -75,7 +49,7 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
     assert!(s.pose.x.abs() < 1e-3, "the plate moved as commanded and came back");
 
     // The link goes down: every exchange lost, the driver reports a fault.
-    mute.store(true, Relaxed);
+    server.mute.store(true, Relaxed);
     for _ in 0..10 * p.cycle_divisor {
         d.hold();
         d.advance();
@@ -83,14 +57,14 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
     assert_eq!(d.read(&mut s), Err(ReadError::Fault));
     let lost = d.health().lost_frames;
     assert!(lost >= 10, "lost frames counted: {lost}");
-    mute.store(false, Relaxed);
+    server.mute.store(false, Relaxed);
     for _ in 0..20 * p.cycle_divisor {
         d.hold();
         d.advance();
     }
     assert_eq!(d.read(&mut s), Ok(()), "back once the link answers");
     assert_eq!(d.health().state, BusState::Op);
-    stop.store(true, Relaxed);
-    server.join().expect("server thread").expect("namespace").expect("server");
-    assert!(counters.answered.load(Relaxed) > 1000);
+    let answered = server.counters.answered.load(Relaxed);
+    server.stop().expect("the chain's server");
+    assert!(answered > 1000, "frames answered over the veth pair: {answered}");
 }
