@@ -79,7 +79,12 @@ pub struct Chain {
     reachable: usize,
     /// Frames still to be lost ([`Chain::lose_frames`]).
     to_lose: u32,
+    /// The time (ns) a frame enters the chain ([`Chain::set_time`]).
+    time_ns: u64,
 }
+
+/// A frame's passage from one device to the next (cable and forwarding).
+pub const HOP_NS: u64 = 700;
 
 impl Chain {
     /// The chain in this order; each SubDevice's links say whether
@@ -89,7 +94,16 @@ impl Chain {
         for (i, d) in devices.iter_mut().enumerate() {
             d.set_links(i + 1 < n);
         }
-        Self { devices, answered: 0, refused: 0, last_refusal: None, reachable: n, to_lose: 0 }
+        for (i, d) in devices.iter_mut().enumerate() {
+            // Clocks that started at different moments, as after power-up.
+            d.clock_epoch_ns = (i as u64 + 1) * 1_234_567_891;
+        }
+        Self { devices, answered: 0, refused: 0, last_refusal: None, reachable: n, to_lose: 0, time_ns: 0 }
+    }
+
+    /// The time the next frame enters the chain (ns, the plant's clock).
+    pub fn set_time(&mut self, ns: u64) {
+        self.time_ns = ns;
     }
 
     /// Cut the chain after its first `n` SubDevices (the rest disappear
@@ -156,6 +170,11 @@ impl Chain {
         // The reply's source MAC marks it as having passed a SubDevice
         // (a MainDevice ignores its own frames coming back untouched).
         frame[6] |= 0x02;
+        let last = self.reachable.saturating_sub(1) as u64;
+        for (i, d) in self.devices[..self.reachable].iter_mut().enumerate() {
+            let i = i as u64;
+            d.set_arrival(self.time_ns + i * HOP_NS, 2 * (last - i) * HOP_NS);
+        }
         let body = &mut frame[ETH_HEADER + 2..ETH_HEADER + 2 + length];
         for &(at, len) in &spans[..count] {
             let (head, rest) = body[at..].split_at_mut(DATAGRAM_HEADER);

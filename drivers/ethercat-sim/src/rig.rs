@@ -26,6 +26,8 @@ pub struct SimulatedRig {
     /// The targets of the cycle before, where interpolation starts.
     previous: ActuatorCommand,
     state: PlateState,
+    /// The plant's clock (ns), the chain's time base.
+    time_ns: u64,
 }
 
 impl SimulatedRig {
@@ -50,6 +52,7 @@ impl SimulatedRig {
             command: ActuatorCommand::HOME,
             previous: ActuatorCommand::HOME,
             state: PlateState::default(),
+            time_ns: 0,
         }
     }
 
@@ -90,6 +93,7 @@ impl SimulatedRig {
             self.sim.advance();
         }
         self.previous = target;
+        self.time_ns += (span * 1e9).round() as u64;
         let _ = self.sim.read(&mut self.state);
         for (i, d) in self.chain.devices.iter_mut().enumerate().take(n) {
             d.drive.actual = (self.state.actuator_position[i] * self.counts_per_metre).round() as i32;
@@ -103,6 +107,7 @@ impl Wire for SimulatedRig {
     fn round_trip(&mut self, frame: &mut [u8]) -> Result<(), WireError> {
         let cycles = |c: &Chain| c.devices.iter().map(|d| d.cycles).sum::<u64>();
         let before = cycles(&self.chain);
+        self.chain.set_time(self.time_ns);
         let answered = self.chain.answer(frame);
         // A bus cycle passes with each process-data frame, and with each
         // lost frame (the MainDevice keeps its cycle); start-up's register

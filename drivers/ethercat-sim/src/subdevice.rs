@@ -15,6 +15,17 @@
 //!   set, cleared when the MainDevice reads the buffer's last byte.
 //! - Logical commands go through the enabled FMMUs; when outputs arrive the
 //!   drive runs one cycle and refreshes the inputs.
+//! - Distributed clocks (64-bit, enhanced sync): a local clock per device
+//!   (the chain's time, the frame's arrival at this device, plus an epoch
+//!   of its own); a write to port 0's receive time (0x0900) latches the
+//!   receive times of ports 0 and 1 and of the processing unit (0x0918);
+//!   system time (0x0910) reads local + offset (0x0920); a write to it
+//!   (FRMW from the reference) is compared with the time plus the
+//!   propagation delay (0x0928), the difference left in 0x092C and
+//!   corrected by at most [`DC_STEP_NS`] per write, as an ESC's control
+//!   loop converges. With SYNC0 active (0x0981, start 0x0990, cycle 0x09A0) the
+//!   drive counts SYNC0 events and those that passed without fresh
+//!   process data. Drift is not modelled: every clock runs at one rate.
 
 use crate::chain::LogicalKind;
 use crate::cia402::{Drive, INPUT_BYTES, OUTPUT_BYTES, PowerState};
@@ -39,7 +50,24 @@ mod reg {
     pub const SII_DATA: u16 = 0x0508;
     pub const FMMU: u16 = 0x0600;
     pub const SM: u16 = 0x0800;
+    pub const FEATURES: u16 = 0x0008;
+    pub const DC_TIME_PORT0: u16 = 0x0900;
+    pub const DC_TIME_PORT1: u16 = 0x0904;
+    pub const DC_SYSTEM_TIME: u16 = 0x0910;
+    pub const DC_RECEIVE_TIME: u16 = 0x0918;
+    pub const DC_OFFSET: u16 = 0x0920;
+    pub const DC_DELAY: u16 = 0x0928;
+    pub const DC_DIFFERENCE: u16 = 0x092C;
+    pub const DC_ACTIVATION: u16 = 0x0981;
+    pub const DC_START: u16 = 0x0990;
+    pub const DC_SYNC0_CYCLE: u16 = 0x09A0;
 }
+
+/// The most one distributed system-time write corrects a clock by.
+pub const DC_STEP_NS: i64 = 100;
+
+/// Features: DC supported (bit 2), 64-bit (bit 3), enhanced DC sync (bit 8).
+const FEATURES_DC: u16 = 0x010C;
 
 /// AL status codes (ETG.1000.6).
 pub mod al_code {
@@ -65,6 +93,19 @@ pub struct SubDevice {
     pub drive: Drive,
     /// Process-data cycles run (outputs received).
     pub cycles: u64,
+    /// Where this device's local clock starts (ns): every device's differs.
+    pub clock_epoch_ns: u64,
+    /// The chain's time as the current frame reaches this device, and how
+    /// long it takes to come back through port 1 from the devices after.
+    arrival_ns: u64,
+    return_ns: u64,
+    /// What the drift control has added to the local clock so far.
+    correction_ns: i64,
+    /// SYNC0 events seen at process-data cycles; those that passed without
+    /// fresh outputs (a frame late or lost); the last event's index.
+    pub sync0_events: u64,
+    pub sync0_missed: u64,
+    last_sync0: Option<u64>,
 }
 
 impl SubDevice {
@@ -80,11 +121,19 @@ impl SubDevice {
             identity,
             drive: Drive::default(),
             cycles: 0,
+            clock_epoch_ns: 0,
+            arrival_ns: 0,
+            return_ns: 0,
+            correction_ns: 0,
+            sync0_events: 0,
+            sync0_missed: 0,
+            last_sync0: None,
         };
         d.mem[usize::from(reg::TYPE)] = 0x11;
         d.mem[usize::from(reg::FMMUS)] = 16;
         d.mem[usize::from(reg::SYNC_MANAGERS)] = 16;
         d.mem[usize::from(reg::RAM_KIB)] = ((MEMORY - 0x1000) / 1024) as u8;
+        d.set_u16(reg::FEATURES, FEATURES_DC);
         d.set_u16(reg::SII_CONTROL, 0x0040);
         d.set_u16(reg::AL_STATUS, u16::from(al_state::INIT));
         d.set_links(false);
@@ -94,6 +143,43 @@ impl SubDevice {
     /// DL status: port 0 open, and port 1 when another SubDevice follows.
     pub fn set_links(&mut self, successor: bool) {
         self.set_u16(reg::DL_STATUS, if successor { 0x0030 } else { 0x0010 });
+    }
+
+    /// The chain's time when the frame now passing reaches this device, and
+    /// how much later it passes again on its way back (port 1).
+    pub fn set_arrival(&mut self, arrival_ns: u64, return_ns: u64) {
+        self.arrival_ns = arrival_ns;
+        self.return_ns = return_ns;
+    }
+
+    fn local_time(&self) -> u64 {
+        self.arrival_ns.wrapping_add(self.clock_epoch_ns).wrapping_add_signed(self.correction_ns)
+    }
+
+    /// DC system time: local clock + offset.
+    pub fn system_time(&self) -> u64 {
+        let offset = i64::from_le_bytes(self.bytes(reg::DC_OFFSET));
+        self.local_time().wrapping_add_signed(offset)
+    }
+
+    /// The difference a FRMW of the reference's time left (0x092C, ns;
+    /// negative when this clock is behind).
+    pub fn system_time_difference(&self) -> i64 {
+        let d = u32::from_le_bytes(self.bytes(reg::DC_DIFFERENCE));
+        let magnitude = i64::from(d & 0x7FFF_FFFF);
+        if d & 0x8000_0000 != 0 { -magnitude } else { magnitude }
+    }
+
+    fn bytes<const N: usize>(&self, at: u16) -> [u8; N] {
+        let a = usize::from(at);
+        let mut b = [0u8; N];
+        b.copy_from_slice(&self.mem[a..a + N]);
+        b
+    }
+
+    fn set_bytes(&mut self, at: u16, b: &[u8]) {
+        let a = usize::from(at);
+        self.mem[a..a + b.len()].copy_from_slice(b);
     }
 
     pub fn station_address(&self) -> u16 {
@@ -127,6 +213,20 @@ impl SubDevice {
         at < 0x0010
             || (reg::DL_STATUS..reg::DL_STATUS + 2).contains(&at)
             || (reg::AL_STATUS..reg::AL_CODE + 2).contains(&at)
+            || (reg::DC_TIME_PORT0..reg::DC_OFFSET).contains(&at)
+            || (reg::DC_DIFFERENCE..reg::DC_DIFFERENCE + 4).contains(&at)
+    }
+
+    fn overlaps(span: &core::ops::Range<usize>, at: u16, len: usize) -> bool {
+        span.start < usize::from(at) + len && usize::from(at) < span.end
+    }
+
+    /// Registers whose value is the moment's: system time.
+    fn before_read(&mut self, span: &core::ops::Range<usize>) {
+        if Self::overlaps(span, reg::DC_SYSTEM_TIME, 8) {
+            let t = self.system_time();
+            self.set_bytes(reg::DC_SYSTEM_TIME, &t.to_le_bytes());
+        }
     }
 
     /// Bytes `[ado, ado + len)` that exist, as a range of the memory.
@@ -138,6 +238,7 @@ impl SubDevice {
     /// FPRD / APRD: copy registers into `data`; returns the WKC added.
     pub fn read(&mut self, ado: u16, data: &mut [u8]) -> u16 {
         let span = Self::span(ado, data.len());
+        self.before_read(&span);
         data.fill(0);
         data[..span.len()].copy_from_slice(&self.mem[span.clone()]);
         self.after_read(span);
@@ -147,6 +248,7 @@ impl SubDevice {
     /// BRD: OR registers into `data`.
     pub fn read_or(&mut self, ado: u16, data: &mut [u8]) -> u16 {
         let span = Self::span(ado, data.len());
+        self.before_read(&span);
         for (d, m) in data.iter_mut().zip(&self.mem[span.clone()]) {
             *d |= *m;
         }
@@ -157,6 +259,9 @@ impl SubDevice {
     /// FPWR / APWR / BWR: write `data` into the registers that take it.
     pub fn write(&mut self, ado: u16, data: &[u8]) -> u16 {
         let span = Self::span(ado, data.len());
+        if Self::overlaps(&span, reg::DC_SYSTEM_TIME, 8) && span.start == usize::from(reg::DC_SYSTEM_TIME) {
+            self.compare_system_time(data);
+        }
         for (k, a) in span.clone().enumerate() {
             if !Self::read_only(a) {
                 self.mem[a] = data[k];
@@ -194,8 +299,54 @@ impl SubDevice {
         }
     }
 
+    /// The reference's system time arrives (FRMW): it was sent the
+    /// propagation delay ago; keep the difference and correct towards it.
+    fn compare_system_time(&mut self, data: &[u8]) {
+        let mut b = [0u8; 8];
+        let n = data.len().min(8);
+        b[..n].copy_from_slice(&data[..n]);
+        let delay = u64::from(u32::from_le_bytes(self.bytes(reg::DC_DELAY)));
+        let own = if n == 8 { self.system_time() } else { self.system_time() & 0xFFFF_FFFF };
+        let diff = u64::from_le_bytes(b).wrapping_add(delay).wrapping_sub(own) as i64;
+        self.correction_ns += diff.clamp(-DC_STEP_NS, DC_STEP_NS);
+        let magnitude = diff.unsigned_abs().min(0x7FFF_FFFF) as u32;
+        let sign = if diff < 0 { 0x8000_0000 } else { 0 };
+        self.set_bytes(reg::DC_DIFFERENCE, &(magnitude | sign).to_le_bytes());
+    }
+
+    /// A write to port 0's receive time latches every receive time.
+    fn latch_receive_times(&mut self) {
+        let here = self.local_time();
+        let back = if self.return_ns > 0 { here.wrapping_add(self.return_ns) } else { 0 };
+        self.set_bytes(reg::DC_TIME_PORT0, &(here as u32).to_le_bytes());
+        self.set_bytes(reg::DC_TIME_PORT1, &(back as u32).to_le_bytes());
+        self.set_bytes(reg::DC_RECEIVE_TIME, &here.to_le_bytes());
+    }
+
+    /// SYNC0 events since the last process-data cycle.
+    fn count_sync0(&mut self) {
+        let active = self.mem[usize::from(reg::DC_ACTIVATION)] & 0x03 == 0x03;
+        let start = u64::from_le_bytes(self.bytes(reg::DC_START));
+        let cycle = u64::from(u32::from_le_bytes(self.bytes(reg::DC_SYNC0_CYCLE)));
+        let now = self.system_time();
+        if !active || cycle == 0 || now < start {
+            self.last_sync0 = None;
+            return;
+        }
+        let k = (now - start) / cycle;
+        if let Some(last) = self.last_sync0 {
+            let events = k.saturating_sub(last);
+            self.sync0_events += events;
+            self.sync0_missed += events.saturating_sub(1);
+        }
+        self.last_sync0 = Some(k);
+    }
+
     fn after_write(&mut self, span: core::ops::Range<usize>) {
         let touches = |at: u16, len: usize| span.start < usize::from(at) + len && usize::from(at) < span.end;
+        if touches(reg::DC_TIME_PORT0, 4) {
+            self.latch_receive_times();
+        }
         if touches(reg::AL_CONTROL, 2) {
             self.al_control();
         }
@@ -347,6 +498,7 @@ impl SubDevice {
             let mut outputs = [0u8; OUTPUT_BYTES];
             outputs.copy_from_slice(&self.mem[out..out + OUTPUT_BYTES]);
             self.cycles += 1;
+            self.count_sync0();
             self.drive.cycle(&outputs)
         } else {
             self.drive.inputs()

@@ -20,8 +20,11 @@ use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
 use ethercrab::std::ethercat_now;
-use ethercrab::subdevice_group::Op;
-use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceGroup, SubDeviceState, Timeouts};
+use ethercrab::subdevice_group::{DcConfiguration, HasDc, NoDc, Op};
+use ethercrab::{
+    DcSync, MainDevice, MainDeviceConfig, PduStorage, SubDeviceGroup, SubDevicePdi, SubDeviceRef,
+    SubDeviceState, Timeouts,
+};
 use rt_core::driver::{
     ActuatorCommand, ActuatorLimits, BusState, DriverHealth, DriverKind, MAX_ACTUATORS, PlateDriver,
     PlateState, ReadError, WriteError, apply_limits,
@@ -47,11 +50,64 @@ const WKC_PER_DRIVE: u16 = 3;
 const FRAMES: usize = 16;
 type Storage = PduStorage<FRAMES, { PduStorage::element_size(1100) }>;
 const PDI_BYTES: usize = MAX_ACTUATORS * (OUTPUT_BYTES + INPUT_BYTES);
-type Group = SubDeviceGroup<MAX_ACTUATORS, PDI_BYTES, ethercrab::DefaultLock, Op>;
+type Group<DC> = SubDeviceGroup<MAX_ACTUATORS, PDI_BYTES, ethercrab::DefaultLock, Op, DC>;
+type Drive<'g> = SubDeviceRef<'g, SubDevicePdi<'g, PDI_BYTES, ethercrab::DefaultLock>>;
+/// SYNC0 starts this long after it is configured (ethercrab's examples'
+/// figure: the bus reaches OP well within it).
+const SYNC0_START_DELAY: Duration = Duration::from_millis(100);
+
+/// The bus in OP: drives on SYNC0 (distributed clocks), or free running.
+enum Bus {
+    Synced(Group<HasDc>),
+    Free(Group<NoDc>),
+}
+
+impl Bus {
+    fn each<'a>(&'a self, md: &'a MainDevice<'a>, mut f: impl FnMut(usize, Drive<'a>)) {
+        match self {
+            Self::Synced(g) => g.iter(md).enumerate().for_each(|(i, sd)| f(i, sd)),
+            Self::Free(g) => g.iter(md).enumerate().for_each(|(i, sd)| f(i, sd)),
+        }
+    }
+
+    /// One exchange, polled once: working counter, the lowest state of
+    /// any device, and with distributed clocks the reference's system
+    /// time and how far after SYNC0 the frame reached it (ns).
+    fn exchange<'a>(&'a self, md: &'a MainDevice<'a>) -> Option<(u16, Option<BusState>, Option<DcCycle>)> {
+        let mut cx = Context::from_waker(Waker::noop());
+        let lowest = |states: &[SubDeviceState]| states.iter().map(|s| bus_state(*s)).min();
+        match self {
+            Self::Synced(g) => match pin!(g.tx_rx_dc(md)).poll(&mut cx) {
+                Poll::Ready(Ok(r)) => Some((
+                    r.working_counter,
+                    lowest(&r.subdevice_states),
+                    Some(DcCycle {
+                        system_time_ns: r.extra.dc_system_time,
+                        after_sync0_ns: r.extra.cycle_start_offset.as_nanos() as u64,
+                    }),
+                )),
+                _ => None,
+            },
+            Self::Free(g) => match pin!(g.tx_rx(md)).poll(&mut cx) {
+                Poll::Ready(Ok(r)) => Some((r.working_counter, lowest(&r.subdevice_states), None)),
+                _ => None,
+            },
+        }
+    }
+}
+
+/// What the last exchange learnt of the distributed clocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DcCycle {
+    /// The reference drive's system time (ns since 2000).
+    pub system_time_ns: u64,
+    /// How long after the last SYNC0 pulse the frame reached the reference.
+    pub after_sync0_ns: u64,
+}
 
 pub struct EthercatDriver<W: Wire> {
     maindevice: MainDevice<'static>,
-    group: Group,
+    bus: Bus,
     pump: Arc<FramePump<W>>,
     rig: Rig,
     limits: ActuatorLimits,
@@ -73,6 +129,8 @@ pub struct EthercatDriver<W: Wire> {
     holding: bool,
     /// The last exchange came back whole with every device in OP.
     link_ok: bool,
+    /// Distributed clocks, as the last exchange saw them.
+    dc: Option<DcCycle>,
     health: DriverHealth,
 }
 
@@ -127,11 +185,11 @@ impl<W: Wire> EthercatDriver<W> {
             Timeouts { pdu: Duration::from_millis(params.startup_pdu_timeout_ms), ..Timeouts::default() },
             MainDeviceConfig { dc_static_sync_iterations: 0, ..MainDeviceConfig::default() },
         );
-        let group = futures_lite::future::block_on(bring_up(&maindevice, &params))?;
+        let bus = futures_lite::future::block_on(bring_up(&maindevice, &params))?;
         let limits = ActuatorLimits::from_rig(&rig);
         let mut driver = Self {
             maindevice,
-            group,
+            bus,
             pump,
             rig,
             limits,
@@ -150,6 +208,7 @@ impl<W: Wire> EthercatDriver<W> {
             rejected: 0,
             holding: false,
             link_ok: false,
+            dc: None,
             health: DriverHealth {
                 kind: DriverKind::Ethercat,
                 state: BusState::Op,
@@ -190,10 +249,17 @@ impl<W: Wire> EthercatDriver<W> {
         (0..self.params.count).all(|i| self.enabled(i))
     }
 
+    /// Distributed clocks as the last exchange saw them; `None` when the
+    /// drives run free.
+    pub fn distributed_clocks(&self) -> Option<DcCycle> {
+        self.dc
+    }
+
     /// One process-data exchange: outputs out, inputs in.
     fn exchange(&mut self) {
-        let p = &self.params;
-        for (i, sd) in self.group.iter(&self.maindevice).enumerate().take(p.count) {
+        let p = self.params;
+        let mut outputs = [[0u8; OUTPUT_BYTES]; MAX_ACTUATORS];
+        for (i, o) in outputs.iter_mut().enumerate().take(p.count) {
             let controlword = self.axes[i].controlword(self.statusword[i]);
             let live = self.link_ok && self.enabled(i);
             let (speed, force) = if live {
@@ -210,31 +276,32 @@ impl<W: Wire> EthercatDriver<W> {
                 self.target[i] = self.actual[i];
                 (0.0, 0.0)
             };
-            let mut out = sd.outputs_raw_mut();
-            if let Some(o) = out.get_mut(..OUTPUT_BYTES) {
-                o[0..2].copy_from_slice(&controlword.to_le_bytes());
-                o[2..6].copy_from_slice(&counts(self.target[i], p.counts_per_metre).to_le_bytes());
-                o[6..10].copy_from_slice(&counts(speed, p.counts_per_metre).to_le_bytes());
-                o[10..12].copy_from_slice(&per_mille(force, p.rated_force_n).to_le_bytes());
-                o[12] = MODE_CSP;
-            }
+            o[0..2].copy_from_slice(&controlword.to_le_bytes());
+            o[2..6].copy_from_slice(&counts(self.target[i], p.counts_per_metre).to_le_bytes());
+            o[6..10].copy_from_slice(&counts(speed, p.counts_per_metre).to_le_bytes());
+            o[10..12].copy_from_slice(&per_mille(force, p.rated_force_n).to_le_bytes());
+            o[12] = MODE_CSP;
         }
+        self.bus.each(&self.maindevice, |i, sd| {
+            if let (Some(o), Some(src)) = (sd.outputs_raw_mut().get_mut(..OUTPUT_BYTES), outputs.get(i)) {
+                o.copy_from_slice(src);
+            }
+        });
         let expected = WKC_PER_DRIVE * p.count as u16;
-        let exchanged = pin!(self.group.tx_rx(&self.maindevice));
-        let outcome = exchanged.poll(&mut Context::from_waker(Waker::noop()));
+        // Not answered in the poll (a wire that answers later), or
+        // malformed: either way the frame is lost.
+        let outcome = self.bus.exchange(&self.maindevice);
         self.link_ok = match outcome {
-            Poll::Ready(Ok(r)) => {
-                let lowest = r.subdevice_states.iter().map(|s| bus_state(*s)).min();
+            Some((wkc, lowest, dc)) => {
                 self.health.state = match lowest {
-                    _ if r.working_counter != expected => BusState::Fault,
+                    _ if wkc != expected => BusState::Fault,
                     Some(s) => s,
                     None => BusState::Fault,
                 };
-                r.working_counter == expected && self.health.state == BusState::Op
+                self.dc = dc;
+                wkc == expected && self.health.state == BusState::Op
             }
-            // Not answered in the poll (a wire that answers later), or
-            // malformed: either way the frame is lost.
-            Poll::Ready(Err(_)) | Poll::Pending => {
+            None => {
                 self.health.state = BusState::Fault;
                 false
             }
@@ -244,9 +311,16 @@ impl<W: Wire> EthercatDriver<W> {
             self.health.lost_frames += 1;
             return;
         }
-        for (i, sd) in self.group.iter(&self.maindevice).enumerate().take(p.count) {
-            let inputs = sd.inputs_raw();
-            let Some(b) = inputs.get(..INPUT_BYTES) else { continue };
+        let mut inputs = [[0u8; INPUT_BYTES]; MAX_ACTUATORS];
+        let mut got = [false; MAX_ACTUATORS];
+        self.bus.each(&self.maindevice, |i, sd| {
+            if let (Some(b), Some(dst)) = (sd.inputs_raw().get(..INPUT_BYTES), inputs.get_mut(i)) {
+                dst.copy_from_slice(b);
+                got[i] = true;
+            }
+        });
+        for i in (0..p.count).filter(|&i| got[i]) {
+            let b = &inputs[i];
             self.statusword[i] = u16::from_le_bytes([b[0], b[1]]);
             self.axes[i].observe(self.statusword[i]);
             let actual = f64::from(i32::from_le_bytes([b[2], b[3], b[4], b[5]])) / p.counts_per_metre;
@@ -263,8 +337,8 @@ impl<W: Wire> EthercatDriver<W> {
     }
 }
 
-async fn bring_up(md: &MainDevice<'static>, p: &EthercatParams) -> Result<Group, StartError> {
-    let group =
+async fn bring_up(md: &MainDevice<'static>, p: &EthercatParams) -> Result<Bus, StartError> {
+    let mut group =
         md.init_single_group::<MAX_ACTUATORS, PDI_BYTES>(ethercat_now).await.map_err(StartError::Bus)?;
     for (position, sd) in group.iter(md).enumerate() {
         let id = sd.identity();
@@ -284,15 +358,31 @@ async fn bring_up(md: &MainDevice<'static>, p: &EthercatParams) -> Result<Group,
         sd.sdo_write(0x6060, 0, MODE_CSP as i8).await.map_err(sdo(0x6060))?;
         sd.sdo_write(0x6065, 0, window).await.map_err(sdo(0x6065))?;
     }
-    let group = group.into_op(md).await.map_err(StartError::Bus)?;
-    for (position, sd) in group.iter(md).enumerate() {
+    let bus = if p.distributed_clocks && group.iter(md).all(|sd| sd.dc_support().any()) {
+        for mut sd in group.iter_mut(md) {
+            sd.set_dc_sync(DcSync::Sync0);
+        }
+        let sync0 = DcConfiguration {
+            start_delay: SYNC0_START_DELAY,
+            sync0_period: Duration::from_secs_f64(1.0 / p.cycle_hz()),
+            sync0_shift: Duration::ZERO,
+        };
+        let group = group.into_pre_op_pdi(md).await.map_err(StartError::Bus)?;
+        let group = group.configure_dc_sync(md, sync0).await.map_err(StartError::Bus)?;
+        let group = group.into_safe_op(md).await.map_err(StartError::Bus)?;
+        Bus::Synced(group.into_op(md).await.map_err(StartError::Bus)?)
+    } else {
+        Bus::Free(group.into_op(md).await.map_err(StartError::Bus)?)
+    };
+    let mut image = Ok(());
+    bus.each(md, |position, sd| {
         let io = sd.io_raw();
         let (inputs, outputs) = (io.inputs().len(), io.outputs().len());
-        if (inputs, outputs) != (INPUT_BYTES, OUTPUT_BYTES) {
-            return Err(StartError::ProcessImage { position, inputs, outputs });
+        if image.is_ok() && (inputs, outputs) != (INPUT_BYTES, OUTPUT_BYTES) {
+            image = Err(StartError::ProcessImage { position, inputs, outputs });
         }
-    }
-    Ok(group)
+    });
+    image.map(|()| bus)
 }
 
 impl<W: Wire> PlateDriver for EthercatDriver<W> {

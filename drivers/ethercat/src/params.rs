@@ -37,6 +37,10 @@ pub struct EthercatParams {
     pub startup_pdu_timeout_ms: u64,
     /// Exchanges allowed for every drive to reach operation enabled.
     pub enable_cycles: u32,
+    /// Run the drives on distributed-clock SYNC0 at the bus cycle when
+    /// every one of them offers it (otherwise, or when false, free run:
+    /// each drive acts when the frame passes).
+    pub distributed_clocks: bool,
 }
 
 impl Default for EthercatParams {
@@ -51,6 +55,7 @@ impl Default for EthercatParams {
             rated_force_n: 2e4,
             startup_pdu_timeout_ms: 100,
             enable_cycles: 100,
+            distributed_clocks: true,
         }
     }
 }

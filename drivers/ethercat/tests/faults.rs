@@ -111,11 +111,9 @@ impl Wire for Mangler {
         }
         self.n += 1;
         match self.n % 5 {
-            // Wrong working counter on the process data (first datagram:
-            // header at 16, its length at 22, data from 26, then the WKC).
+            // Wrong working counter on the process data (the LRW).
             0 => {
-                let at = 26 + usize::from(u16::from_le_bytes([frame[22], frame[23]]) & 0x07FF);
-                if let Some(w) = frame.get_mut(at) {
+                if let Some(w) = lrw_working_counter(frame) {
                     *w = w.wrapping_add(1);
                 }
             }
@@ -129,6 +127,24 @@ impl Wire for Mangler {
             _ => return Err(WireError::Io(libc_eio())),
         }
         r
+    }
+}
+
+/// The LRW datagram's working counter (low byte): datagrams start at 16,
+/// each a 10-byte header (command first, length at 6), data, a 2-byte WKC.
+fn lrw_working_counter(frame: &mut [u8]) -> Option<&mut u8> {
+    const LRW: u8 = 12;
+    let mut at = 16;
+    loop {
+        let flags = u16::from_le_bytes([*frame.get(at + 6)?, *frame.get(at + 7)?]);
+        let wkc = at + 10 + usize::from(flags & 0x07FF);
+        if frame[at] == LRW {
+            return frame.get_mut(wkc);
+        }
+        if flags & 0x8000 == 0 {
+            return None;
+        }
+        at = wkc + 2;
     }
 }
 

@@ -27,6 +27,8 @@ pub struct DriverSection {
     pub counts_per_metre: f64,
     pub following_error_m: f64,
     pub rated_force_n: f64,
+    /// SYNC0 at the bus cycle when every drive offers distributed clocks.
+    pub distributed_clocks: bool,
     /// The drives expected on the bus, in bus order, one per actuator;
     /// empty = UPM's simulated drive at every position.
     pub subdevices: Vec<SubDeviceSection>,
@@ -50,6 +52,7 @@ impl Default for DriverSection {
             counts_per_metre: p.counts_per_metre,
             following_error_m: p.following_error_m,
             rated_force_n: p.rated_force_n,
+            distributed_clocks: p.distributed_clocks,
             subdevices: Vec::new(),
         }
     }
@@ -82,6 +85,7 @@ impl DriverSection {
             counts_per_metre: self.counts_per_metre,
             following_error_m: self.following_error_m,
             rated_force_n: self.rated_force_n,
+            distributed_clocks: self.distributed_clocks,
             ..EthercatParams::default()
         };
         p.validate().map_err(|e| e.to_string())?;
