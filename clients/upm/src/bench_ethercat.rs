@@ -58,7 +58,8 @@ fn chain(rate_hz: f64, cpu: usize) -> anyhow::Result<ChainServer<SimulatedRig>> 
     let sim = Simulator::new(cfg, &[]).map_err(|e| anyhow::anyhow!("{e}"))?;
     let p = EthercatParams::default();
     let ticks = (PLANT_HZ / rate_hz).round() as u32;
-    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, ticks);
+    let mut rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, ticks);
+    crate::plate_driver::keep_real_time(&mut rig);
     ChainServer::start(pair, rig, ServerPlacement { realtime: Some((CHAIN_PRIORITY, cpu)) })
         .map_err(|why| anyhow::anyhow!("the simulated chain: {why}"))
 }
@@ -68,31 +69,43 @@ struct PathRun {
     round_trip: Histogram<u64>,
     wakeup: Histogram<u64>,
     lost: u64,
+    /// With distributed clocks, after the first half: where the frames
+    /// reached the reference after SYNC0, and SYNC0 events the drives
+    /// latched without fresh outputs.
+    sync0: Option<(Histogram<u64>, u64)>,
+}
+
+/// One exchange: whether it came back whole, and the phase correction the
+/// driver asks of the loop.
+struct Exchanged {
+    ok: bool,
+    correction_ns: i64,
 }
 
 /// `cycles` periods of `period_ns` on a FIFO thread on `cpu`: wake up,
-/// note the lateness, time `exchange`.
+/// note the lateness, time `exchange`, shift the phase as it asks (as the
+/// motor loop does).
 fn cycle_loop(
     cpu: usize,
     period_ns: u64,
     cycles: u64,
-    mut exchange: impl FnMut() -> bool,
+    mut exchange: impl FnMut(u64) -> Exchanged,
 ) -> anyhow::Result<(Histogram<u64>, Histogram<u64>, u64)> {
     let (mut rtt, mut wake) = (histogram()?, histogram()?);
     let mut lost = 0;
     let placed = make_current_thread_realtime_on(CYCLE_PRIORITY, cpu);
     anyhow::ensure!(placed.fifo, "SCHED_FIFO {CYCLE_PRIORITY} on CPU {cpu} refused (run as root)");
     let mut next = clock_ns() + 10 * period_ns;
-    for _ in 0..cycles {
+    for cycle in 0..cycles {
         sleep_until(next);
         let woke = clock_ns();
         let _ = wake.record(woke.saturating_sub(next).max(1));
-        let ok = exchange();
+        let e = exchange(cycle);
         let done = clock_ns();
         let _ = rtt.record(done.saturating_sub(woke).max(1));
-        lost += u64::from(!ok);
+        lost += u64::from(!e.ok);
         // Skip rather than catch up, as the motor loop does.
-        next += period_ns;
+        next = (next + period_ns).saturating_add_signed(e.correction_ns);
         while next <= done {
             next += period_ns;
         }
@@ -111,15 +124,26 @@ fn poll_path(rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<
             let mut d = EthercatDriver::start(wire, p, rt_core::motion::RigParams::default())
                 .map_err(anyhow::Error::msg)?;
             let mut lost_before = d.health().lost_frames;
-            let (round_trip, wakeup, lost) = cycle_loop(cpus.1, (1e9 / rate_hz) as u64, cycles, || {
+            let mut phase = histogram()?;
+            let settled = cycles / 2;
+            let missed = || chain.wire.lock().map(|c| c.chain.devices[0].sync0_missed).unwrap_or(0);
+            let mut missed_at_settled = 0;
+            let (round_trip, wakeup, lost) = cycle_loop(cpus.1, (1e9 / rate_hz) as u64, cycles, |cycle| {
                 let _ = d.write(&ActuatorCommand::HOME);
                 d.advance();
                 let now = d.health().lost_frames;
                 let ok = now == lost_before;
                 lost_before = now;
-                ok
+                if cycle == settled {
+                    missed_at_settled = missed();
+                }
+                if let Some(dc) = d.distributed_clocks().filter(|_| cycle >= settled) {
+                    let _ = phase.record(dc.after_sync0_ns.max(1));
+                }
+                Exchanged { ok, correction_ns: d.clock_correction_ns() }
             })?;
-            Ok(PathRun { round_trip, wakeup, lost })
+            let sync0 = d.distributed_clocks().map(|_| (phase, missed() - missed_at_settled));
+            Ok(PathRun { round_trip, wakeup, lost, sync0 })
         })
         .join()
     });
@@ -155,16 +179,17 @@ fn io_uring_path(rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Res
             let group =
                 block_on(group.into_op(&md)).map_err(|e| anyhow::anyhow!("io_uring path: OP: {e}"))?;
             let expected = 3 * group.len() as u16;
-            let (round_trip, wakeup, lost) = cycle_loop(cpus.1, (1e9 / rate_hz) as u64, cycles, || {
+            let (round_trip, wakeup, lost) = cycle_loop(cpus.1, (1e9 / rate_hz) as u64, cycles, |_| {
                 // Controlword 0 (drives stay disabled): the same frame size
                 // and work for the bus, no motion needed.
                 for sd in group.iter(&md) {
                     let mut o = sd.outputs_raw_mut();
                     o.fill(0);
                 }
-                block_on(group.tx_rx(&md)).is_ok_and(|r| r.working_counter == expected)
+                let ok = block_on(group.tx_rx(&md)).is_ok_and(|r| r.working_counter == expected);
+                Exchanged { ok, correction_ns: 0 }
             })?;
-            Ok(PathRun { round_trip, wakeup, lost })
+            Ok(PathRun { round_trip, wakeup, lost, sync0: None })
         })
         .join()
     });
@@ -198,6 +223,8 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
                 "round_trip_us": summary_ns(&r.round_trip),
                 "wakeup_us": summary_ns(&r.wakeup),
                 "lost_frames": r.lost,
+                "sync0_phase_us": r.sync0.as_ref().map(|(h, _)| summary_ns(h)),
+                "sync0_without_data": r.sync0.as_ref().map(|(_, m)| *m),
             }));
         }
     }
@@ -214,31 +241,34 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
 pub fn to_text(v: &Value) -> String {
     let mut out = format!(
         "EtherCAT process data over veth (simulated chain in a network namespace), {} s per run\n\
-         {:<6} {:<24} {:>38}   {:>38}   {:>6}\n",
+         {:<8} {:<24} {:>38}   {:>38}   {:>5}   {}\n",
         v["seconds_per_run"],
         "rate",
         "path",
         "round trip µs p50 / p99 / p99.9 / max",
         "wake-up µs p50 / p99 / p99.9 / max",
-        "lost"
+        "lost",
+        "after SYNC0 µs p50 / p99 / max, latched without data (2nd half)"
     );
+    let f = |x: &Value| x.as_f64().unwrap_or(f64::NAN);
     let q = |s: &Value| {
-        format!(
-            "{:>8.1} {:>8.1} {:>9.1} {:>9.1}",
-            s["p50"].as_f64().unwrap_or(f64::NAN),
-            s["p99"].as_f64().unwrap_or(f64::NAN),
-            s["p999"].as_f64().unwrap_or(f64::NAN),
-            s["max"].as_f64().unwrap_or(f64::NAN)
-        )
+        format!("{:>8.1} {:>8.1} {:>9.1} {:>9.1}", f(&s["p50"]), f(&s["p99"]), f(&s["p999"]), f(&s["max"]))
     };
     for r in v["rows"].as_array().into_iter().flatten() {
+        let sync0 = match (&r["sync0_phase_us"], &r["sync0_without_data"]) {
+            (p, m) if p.is_object() => {
+                format!("{:.1} / {:.1} / {:.1}, {}", f(&p["p50"]), f(&p["p99"]), f(&p["max"]), m)
+            }
+            _ => "no DC".to_string(),
+        };
         out += &format!(
-            "{:<6} {:<24} {}   {}   {:>6}\n",
-            format!("{} Hz", r["rate_hz"].as_f64().unwrap_or(0.0)),
+            "{:<8} {:<24} {}   {}   {:>5}   {}\n",
+            format!("{} Hz", f(&r["rate_hz"])),
             r["path"].as_str().unwrap_or("?"),
             q(&r["round_trip_us"]),
             q(&r["wakeup_us"]),
-            r["lost_frames"]
+            r["lost_frames"],
+            sync0
         );
     }
     out += &format!(

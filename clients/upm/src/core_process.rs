@@ -128,6 +128,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
             Err(why) => {
                 eprintln!("upm-core: ethercat-sim in process ({why})");
                 let (driver, parts) = crate::plate_driver::ethercat_sim(&config, &shown)?;
+                let _ = driver.with_wire(crate::plate_driver::keep_real_time);
                 run_simulated(&params, driver, parts, &options)?
             }
         },

@@ -4,9 +4,9 @@
 
 use anyhow::Context;
 use drivers::Simulator;
-use ethercat_sim::SimulatedRig;
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
+use ethercat_sim::{ChainTime, SimulatedRig};
 use rt_core::driver::PlateDriver;
 use upm_ethercat::EthercatDriver;
 
@@ -53,6 +53,17 @@ pub fn ethercat_sim(
         .map_err(anyhow::Error::msg)
         .context("driver.kind = \"ethercat-sim\"")?;
     Ok((driver, parts))
+}
+
+/// For real runs: the simulated chain keeps real time (CLOCK_MONOTONIC)
+/// and the reference drive's crystal runs 30 ppm fast, a typical part, so
+/// the motor loop must follow the bus's clock as on a real rig. Lock-step
+/// runs keep the plant's time (deterministic).
+pub fn keep_real_time(rig: &mut SimulatedRig) {
+    rig.chain_time = ChainTime::Source(Box::new(ipc_types::monotonic_now_ns));
+    if let Some(reference) = rig.chain.devices.first_mut() {
+        reference.drift_ppb = 30_000;
+    }
 }
 
 /// The EtherCAT driver on `driver.interface` (needs CAP_NET_RAW).
@@ -136,7 +147,8 @@ pub fn ethercat_over_veth(
     let p = config.ethercat_params(shown)?;
     let core = config.core_params(shown)?;
     let rig = *sim.rig().params();
-    let chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let mut chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    keep_real_time(&mut chain);
     let placement = ServerPlacement {
         realtime: Some((core.rt.motor_priority.saturating_sub(1).max(1), core.rt.motor_cpu.unwrap_or(0))),
     };

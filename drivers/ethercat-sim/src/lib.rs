@@ -31,5 +31,5 @@ pub mod subdevice;
 pub mod veth;
 
 pub use chain::{Chain, FrameError};
-pub use rig::SimulatedRig;
+pub use rig::{ChainTime, SimulatedRig};
 pub use subdevice::SubDevice;

@@ -15,6 +15,26 @@ use crate::chain::{Chain, FrameError};
 use crate::cia402::Servo;
 use crate::subdevice::SubDevice;
 
+/// Where the drives' clocks take their time from.
+pub enum ChainTime {
+    /// The plant's own clock: one bus cycle per process-data frame
+    /// (deterministic; lock-step runs).
+    Plant,
+    /// A clock outside (CLOCK_MONOTONIC in real runs, a test's hand-set
+    /// clock): the bus then keeps time with the world, and a MainDevice
+    /// that wakes late or drifts sees it against SYNC0.
+    Source(Box<dyn Fn() -> u64 + Send>),
+}
+
+impl core::fmt::Debug for ChainTime {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::Plant => "Plant",
+            Self::Source(_) => "Source",
+        })
+    }
+}
+
 #[derive(Debug)]
 pub struct SimulatedRig {
     pub chain: Chain,
@@ -26,8 +46,10 @@ pub struct SimulatedRig {
     /// The targets of the cycle before, where interpolation starts.
     previous: ActuatorCommand,
     state: PlateState,
-    /// The plant's clock (ns), the chain's time base.
+    /// The plant's clock (ns).
     time_ns: u64,
+    /// The chain's time base.
+    pub chain_time: ChainTime,
 }
 
 impl SimulatedRig {
@@ -53,6 +75,7 @@ impl SimulatedRig {
             previous: ActuatorCommand::HOME,
             state: PlateState::default(),
             time_ns: 0,
+            chain_time: ChainTime::Plant,
         }
     }
 
@@ -107,7 +130,11 @@ impl Wire for SimulatedRig {
     fn round_trip(&mut self, frame: &mut [u8]) -> Result<(), WireError> {
         let cycles = |c: &Chain| c.devices.iter().map(|d| d.cycles).sum::<u64>();
         let before = cycles(&self.chain);
-        self.chain.set_time(self.time_ns);
+        let now = match &self.chain_time {
+            ChainTime::Plant => self.time_ns,
+            ChainTime::Source(clock) => clock(),
+        };
+        self.chain.set_time(now);
         let answered = self.chain.answer(frame);
         // A bus cycle passes with each process-data frame, and with each
         // lost frame (the MainDevice keeps its cycle); start-up's register

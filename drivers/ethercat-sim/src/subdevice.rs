@@ -25,7 +25,7 @@
 //!   corrected by at most [`DC_STEP_NS`] per write, as an ESC's control
 //!   loop converges. With SYNC0 active (0x0981, start 0x0990, cycle 0x09A0) the
 //!   drive counts SYNC0 events and those that passed without fresh
-//!   process data. Drift is not modelled: every clock runs at one rate.
+//!   process data. Each clock may drift (`drift_ppb`).
 
 use crate::chain::LogicalKind;
 use crate::cia402::{Drive, INPUT_BYTES, OUTPUT_BYTES, PowerState};
@@ -95,6 +95,9 @@ pub struct SubDevice {
     pub cycles: u64,
     /// Where this device's local clock starts (ns): every device's differs.
     pub clock_epoch_ns: u64,
+    /// How fast the local clock runs against the chain's time (parts per
+    /// billion; a crystal is typically within ±50 000).
+    pub drift_ppb: i64,
     /// The chain's time as the current frame reaches this device, and how
     /// long it takes to come back through port 1 from the devices after.
     arrival_ns: u64,
@@ -122,6 +125,7 @@ impl SubDevice {
             drive: Drive::default(),
             cycles: 0,
             clock_epoch_ns: 0,
+            drift_ppb: 0,
             arrival_ns: 0,
             return_ns: 0,
             correction_ns: 0,
@@ -153,7 +157,11 @@ impl SubDevice {
     }
 
     fn local_time(&self) -> u64 {
-        self.arrival_ns.wrapping_add(self.clock_epoch_ns).wrapping_add_signed(self.correction_ns)
+        let drift = (i128::from(self.arrival_ns) * i128::from(self.drift_ppb) / 1_000_000_000) as i64;
+        self.arrival_ns
+            .wrapping_add(self.clock_epoch_ns)
+            .wrapping_add_signed(drift)
+            .wrapping_add_signed(self.correction_ns)
     }
 
     /// DC system time: local clock + offset.

@@ -12,6 +12,13 @@
 //! device out of OP makes `read` report a fault: the core holds while the
 //! driver walks the drives back to *operation enabled* (fault reset on a
 //! rising edge) and reads turn healthy again, without a restart.
+//!
+//! When every drive offers distributed clocks, they latch their targets
+//! on SYNC0 at the bus cycle; each exchange also carries the reference
+//! drive's time to the others, and the driver asks the motor loop
+//! ([`PlateDriver::clock_correction_ns`]) to shift its phase so that the
+//! frame keeps reaching the reference a quarter cycle after SYNC0: the
+//! motor loop follows the bus's clock, whatever the two crystals drift.
 
 use core::pin::pin;
 use core::task::{Context, Poll, Waker};
@@ -52,6 +59,14 @@ type Storage = PduStorage<FRAMES, { PduStorage::element_size(1100) }>;
 const PDI_BYTES: usize = MAX_ACTUATORS * (OUTPUT_BYTES + INPUT_BYTES);
 type Group<DC> = SubDeviceGroup<MAX_ACTUATORS, PDI_BYTES, ethercrab::DefaultLock, Op, DC>;
 type Drive<'g> = SubDeviceRef<'g, SubDevicePdi<'g, PDI_BYTES, ethercrab::DefaultLock>>;
+/// Where in the bus cycle the frame should reach the reference drive: a
+/// quarter cycle after SYNC0 leaves three quarters for a late wake-up
+/// before the drives latch the next SYNC0.
+const SYNC0_PHASE: f64 = 0.25;
+/// Share of the phase error corrected per bus cycle (a proportional loop:
+/// a steady drift d per cycle leaves an error of d / gain).
+const PHASE_GAIN: f64 = 0.125;
+
 /// SYNC0 starts this long after it is configured (ethercrab's examples'
 /// figure: the bus reaches OP well within it).
 const SYNC0_START_DELAY: Duration = Duration::from_millis(100);
@@ -131,6 +146,8 @@ pub struct EthercatDriver<W: Wire> {
     link_ok: bool,
     /// Distributed clocks, as the last exchange saw them.
     dc: Option<DcCycle>,
+    /// Phase correction for the motor loop, not yet taken.
+    correction_ns: i64,
     health: DriverHealth,
 }
 
@@ -209,6 +226,7 @@ impl<W: Wire> EthercatDriver<W> {
             holding: false,
             link_ok: false,
             dc: None,
+            correction_ns: 0,
             health: DriverHealth {
                 kind: DriverKind::Ethercat,
                 state: BusState::Op,
@@ -255,6 +273,19 @@ impl<W: Wire> EthercatDriver<W> {
         self.dc
     }
 
+    /// The motor loop's shift that brings the frame back to
+    /// [`SYNC0_PHASE`] of the cycle, at most a twentieth of a tick.
+    fn phase_correction(&self, dc: DcCycle) -> i64 {
+        let period = (self.cycle_s * 1e9).round() as i64;
+        let target = (period as f64 * SYNC0_PHASE) as i64;
+        let mut error = (dc.after_sync0_ns as i64 - target).rem_euclid(period.max(1));
+        if error >= period / 2 {
+            error -= period;
+        }
+        let most = (self.tick_s * 1e9 / 20.0) as i64;
+        ((-(error as f64) * PHASE_GAIN) as i64).clamp(-most, most)
+    }
+
     /// One process-data exchange: outputs out, inputs in.
     fn exchange(&mut self) {
         let p = self.params;
@@ -299,6 +330,9 @@ impl<W: Wire> EthercatDriver<W> {
                     None => BusState::Fault,
                 };
                 self.dc = dc;
+                if let Some(dc) = dc {
+                    self.correction_ns = self.phase_correction(dc);
+                }
                 wkc == expected && self.health.state == BusState::Op
             }
             None => {
@@ -431,6 +465,10 @@ impl<W: Wire> PlateDriver for EthercatDriver<W> {
         if self.tick.is_multiple_of(u64::from(self.params.cycle_divisor)) {
             self.exchange();
         }
+    }
+
+    fn clock_correction_ns(&mut self) -> i64 {
+        core::mem::take(&mut self.correction_ns)
     }
 
     fn health(&self) -> DriverHealth {

@@ -7,8 +7,8 @@
 //! without data. Without DC (turned off) the drives run free.
 
 use drivers::{SimConfig, Simulator};
-use ethercat_sim::SimulatedRig;
 use ethercat_sim::chain::HOP_NS;
+use ethercat_sim::{ChainTime, SimulatedRig};
 use rt_core::driver::{PlateDriver, PlateState};
 use upm_ethercat::{EthercatDriver, EthercatParams};
 
@@ -89,4 +89,64 @@ fn without_distributed_clocks_the_drives_run_free() {
     assert_eq!(d.distributed_clocks(), None);
     assert!(drives(&d).iter().all(|s| s.0 == 0 && s.1 == 0), "no SYNC0 configured");
     assert!(d.read(&mut PlateState::default()).is_ok());
+}
+
+/// Ticks of a motor loop on a hand-set clock that the chain keeps time by,
+/// the reference drive's crystal running 50 ppm fast: with `follow`, the
+/// loop takes the driver's phase corrections as the core's motor loop
+/// does. Returns SYNC0 events without fresh data in the last half, and
+/// the last frame's phase after SYNC0 (ns).
+fn run_on_a_drifting_bus(follow: bool) -> (u64, u64, u64) {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+    let cfg = SimConfig::default();
+    let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
+    let clock = Arc::new(AtomicU64::new(1_000_000_000));
+    let mut rig = SimulatedRig::new(
+        Simulator::new(cfg, &[]).expect("default sim"),
+        p.counts_per_metre,
+        p.rated_force_n,
+        p.cycle_divisor,
+    );
+    let source = clock.clone();
+    rig.chain_time = ChainTime::Source(Box::new(move || source.load(Relaxed)));
+    rig.chain.devices[0].drift_ppb = 50_000;
+    let mut d = EthercatDriver::start(rig, p, cfg.rig).unwrap_or_else(|e| panic!("{e}"));
+    let period = (1e9 / cfg.tick_hz).round() as u64;
+    let ticks = (20.0 * cfg.tick_hz) as u64;
+    let mut deadline = clock.load(Relaxed);
+    let mut missed_at_half = 0;
+    let mut x = 7u64;
+    for tick in 0..ticks {
+        // Wake-ups 0–30 µs late, as on this VM.
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        clock.store(deadline + x % 30_000, Relaxed);
+        d.hold();
+        d.advance();
+        let correction = d.clock_correction_ns();
+        deadline = (deadline + period).saturating_add_signed(if follow { correction } else { 0 });
+        if tick == ticks / 2 {
+            missed_at_half = drives(&d)[0].1;
+        }
+    }
+    let missed = drives(&d)[0].1 - missed_at_half;
+    let phase = d.distributed_clocks().expect("on distributed clocks").after_sync0_ns;
+    (missed, phase, (1e9 / p.cycle_hz()) as u64)
+}
+
+#[test]
+fn the_motor_loop_follows_the_bus_clock() {
+    let (missed, phase, cycle) = run_on_a_drifting_bus(true);
+    eprintln!("following: {missed} missed, phase {phase} of {cycle}");
+    assert_eq!(missed, 0, "every SYNC0 had fresh outputs");
+    // A quarter cycle after SYNC0, give or take the wake-up jitter.
+    let error = phase.abs_diff(cycle / 4);
+    assert!(error < 40_000, "frame {phase} ns after SYNC0, {error} ns from a quarter cycle");
+    // Not following, the 50 ppm walk a whole cycle in 20 s and the frames
+    // cross SYNC0: the drives latch a cycle without fresh outputs.
+    let (missed, _, _) = run_on_a_drifting_bus(false);
+    eprintln!("not following: {missed} missed");
+    assert!(missed > 0, "a loop that ignores the bus's clock slides across SYNC0");
 }

@@ -120,6 +120,14 @@ pub trait PlateDriver {
     /// written goes out, the next reading comes in).
     fn advance(&mut self) {}
 
+    /// How much later (positive) or earlier the motor loop's next deadline
+    /// should be, once, to stay in phase with a clock the hardware keeps
+    /// (a fieldbus's distributed clocks). 0 for drivers that follow the
+    /// motor loop. Bounded by the driver to a small part of a tick.
+    fn clock_correction_ns(&mut self) -> i64 {
+        0
+    }
+
     /// Bus state, faults and lost frames ([`DriverHealth::SIMULATED`] for
     /// drivers without a bus).
     fn health(&self) -> DriverHealth {

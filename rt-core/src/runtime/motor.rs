@@ -341,7 +341,8 @@ impl<D: PlateDriver> MotorLoop<D> {
             if outcome == TickOutcome::Stopped {
                 return;
             }
-            deadline += period_ns;
+            // A bus with its own clock (EtherCAT SYNC0) moves the phase.
+            deadline = (deadline + period_ns).saturating_add_signed(self.driver.clock_correction_ns());
             if done > deadline {
                 // Missed deadlines are skipped, not caught up in a burst (as
                 // cyclictest does): the next tick waits for the next future
