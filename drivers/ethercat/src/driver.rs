@@ -6,9 +6,11 @@
 //! reads back statuswords, positions and forces. The exchange runs on the
 //! motor thread through the [`FramePump`], and completes in one poll
 //! (no allocation, lock another thread holds, timer or log on any path).
-//! Targets never move faster than the velocity limit; a drive that is not
-//! enabled is given its own position as target, so enabling it never
-//! jumps. A short working counter, a frame lost, a drive not enabled or a
+//! Targets never move faster than the velocity limit, nor further from
+//! the drive's actual position than three quarters of its following-error
+//! window (a step the plant cannot follow is chased, not faulted); a drive
+//! that is not enabled is given its own position as target, so enabling
+//! it never jumps. A short working counter, a frame lost, a drive not enabled or a
 //! device out of OP makes `read` report a fault: the core holds while the
 //! driver walks the drives back to *operation enabled* (fault reset on a
 //! rising edge) and reads turn healthy again, without a restart.
@@ -66,6 +68,10 @@ const SYNC0_PHASE: f64 = 0.25;
 /// Share of the phase error corrected per bus cycle (a proportional loop:
 /// a steady drift d per cycle leaves an error of d / gain).
 const PHASE_GAIN: f64 = 0.125;
+
+/// Targets stay within this share of the following-error window of the
+/// drive's actual position.
+const FOLLOWING_GUARD: f64 = 0.75;
 
 /// SYNC0 starts this long after it is configured (ethercrab's examples'
 /// figure: the bus reaches OP well within it).
@@ -297,10 +303,17 @@ impl<W: Wire> EthercatDriver<W> {
                 let step = self.limits.velocity[i] * self.cycle_s;
                 let want = self.command.position[i] - self.target[i];
                 let moved = want.clamp(-step, step);
-                if moved != want && !self.holding {
+                // Never further from where the drive stands (its last
+                // reading, a cycle on) than it may follow: a command the
+                // plant cannot keep up with (a step) is chased, not turned
+                // into a following-error fault.
+                let reach = FOLLOWING_GUARD * p.following_error_m;
+                let stands = self.actual[i] + self.speed[i] * self.cycle_s;
+                let next = (self.target[i] + moved).clamp(stands - reach, stands + reach);
+                if next != self.target[i] + want && !self.holding {
                     self.clamped += 1;
                 }
-                self.target[i] += moved;
+                self.target[i] = next;
                 (self.command.velocity[i], self.command.force[i])
             } else {
                 // Enabling takes the drive where it stands.

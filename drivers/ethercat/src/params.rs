@@ -49,7 +49,7 @@ impl Default for EthercatParams {
             expected: [ExpectedSubDevice::SIMULATED_DRIVE; MAX_ACTUATORS],
             count: 4,
             tick_hz: 10_000.0,
-            cycle_divisor: 5,
+            cycle_divisor: 3,
             counts_per_metre: 1e8,
             following_error_m: 2e-3,
             rated_force_n: 2e4,

@@ -48,8 +48,8 @@ fn drives(d: &EthercatDriver<SimulatedRig>) -> Vec<(u64, u64, u64, i64)> {
 #[test]
 fn drives_run_on_sync0_with_agreeing_clocks() {
     let mut d = start(true);
-    // Past SYNC0's start delay (100 ms = 100 bus cycles at 1 kHz).
-    hold(&mut d, 200);
+    // Past SYNC0's start delay (100 ms: 334 bus cycles at 3.3 kHz).
+    hold(&mut d, 1000);
     let before = drives(&d);
     hold(&mut d, 100);
     let after = drives(&d);
@@ -85,7 +85,7 @@ fn drives_run_on_sync0_with_agreeing_clocks() {
 #[test]
 fn without_distributed_clocks_the_drives_run_free() {
     let mut d = start(false);
-    hold(&mut d, 200);
+    hold(&mut d, 1000);
     assert_eq!(d.distributed_clocks(), None);
     assert!(drives(&d).iter().all(|s| s.0 == 0 && s.1 == 0), "no SYNC0 configured");
     assert!(d.read(&mut PlateState::default()).is_ok());
