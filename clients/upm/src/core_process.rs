@@ -123,12 +123,27 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
                     "upm-core: ethercat-sim over veth {} (the chain answers from its own network namespace)",
                     driver.interface()
                 );
-                run_simulated(&params, driver, parts, &options)?
+                let chain = driver.chain();
+                let report = run_simulated(&params, driver, parts, &options)?;
+                if let Ok(rig) = chain.lock() {
+                    let (events, missed) = rig
+                        .chain
+                        .devices
+                        .iter()
+                        .fold((0, 0), |(e, m), d| (e + d.sync0_events, m + d.sync0_missed));
+                    eprintln!(
+                        "upm-core: the simulated drives saw {events} SYNC0 events, {missed} of them without fresh targets"
+                    );
+                }
+                report
             }
             Err(why) => {
                 eprintln!("upm-core: ethercat-sim in process ({why})");
-                let (driver, parts) = crate::plate_driver::ethercat_sim(&config, &shown)?;
-                let _ = driver.with_wire(crate::plate_driver::keep_real_time);
+                let (driver, parts) = crate::plate_driver::ethercat_sim_with(
+                    &config,
+                    &shown,
+                    crate::plate_driver::keep_real_time,
+                )?;
                 run_simulated(&params, driver, parts, &options)?
             }
         },

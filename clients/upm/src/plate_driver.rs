@@ -45,10 +45,21 @@ pub fn ethercat_sim(
     config: &Config,
     shown: &str,
 ) -> anyhow::Result<(EthercatDriver<SimulatedRig>, SimParts)> {
+    ethercat_sim_with(config, shown, |_| {})
+}
+
+/// [`ethercat_sim`], the chain prepared by `prepare` before start-up (so
+/// that its clocks are what the bus starts with).
+pub fn ethercat_sim_with(
+    config: &Config,
+    shown: &str,
+    prepare: impl FnOnce(&mut SimulatedRig),
+) -> anyhow::Result<(EthercatDriver<SimulatedRig>, SimParts)> {
     let (sim, parts) = simulator(config, shown)?;
     let p = config.ethercat_params(shown)?;
     let rig = *sim.rig().params();
-    let chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let mut chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    prepare(&mut chain);
     let driver = EthercatDriver::start(chain, p, rig)
         .map_err(anyhow::Error::msg)
         .context("driver.kind = \"ethercat-sim\"")?;
@@ -92,6 +103,11 @@ impl EthercatOverVeth {
     pub fn interface(&self) -> &str {
         self.chain.near()
     }
+
+    /// The simulated chain, to read what its drives saw after a run.
+    pub fn chain(&self) -> std::sync::Arc<std::sync::Mutex<SimulatedRig>> {
+        self.chain.wire.clone()
+    }
 }
 
 impl PlateDriver for EthercatOverVeth {
@@ -115,6 +131,9 @@ impl PlateDriver for EthercatOverVeth {
     }
     fn advance(&mut self) {
         self.driver.advance();
+    }
+    fn clock_correction_ns(&mut self) -> i64 {
+        self.driver.clock_correction_ns()
     }
     fn health(&self) -> rt_core::driver::DriverHealth {
         self.driver.health()

@@ -79,6 +79,8 @@ pub struct Chain {
     reachable: usize,
     /// Frames still to be lost ([`Chain::lose_frames`]).
     to_lose: u32,
+    /// Answers still to be garbled ([`Chain::garble_frames`]).
+    to_garble: u32,
     /// The time (ns) a frame enters the chain ([`Chain::set_time`]).
     time_ns: u64,
 }
@@ -98,7 +100,16 @@ impl Chain {
             // Clocks that started at different moments, as after power-up.
             d.clock_epoch_ns = (i as u64 + 1) * 1_234_567_891;
         }
-        Self { devices, answered: 0, refused: 0, last_refusal: None, reachable: n, to_lose: 0, time_ns: 0 }
+        Self {
+            devices,
+            answered: 0,
+            refused: 0,
+            last_refusal: None,
+            reachable: n,
+            to_lose: 0,
+            to_garble: 0,
+            time_ns: 0,
+        }
     }
 
     /// The time the next frame enters the chain (ns, the plant's clock).
@@ -117,10 +128,20 @@ impl Chain {
         self.to_lose = n;
     }
 
+    /// Garble the next `n` answers (the EtherCAT header claims more than
+    /// the frame holds), as a faulty link might.
+    pub fn garble_frames(&mut self, n: u32) {
+        self.to_garble = n;
+    }
+
     /// Answer `frame` in place. A refused frame is counted and left as it
     /// was (a real chain would drop it; the MainDevice times out).
     pub fn answer(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
         let result = self.process(frame);
+        if result.is_ok() && self.to_garble > 0 {
+            self.to_garble -= 1;
+            frame[14..16].copy_from_slice(&0x17FFu16.to_le_bytes());
+        }
         match result {
             Ok(()) => self.answered += 1,
             Err(e) => {

@@ -76,8 +76,8 @@ pub struct ChainServer<W: Wire + Send + 'static> {
     pair: VethPair,
 }
 
-/// Where the server thread runs: SCHED_FIFO `priority` on `cpu`, or
-/// normal scheduling with `None`.
+/// Where the server thread runs: SCHED_FIFO `priority` on `cpu` (refused:
+/// the server does not start), or normal scheduling with `None`.
 #[derive(Debug, Clone, Copy)]
 pub struct ServerPlacement {
     pub realtime: Option<(u8, usize)>,
@@ -109,11 +109,15 @@ impl<W: Wire + Send + 'static> ChainServer<W> {
         let thread = {
             let (wire, mute, stop, counters) = (wire.clone(), mute.clone(), stop.clone(), counters.clone());
             pair.in_namespace(move || {
-                if let Some((priority, cpu)) = placement.realtime {
-                    rt_core::runtime::rt_setup::make_current_thread_realtime_on(priority, cpu);
-                }
-                let socket =
-                    RawSocket::open(&far, Duration::from_millis(10)).map_err(|e| format!("{far}: {e}"));
+                let placed = placement.realtime.map_or(Ok(()), |(priority, cpu)| {
+                    let p = rt_core::runtime::rt_setup::make_current_thread_realtime_on(priority, cpu);
+                    // The motor thread may wait on this thread's lock: it
+                    // must be real-time too, or not run at all.
+                    if p.fifo { Ok(()) } else { Err(format!("SCHED_FIFO {priority} on CPU {cpu} refused")) }
+                });
+                let socket = placed.and_then(|()| {
+                    RawSocket::open(&far, Duration::from_millis(10)).map_err(|e| format!("{far}: {e}"))
+                });
                 let _ = ready_tx.send(socket.as_ref().map(|_| ()).map_err(Clone::clone));
                 let socket = socket?;
                 serve(&mut Muted { wire, mute }, &socket, &stop, &counters);

@@ -170,12 +170,12 @@ impl SubDevice {
         self.local_time().wrapping_add_signed(offset)
     }
 
-    /// The difference a FRMW of the reference's time left (0x092C, ns;
-    /// negative when this clock is behind).
+    /// The difference a FRMW of the reference's time left (0x092C), as
+    /// received minus own (ns): positive when this clock is behind.
     pub fn system_time_difference(&self) -> i64 {
         let d = u32::from_le_bytes(self.bytes(reg::DC_DIFFERENCE));
         let magnitude = i64::from(d & 0x7FFF_FFFF);
-        if d & 0x8000_0000 != 0 { -magnitude } else { magnitude }
+        if d & 0x8000_0000 != 0 { magnitude } else { -magnitude }
     }
 
     fn bytes<const N: usize>(&self, at: u16) -> [u8; N] {
@@ -318,7 +318,8 @@ impl SubDevice {
         let diff = u64::from_le_bytes(b).wrapping_add(delay).wrapping_sub(own) as i64;
         self.correction_ns += diff.clamp(-DC_STEP_NS, DC_STEP_NS);
         let magnitude = diff.unsigned_abs().min(0x7FFF_FFFF) as u32;
-        let sign = if diff < 0 { 0x8000_0000 } else { 0 };
+        // Bit 31: this clock is behind the time received (the ESC's sense).
+        let sign = if diff > 0 { 0x8000_0000 } else { 0 };
         self.set_bytes(reg::DC_DIFFERENCE, &(magnitude | sign).to_le_bytes());
     }
 
@@ -480,7 +481,11 @@ impl SubDevice {
             }
             let (in_frame, in_mem) =
                 ((lo - u64::from(address)) as usize, phys + (lo - u64::from(start)) as usize);
-            let n = ((hi - lo) as usize).min(MEMORY.saturating_sub(in_mem));
+            if in_mem >= MEMORY {
+                // Mapped beyond this device's memory: nothing there.
+                continue;
+            }
+            let n = ((hi - lo) as usize).min(MEMORY - in_mem);
             if direction & 1 != 0 && kind.read {
                 data[in_frame..in_frame + n].copy_from_slice(&self.mem[in_mem..in_mem + n]);
                 read = true;

@@ -91,30 +91,48 @@ impl Bus {
         }
     }
 
-    /// One exchange, polled once: working counter, the lowest state of
-    /// any device, and with distributed clocks the reference's system
-    /// time and how far after SYNC0 the frame reached it (ns).
-    fn exchange<'a>(&'a self, md: &'a MainDevice<'a>) -> Option<(u16, Option<BusState>, Option<DcCycle>)> {
+    /// One exchange, polled once.
+    fn exchange<'a>(&'a self, md: &'a MainDevice<'a>) -> Exchanged {
         let mut cx = Context::from_waker(Waker::noop());
         let lowest = |states: &[SubDeviceState]| states.iter().map(|s| bus_state(*s)).min();
         match self {
             Self::Synced(g) => match pin!(g.tx_rx_dc(md)).poll(&mut cx) {
-                Poll::Ready(Ok(r)) => Some((
-                    r.working_counter,
-                    lowest(&r.subdevice_states),
-                    Some(DcCycle {
+                Poll::Ready(Ok(r)) => Exchanged::Back {
+                    working_counter: r.working_counter,
+                    lowest: lowest(&r.subdevice_states),
+                    dc: Some(DcCycle {
                         system_time_ns: r.extra.dc_system_time,
                         after_sync0_ns: r.extra.cycle_start_offset.as_nanos() as u64,
                     }),
-                )),
-                _ => None,
+                },
+                Poll::Ready(Err(_)) => Exchanged::Failed,
+                Poll::Pending => Exchanged::Pending,
             },
             Self::Free(g) => match pin!(g.tx_rx(md)).poll(&mut cx) {
-                Poll::Ready(Ok(r)) => Some((r.working_counter, lowest(&r.subdevice_states), None)),
-                _ => None,
+                Poll::Ready(Ok(r)) => Exchanged::Back {
+                    working_counter: r.working_counter,
+                    lowest: lowest(&r.subdevice_states),
+                    dc: None,
+                },
+                Poll::Ready(Err(_)) => Exchanged::Failed,
+                Poll::Pending => Exchanged::Pending,
             },
         }
     }
+}
+
+/// How one exchange ended.
+enum Exchanged {
+    /// The frame came back (its working counter says how whole), with the
+    /// lowest state of any device and, with distributed clocks, the
+    /// reference's time and how far after SYNC0 the frame reached it.
+    Back { working_counter: u16, lowest: Option<BusState>, dc: Option<DcCycle> },
+    /// ethercrab refused it.
+    Failed,
+    /// Not complete within the poll: the frame pump failed to hand the
+    /// frame back, and ethercrab's timer was reached (counted; never
+    /// expected).
+    Pending,
 }
 
 /// What the last exchange learnt of the distributed clocks.
@@ -154,6 +172,8 @@ pub struct EthercatDriver<W: Wire> {
     dc: Option<DcCycle>,
     /// Phase correction for the motor loop, not yet taken.
     correction_ns: i64,
+    /// Exchanges that did not complete within their poll.
+    unfinished: u64,
     health: DriverHealth,
 }
 
@@ -233,6 +253,7 @@ impl<W: Wire> EthercatDriver<W> {
             link_ok: false,
             dc: None,
             correction_ns: 0,
+            unfinished: 0,
             health: DriverHealth {
                 kind: DriverKind::Ethercat,
                 state: BusState::Op,
@@ -271,6 +292,13 @@ impl<W: Wire> EthercatDriver<W> {
 
     fn all_enabled(&self) -> bool {
         (0..self.params.count).all(|i| self.enabled(i))
+    }
+
+    /// Exchanges that did not complete within their poll (each reached
+    /// ethercrab's timer: a syscall and maybe a lock on the motor thread).
+    /// Zero on every path the tests drive, garbage from the wire included.
+    pub fn unfinished_exchanges(&self) -> u64 {
+        self.unfinished
     }
 
     /// Distributed clocks as the last exchange saw them; `None` when the
@@ -332,23 +360,29 @@ impl<W: Wire> EthercatDriver<W> {
             }
         });
         let expected = WKC_PER_DRIVE * p.count as u16;
-        // Not answered in the poll (a wire that answers later), or
-        // malformed: either way the frame is lost.
+        // Not whole, refused, or not back within the poll: the frame is
+        // lost.
         let outcome = self.bus.exchange(&self.maindevice);
         self.link_ok = match outcome {
-            Some((wkc, lowest, dc)) => {
+            Exchanged::Back { working_counter, lowest, dc } => {
                 self.health.state = match lowest {
-                    _ if wkc != expected => BusState::Fault,
+                    _ if working_counter != expected => BusState::Fault,
                     Some(s) => s,
                     None => BusState::Fault,
                 };
-                self.dc = dc;
-                if let Some(dc) = dc {
-                    self.correction_ns = self.phase_correction(dc);
+                let whole = working_counter == expected && self.health.state == BusState::Op;
+                // A lost frame comes back with the reference's time zeroed:
+                // neither a clock reading nor a reason to move the loop.
+                if whole {
+                    self.dc = dc;
+                    if let Some(dc) = dc {
+                        self.correction_ns = self.phase_correction(dc);
+                    }
                 }
-                wkc == expected && self.health.state == BusState::Op
+                whole
             }
-            None => {
+            Exchanged::Failed | Exchanged::Pending => {
+                self.unfinished += u64::from(matches!(outcome, Exchanged::Pending));
                 self.health.state = BusState::Fault;
                 false
             }
@@ -430,6 +464,13 @@ async fn bring_up(md: &MainDevice<'static>, p: &EthercatParams) -> Result<Bus, S
         }
     });
     image.map(|()| bus)
+}
+
+impl<W: Wire> Drop for EthercatDriver<W> {
+    fn drop(&mut self) {
+        // Lets the wire (a socket, a simulated chain) go with the driver.
+        self.pump.release();
+    }
 }
 
 impl<W: Wire> PlateDriver for EthercatDriver<W> {

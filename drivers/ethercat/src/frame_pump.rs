@@ -64,6 +64,15 @@ impl<W: Wire> FramePump<W> {
         pump
     }
 
+    /// Stop being ethercrab's sender: its PDU storage lives for the
+    /// process and would keep the pump (and the wire) alive through the
+    /// registered waker.
+    pub(crate) fn release(&self) {
+        if let Ok(p) = self.pump.lock() {
+            p.tx.replace_waker(Waker::noop());
+        }
+    }
+
     /// Run `f` on the wire (never blocks: `None` if the pump is busy).
     pub(crate) fn with_wire<R>(&self, f: impl FnOnce(&mut W) -> R) -> Option<R> {
         self.pump.try_lock().ok().map(|mut p| f(&mut p.wire))
@@ -106,6 +115,13 @@ impl<W: Wire> FramePump<W> {
                 Ok(ReceiveAction::Processed) => {}
                 Ok(ReceiveAction::Ignored) | Err(_) => {
                     self.counters.bad.fetch_add(1, Relaxed);
+                    // The answer is unusable: hand the frame back as sent
+                    // (working counter 0), so the exchange still completes
+                    // in this poll, as lost, and never reaches ethercrab's
+                    // timer.
+                    frame.copy_from_slice(&p.sent[..len]);
+                    frame[6] |= 0x02;
+                    let _ = p.rx.receive_frame(frame);
                 }
             }
         }

@@ -148,8 +148,12 @@ pub struct RawSocketWire {
     pub stale: u64,
 }
 
-/// Foreign or late frames skipped while waiting for one answer, at most.
+/// Foreign or late frames skipped while waiting for one answer, at most
+/// (each restarts the receive deadline: a round trip is bounded by
+/// `MAX_SKIPPED` deadlines).
 const MAX_SKIPPED: u32 = 8;
+/// Queued frames drained before a send, at most.
+const MAX_DRAINED: u32 = 32;
 
 fn errno() -> i32 {
     std::io::Error::last_os_error().raw_os_error().unwrap_or(0)
@@ -170,8 +174,12 @@ impl Wire for RawSocketWire {
     fn round_trip(&mut self, frame: &mut [u8]) -> Result<(), WireError> {
         let len = frame.len();
         let Some(&index) = frame.get(INDEX_AT) else { return Err(WireError::Refused) };
-        // Answers that came after their frame was given up on.
-        while self.socket.recv(&mut self.scratch[..], false).is_ok() {
+        // Answers that came after their frame was given up on (bounded:
+        // a wire flooded with EtherCAT frames cannot hold the caller).
+        for _ in 0..MAX_DRAINED {
+            if self.socket.recv(&mut self.scratch[..], false).is_err() {
+                break;
+            }
             self.stale += 1;
         }
         self.socket.send(frame)?;

@@ -163,6 +163,7 @@ fn garbage_from_the_wire_is_counted_and_never_panics() {
     assert_eq!(h.lost_frames, 50, "every exchange lost: {h:?}");
     assert!(bad >= 30 && lost >= 10, "frames {frames}, lost {lost}, bad {bad}");
     assert_eq!(h.bad_frames, bad);
+    assert_eq!(d.unfinished_exchanges(), 0, "every exchange completed within its poll");
     assert!(d.with_wire(|w| w.on = false).is_some());
     assert_eq!(hold_for(&mut d, 20 * cycle()), Ok(()), "clean answers again");
     assert_eq!(d.health().state, BusState::Op);

@@ -1,7 +1,7 @@
 //! After start-up, the EtherCAT driver's read / write / hold / advance
 //! allocate nothing, on the healthy path and on every fault path (a drive
-//! fault and its reset, lost frames, a cut cable). Shown able to fail: a
-//! planted allocation in the same closure is counted.
+//! fault and its reset, lost frames, a cut cable, garbled answers). Shown
+//! able to fail: a planted allocation in the same closure is counted.
 
 use drivers::conformance::demo_motion;
 use drivers::playback::play;
@@ -53,13 +53,18 @@ fn exchanges_allocate_nothing_on_any_path() {
         hold(d, 50);
         let _ = d.with_wire(|w| w.chain.cut_after(usize::MAX));
         hold(d, 100);
+        let _ = d.with_wire(|w| w.chain.garble_frames(4));
+        hold(d, 100);
         if planted {
             std::hint::black_box(vec![0u8; 8]);
         }
     };
     let ((), allocated) = allocations_in(|| run(&mut d, false));
     let h = d.health();
-    assert!(h.faults[2] == 1 && h.lost_frames >= 14, "the fault paths ran: {h:?}");
+    assert!(h.faults[2] == 1 && h.lost_frames >= 18 && h.bad_frames >= 4, "the fault paths ran: {h:?}");
+    // Every exchange completed within its poll, garbled answers included:
+    // none reached ethercrab's timer (a syscall, maybe a lock).
+    assert_eq!(d.unfinished_exchanges(), 0);
     assert_eq!(allocated, 0, "the EtherCAT hot path allocated");
     let ((), planted) = allocations_in(|| run(&mut d, true));
     assert!(planted >= 1, "a planted allocation must be counted");

@@ -2,8 +2,9 @@
 //! sits in its own network namespace, where the simulated chain answers
 //! frames on a raw socket. Start-up reaches OP and enables the drives, the
 //! plate follows a closed motion, and pulling the link (the chain stops
-//! answering) holds with frames counted lost, then recovers when it
-//! answers again. Needs root; skipped with the reason otherwise.
+//! answering) or taking the interface down holds with frames counted
+//! lost, then recovers when it answers again. Needs root; skipped with
+//! the reason otherwise.
 
 use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
@@ -41,12 +42,22 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
     let motion = demo_motion();
     let plate = Rig::new(cfg.rig).expect("rig");
     let mut s = PlateState::default();
-    for c in 0..5 {
-        let _ = play(&mut d, &plate, &motion, c * motion.cycle_ticks(), motion.cycle_ticks(), &mut s);
+    // Half a slot out (the demo motion swings ±0.6 mm; each of its four
+    // slots comes home), then whole cycles home; the readings lag the
+    // commands by two bus cycles.
+    let n = motion.cycle_ticks();
+    let lag = 2 * u64::from(p.cycle_divisor);
+    let _ = play(&mut d, &plate, &motion, 0, n / 8 + lag, &mut s);
+    let out = s.pose.x.abs().max(s.pose.y.abs());
+    assert!(out > 1e-4, "the plate moved: {:?}", s.pose);
+    let _ = play(&mut d, &plate, &motion, n / 8 + lag, n - n / 8, &mut s);
+    for c in 1..4 {
+        let _ = play(&mut d, &plate, &motion, c * n + lag, n, &mut s);
     }
     let h = d.health();
     assert_eq!(h.state, BusState::Op, "{h:?}");
-    assert!(s.pose.x.abs() < 1e-3, "the plate moved as commanded and came back");
+    let off = s.pose.x.abs().max(s.pose.y.abs());
+    assert!(off < out / 10.0, "the plate came back: {:?} after {out:e} out", s.pose);
 
     // The link goes down: every exchange lost, the driver reports a fault.
     server.mute.store(true, Relaxed);
@@ -64,6 +75,34 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
     }
     assert_eq!(d.read(&mut s), Ok(()), "back once the link answers");
     assert_eq!(d.health().state, BusState::Op);
+
+    // The interface itself goes down (sends fail): held and counted, then
+    // back when it comes up.
+    let link = |state: &str| {
+        let ok = std::process::Command::new("ip").args(["link", "set", server.near(), state]).status();
+        assert!(ok.is_ok_and(|s| s.success()), "ip link set {state}");
+    };
+    link("down");
+    let lost = d.health().lost_frames;
+    for _ in 0..10 * p.cycle_divisor {
+        d.hold();
+        d.advance();
+    }
+    assert_eq!(d.read(&mut s), Err(ReadError::Fault), "link down");
+    assert!(d.health().lost_frames >= lost + 10, "{:?}", d.health());
+    link("up");
+    // The carrier takes a moment to come back.
+    let mut back = false;
+    for _ in 0..2000 {
+        d.hold();
+        d.advance();
+        if d.read(&mut s).is_ok() {
+            back = true;
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert!(back, "back once the link is up: {:?}", d.health());
     let answered = server.counters.answered.load(Relaxed);
     server.stop().expect("the chain's server");
     assert!(answered > 1000, "frames answered over the veth pair: {answered}");
