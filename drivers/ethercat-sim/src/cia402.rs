@@ -5,16 +5,21 @@
 //! (statusword bit 3); a rising fault-reset bit (controlword bit 7) clears
 //! it back to *switch on disabled*.
 //!
-//! Process image, as the default PDO mapping (0x1600 / 0x1A00) lays it out
-//! (little-endian, packed):
-//! outputs (SM2) `controlword u16, target i32, velocity offset i32,
-//! torque offset i16, mode i8`; inputs (SM3) `statusword u16, actual i32,
-//! torque actual i16, mode display i8`. Torques are per mille of the rated
-//! torque (0x6076), as the profile has them.
+//! The process image is what the PDO mapping (0x1600 / 0x1A00,
+//! [`PdoMap`]) lays out, little-endian and packed; by default outputs (SM2)
+//! `controlword u16, target i32, velocity offset i32, torque offset i16,
+//! mode i8` and inputs (SM3) `statusword u16, actual i32, torque actual
+//! i16, mode display i8`. Torques are per mille of the rated torque
+//! (0x6076), as the profile has them.
 
-/// Bytes of the output and of the input image.
+use crate::coe::{RX_PDO, TX_PDO};
+use crate::pdo_map::PdoMap;
+
+/// Bytes of the default output and input images.
 pub const OUTPUT_BYTES: usize = 13;
 pub const INPUT_BYTES: usize = 9;
+/// Bytes of an image at most (8 entries of 32 bits).
+pub const MAX_IMAGE: usize = 32;
 
 /// Modes of operation (0x6060): cyclic synchronous position.
 pub const MODE_CSP: i8 = 8;
@@ -77,6 +82,9 @@ pub struct Drive {
     pub following_error_window: u32,
     /// Faults entered (injected or following error).
     pub faults: u64,
+    /// PDO mappings: outputs (RxPDO) and inputs (TxPDO).
+    pub rx: PdoMap,
+    pub tx: PdoMap,
 }
 
 impl Default for Drive {
@@ -94,6 +102,8 @@ impl Default for Drive {
             servo: Servo::Instant,
             following_error_window: u32::MAX,
             faults: 0,
+            rx: PdoMap::new(0x1600, &RX_PDO, &RX_PDO),
+            tx: PdoMap::new(0x1A00, &TX_PDO, &TX_PDO),
         }
     }
 }
@@ -133,13 +143,25 @@ impl Drive {
         }
     }
 
-    /// One cycle of process data: read the outputs, move, report.
-    pub fn cycle(&mut self, outputs: &[u8; OUTPUT_BYTES]) -> [u8; INPUT_BYTES] {
-        self.command(u16::from_le_bytes([outputs[0], outputs[1]]));
-        self.target = i32::from_le_bytes([outputs[2], outputs[3], outputs[4], outputs[5]]);
-        self.velocity_offset = i32::from_le_bytes([outputs[6], outputs[7], outputs[8], outputs[9]]);
-        self.torque_offset = i16::from_le_bytes([outputs[10], outputs[11]]);
-        self.mode = outputs[12] as i8;
+    /// One cycle of process data: take the mapped outputs, move, report
+    /// the mapped inputs into `inputs` (its first [`PdoMap::bytes`]).
+    pub fn cycle(&mut self, outputs: &[u8], inputs: &mut [u8]) {
+        let field = |index: u16| -> Option<u32> {
+            let (at, n) = self.rx.find(index)?;
+            let b = outputs.get(at..at + n)?;
+            let mut v = [0u8; 4];
+            v[..n.min(4)].copy_from_slice(&b[..n.min(4)]);
+            Some(u32::from_le_bytes(v))
+        };
+        let (controlword, target) = (field(0x6040), field(0x607A));
+        let (velocity, torque, mode) = (field(0x60B1), field(0x60B2), field(0x6060));
+        if let Some(c) = controlword {
+            self.command(c as u16);
+        }
+        self.target = target.map_or(self.target, |t| t as i32);
+        self.velocity_offset = velocity.map_or(self.velocity_offset, |v| v as i32);
+        self.torque_offset = torque.map_or(self.torque_offset, |t| t as u16 as i16);
+        self.mode = mode.map_or(self.mode, |m| m as u8 as i8);
         if self.is_following() {
             if self.target.abs_diff(self.actual) > self.following_error_window {
                 self.fault();
@@ -147,7 +169,7 @@ impl Drive {
                 self.actual = self.target;
             }
         }
-        self.inputs()
+        self.inputs(inputs);
     }
 
     /// Operation enabled in cyclic synchronous position: the target moves
@@ -156,14 +178,23 @@ impl Drive {
         self.state == PowerState::OperationEnabled && self.mode == MODE_CSP
     }
 
-    /// The input image as it stands.
-    pub fn inputs(&self) -> [u8; INPUT_BYTES] {
-        let mut i = [0u8; INPUT_BYTES];
-        i[..2].copy_from_slice(&self.statusword().to_le_bytes());
-        i[2..6].copy_from_slice(&self.actual.to_le_bytes());
-        i[6..8].copy_from_slice(&self.torque_actual.to_le_bytes());
-        i[8] = self.mode as u8;
-        i
+    /// The mapped inputs as they stand, into `inputs`.
+    pub fn inputs(&self, inputs: &mut [u8]) {
+        let mut at = 0;
+        for e in self.tx.active() {
+            let n = (e & 0xFF) as usize / 8;
+            let value: u32 = match (e >> 16) as u16 {
+                0x6041 => u32::from(self.statusword()),
+                0x6064 => self.actual as u32,
+                0x6077 => u32::from(self.torque_actual as u16),
+                0x6061 => u32::from(self.mode as u8),
+                _ => 0,
+            };
+            if let Some(dst) = inputs.get_mut(at..at + n) {
+                dst.copy_from_slice(&value.to_le_bytes()[..n.min(4)]);
+            }
+            at += n;
+        }
     }
 }
 
@@ -183,13 +214,14 @@ mod tests {
     fn shutdown_switch_on_enable_then_follow() {
         let mut d = Drive::default();
         assert_eq!(d.statusword() & 0x006F, 0x0040);
-        d.cycle(&out(0x0006, 0));
+        d.cycle(&out(0x0006, 0), &mut [0; INPUT_BYTES]);
         assert_eq!(d.state, PowerState::ReadyToSwitchOn);
-        d.cycle(&out(0x0007, 0));
+        d.cycle(&out(0x0007, 0), &mut [0; INPUT_BYTES]);
         assert_eq!(d.state, PowerState::SwitchedOn);
-        d.cycle(&out(0x000F, 0));
+        d.cycle(&out(0x000F, 0), &mut [0; INPUT_BYTES]);
         assert_eq!(d.state, PowerState::OperationEnabled);
-        let inputs = d.cycle(&out(0x000F, 1234));
+        let mut inputs = [0u8; INPUT_BYTES];
+        d.cycle(&out(0x000F, 1234), &mut inputs);
         assert_eq!(i32::from_le_bytes([inputs[2], inputs[3], inputs[4], inputs[5]]), 1234);
         assert_eq!(u16::from_le_bytes([inputs[0], inputs[1]]) & 0x006F, 0x0027);
     }
@@ -198,15 +230,15 @@ mod tests {
     fn a_fault_holds_until_a_rising_fault_reset() {
         let mut d = Drive { following_error_window: 100, ..Drive::default() };
         for cw in [0x0006, 0x0007, 0x000F] {
-            d.cycle(&out(cw, 0));
+            d.cycle(&out(cw, 0), &mut [0; INPUT_BYTES]);
         }
-        d.cycle(&out(0x000F, 500));
+        d.cycle(&out(0x000F, 500), &mut [0; INPUT_BYTES]);
         assert_eq!((d.state, d.actual, d.faults), (PowerState::Fault, 0, 1), "following error");
-        d.cycle(&out(0x000F, 0));
+        d.cycle(&out(0x000F, 0), &mut [0; INPUT_BYTES]);
         assert_eq!(d.state, PowerState::Fault, "enable does not clear a fault");
-        d.cycle(&out(0x0080, 0));
+        d.cycle(&out(0x0080, 0), &mut [0; INPUT_BYTES]);
         assert_eq!(d.state, PowerState::SwitchOnDisabled);
-        d.cycle(&out(0x0080, 0));
+        d.cycle(&out(0x0080, 0), &mut [0; INPUT_BYTES]);
         assert_eq!(d.state, PowerState::SwitchOnDisabled, "a held reset bit is not a new reset");
     }
 }

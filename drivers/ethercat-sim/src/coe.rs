@@ -1,8 +1,9 @@
 //! CoE (CANopen over EtherCAT) in the mailbox: expedited SDO upload and
 //! download on the drive's object dictionary. Anything else (segmented
 //! transfers, complete access, SDO information, unknown objects, writes to
-//! read-only or mapping objects) is answered with an SDO abort and its
-//! standard code, never left unanswered.
+//! read-only objects, a PDO mapping the drive cannot hold) is answered
+//! with an SDO abort and its standard code, never left unanswered. The
+//! PDO mapping and assignment objects are the drive's [`crate::pdo_map`].
 //!
 //! Mailbox layout: `length u16, address u16, channel u8, type|counter u8`
 //! (type 3 = CoE), then the CoE header u16 (service in bits 12–15: 2 SDO
@@ -26,6 +27,10 @@ pub mod abort {
     pub const NO_OBJECT: u32 = 0x0602_0000;
     pub const LENGTH_MISMATCH: u32 = 0x0607_0010;
     pub const NO_SUBINDEX: u32 = 0x0609_0011;
+    pub const VALUE_INVALID: u32 = 0x0609_0030;
+    pub const VALUE_TOO_HIGH: u32 = 0x0609_0031;
+    pub const CANNOT_MAP: u32 = 0x0604_0041;
+    pub const DEVICE_STATE: u32 = 0x0800_0022;
 }
 
 /// The default PDO mapping: RxPDO 0x1600 (outputs) and TxPDO 0x1A00
@@ -47,10 +52,6 @@ type Value = (u32, u8);
 
 /// Read object `index:sub`.
 pub fn read(index: u16, sub: u8, drive: &Drive, id: &Identity) -> Result<Value, u32> {
-    let mapping = |entries: &[u32]| match sub {
-        0 => Ok((entries.len() as u32, 1)),
-        s => entries.get(usize::from(s) - 1).map(|e| (*e, 4)).ok_or(abort::NO_SUBINDEX),
-    };
     let only = |v: Value| if sub == 0 { Ok(v) } else { Err(abort::NO_SUBINDEX) };
     match index {
         // Device type: CiA 402 servo drive.
@@ -63,13 +64,10 @@ pub fn read(index: u16, sub: u8, drive: &Drive, id: &Identity) -> Result<Value, 
             4 => Ok((id.serial, 4)),
             _ => Err(abort::NO_SUBINDEX),
         },
-        0x1600 => mapping(&RX_PDO),
-        0x1A00 => mapping(&TX_PDO),
-        0x1C12 | 0x1C13 => match sub {
-            0 => Ok((1, 1)),
-            1 => Ok((if index == 0x1C12 { 0x1600 } else { 0x1A00 }, 2)),
-            _ => Err(abort::NO_SUBINDEX),
-        },
+        0x1600 => drive.rx.read_mapping(sub),
+        0x1A00 => drive.tx.read_mapping(sub),
+        0x1C12 => drive.rx.read_assignment(sub),
+        0x1C13 => drive.tx.read_assignment(sub),
         0x6040 => only((u32::from(drive.controlword), 2)),
         0x6041 => only((u32::from(drive.statusword()), 2)),
         0x6060 | 0x6061 => only((u32::from(drive.mode as u8), 1)),
@@ -87,6 +85,16 @@ pub fn read(index: u16, sub: u8, drive: &Drive, id: &Identity) -> Result<Value, 
 /// Write object `index:sub` with `size` bytes of `value`.
 pub fn write(index: u16, sub: u8, value: u32, size: u8, drive: &mut Drive, id: &Identity) -> Result<(), u32> {
     let (_, expected) = read(index, sub, drive, id)?;
+    if size != expected && matches!(index, 0x1600 | 0x1A00 | 0x1C12 | 0x1C13) {
+        return Err(abort::LENGTH_MISMATCH);
+    }
+    match index {
+        0x1600 => return drive.rx.write_mapping(sub, value),
+        0x1A00 => return drive.tx.write_mapping(sub, value),
+        0x1C12 => return drive.rx.write_assignment(sub, value),
+        0x1C13 => return drive.tx.write_assignment(sub, value),
+        _ => {}
+    }
     let writable = sub == 0 && matches!(index, 0x6040 | 0x6060 | 0x6065 | 0x607A | 0x60B1 | 0x60B2);
     if !writable {
         return Err(abort::READ_ONLY);

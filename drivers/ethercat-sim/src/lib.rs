@@ -14,7 +14,8 @@
 //!   EEPROM interface (`sii`: identity, mailbox, strings, general, FMMU,
 //!   SyncManager and PDO categories), 16 FMMUs and 16 SyncManagers;
 //! - the CoE mailbox (`coe`): expedited SDO upload and download on an
-//!   object dictionary with the PDO mapping and the CiA 402 objects;
+//!   object dictionary with the CiA 402 objects and the PDO mapping and
+//!   assignment (`pdo_map`), which a MainDevice may rewrite in PRE-OP;
 //! - the drive (`cia402`): the controlword/statusword state machine and
 //!   cyclic synchronous position mode, its position following the target.
 //!
@@ -24,6 +25,7 @@
 pub mod chain;
 pub mod cia402;
 pub mod coe;
+pub mod pdo_map;
 pub mod rig;
 pub mod serve;
 pub mod sii;

@@ -28,7 +28,7 @@
 //!   process data. Each clock may drift (`drift_ppb`).
 
 use crate::chain::LogicalKind;
-use crate::cia402::{Drive, INPUT_BYTES, OUTPUT_BYTES, PowerState};
+use crate::cia402::{Drive, MAX_IMAGE, PowerState};
 use crate::coe::{self, Identity};
 use crate::sii;
 
@@ -392,7 +392,8 @@ impl SubDevice {
                 if want == SAFE_OP || want == OP {
                     // Inputs are valid from SAFE-OP on.
                     let inp = usize::from(sii::INPUTS_AT);
-                    self.mem[inp..inp + INPUT_BYTES].copy_from_slice(&self.drive.inputs());
+                    let n = self.drive.tx.bytes().min(MAX_IMAGE);
+                    self.drive.inputs(&mut self.mem[inp..inp + n]);
                 }
                 if want != OP && self.drive.state == PowerState::OperationEnabled {
                     // Leaving OP stops the drive, as a real one does.
@@ -419,10 +420,10 @@ impl SubDevice {
             let (start, len, on) = self.sync_manager(n);
             on && start == at && usize::from(len) == bytes
         };
-        if !ok(2, sii::OUTPUTS_AT, OUTPUT_BYTES) {
+        if !ok(2, sii::OUTPUTS_AT, self.drive.rx.bytes()) {
             return Err(al_code::INVALID_OUTPUTS);
         }
-        if !ok(3, sii::INPUTS_AT, INPUT_BYTES) {
+        if !ok(3, sii::INPUTS_AT, self.drive.tx.bytes()) {
             return Err(al_code::INVALID_INPUTS);
         }
         Ok(())
@@ -507,16 +508,19 @@ impl SubDevice {
         let (state, _) = self.al_state();
         let out = usize::from(sii::OUTPUTS_AT);
         let inp = usize::from(sii::INPUTS_AT);
-        let inputs = if state == al_state::OP {
-            let mut outputs = [0u8; OUTPUT_BYTES];
-            outputs.copy_from_slice(&self.mem[out..out + OUTPUT_BYTES]);
+        let mut inputs = [0u8; MAX_IMAGE];
+        if state == al_state::OP {
+            let mut outputs = [0u8; MAX_IMAGE];
+            let n = self.drive.rx.bytes().min(MAX_IMAGE);
+            outputs[..n].copy_from_slice(&self.mem[out..out + n]);
             self.cycles += 1;
             self.count_sync0();
-            self.drive.cycle(&outputs)
+            self.drive.cycle(&outputs[..n], &mut inputs);
         } else {
-            self.drive.inputs()
-        };
-        self.mem[inp..inp + INPUT_BYTES].copy_from_slice(&inputs);
+            self.drive.inputs(&mut inputs);
+        }
+        let n = self.drive.tx.bytes().min(MAX_IMAGE);
+        self.mem[inp..inp + n].copy_from_slice(&inputs[..n]);
     }
 }
 

@@ -51,6 +51,10 @@ use crate::wire::Wire;
 /// torque actual i16, mode display i8 (0x1A00).
 pub const OUTPUT_BYTES: usize = 13;
 pub const INPUT_BYTES: usize = 9;
+/// The PDO mapping written at start-up, entries `index << 16 | subindex
+/// << 8 | bits`: RxPDO 0x1600 and TxPDO 0x1A00 as laid out above.
+const RX_MAPPING: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x60B1_0020, 0x60B2_0010, 0x6060_0008];
+const TX_MAPPING: [u32; 4] = [0x6041_0010, 0x6064_0020, 0x6077_0010, 0x6061_0008];
 /// Cyclic synchronous position (0x6060).
 const MODE_CSP: u8 = 8;
 /// LRW working counter per SubDevice: 1 for inputs read, 2 for outputs.
@@ -436,6 +440,18 @@ async fn bring_up(md: &MainDevice<'static>, p: &EthercatParams) -> Result<Bus, S
     let window = (p.following_error_m * p.counts_per_metre).round() as u32;
     for (position, sd) in group.iter(md).enumerate() {
         let sdo = |index| move |error| StartError::Sdo { position, index, error };
+        // The PDO mapping, whatever the drive's default: assignment off,
+        // mapping emptied, entries, count, assignment back on.
+        for (assign, pdo, entries) in [(0x1C12, 0x1600, &RX_MAPPING[..]), (0x1C13, 0x1A00, &TX_MAPPING[..])] {
+            sd.sdo_write(assign, 0, 0u8).await.map_err(sdo(assign))?;
+            sd.sdo_write(pdo, 0, 0u8).await.map_err(sdo(pdo))?;
+            for (k, entry) in entries.iter().enumerate() {
+                sd.sdo_write(pdo, k as u8 + 1, *entry).await.map_err(sdo(pdo))?;
+            }
+            sd.sdo_write(pdo, 0, entries.len() as u8).await.map_err(sdo(pdo))?;
+            sd.sdo_write(assign, 1, pdo).await.map_err(sdo(assign))?;
+            sd.sdo_write(assign, 0, 1u8).await.map_err(sdo(assign))?;
+        }
         sd.sdo_write(0x6060, 0, MODE_CSP as i8).await.map_err(sdo(0x6060))?;
         sd.sdo_write(0x6065, 0, window).await.map_err(sdo(0x6065))?;
     }
