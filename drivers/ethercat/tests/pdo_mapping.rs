@@ -53,7 +53,7 @@ fn a_drive_that_cannot_map_an_entry_stops_the_start_naming_it() {
         let rx: Vec<u32> = RX_ALL.iter().copied().filter(|e| i != 2 || *e != 0x60B2_0010).collect();
         (PdoMap::new(0x1600, &rx, &rx), PdoMap::new(0x1A00, &TX_ALL, &TX_ALL))
     };
-    let e = start(without_torque).err().expect("refused");
+    let e = start(without_torque).expect_err("refused");
     assert!(matches!(e, StartError::Sdo { position: 2, index: 0x1600, .. }), "{e:?}");
     let line = e.to_string();
     assert!(line.contains("0x1600") && line.contains('2'), "{line}");
