@@ -253,7 +253,7 @@ UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, seq) == 24, "upm_FrameHeader.seq off
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stamp_ns) == 32, "upm_FrameHeader.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, exposure_ns) == 40, "upm_FrameHeader.exposure_ns offset");
 
-/* iceoryx2 type name "upm::DriverTelemetry.v3", 88 bytes, align 8 */
+/* iceoryx2 type name "upm::DriverTelemetry.v3", 96 bytes, align 8 */
 #define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v3"
 typedef struct {
     uint32_t kind;
@@ -261,14 +261,16 @@ typedef struct {
     uint64_t faults[8];
     uint64_t lost_frames;
     uint64_t bad_frames;
+    int64_t sync0_phase_ns;
 } upm_DriverTelemetry;
-UPM_STATIC_ASSERT(sizeof(upm_DriverTelemetry) == 88, "upm_DriverTelemetry size");
+UPM_STATIC_ASSERT(sizeof(upm_DriverTelemetry) == 96, "upm_DriverTelemetry size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_DriverTelemetry) == 8, "upm_DriverTelemetry align");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, kind) == 0, "upm_DriverTelemetry.kind offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, state) == 4, "upm_DriverTelemetry.state offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, faults) == 8, "upm_DriverTelemetry.faults offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, lost_frames) == 72, "upm_DriverTelemetry.lost_frames offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, bad_frames) == 80, "upm_DriverTelemetry.bad_frames offset");
+UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, sync0_phase_ns) == 88, "upm_DriverTelemetry.sync0_phase_ns offset");
 
 /* iceoryx2 type name "upm::CoreCounters.v3", 96 bytes, align 8 */
 #define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v3"
@@ -333,7 +335,7 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, solver) == 40, "upm_CoreLatencies.
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, ipc_vision_to_core) == 80, "upm_CoreLatencies.ipc_vision_to_core offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, frame_to_schedule) == 120, "upm_CoreLatencies.frame_to_schedule offset");
 
-/* iceoryx2 type name "upm::Telemetry.v3", 832 bytes, align 8 */
+/* iceoryx2 type name "upm::Telemetry.v3", 840 bytes, align 8 */
 #define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v3"
 typedef struct {
     uint32_t protocol_version;
@@ -360,7 +362,7 @@ typedef struct {
     uint8_t health_detail[120];
     upm_DriverTelemetry driver;
 } upm_Telemetry;
-UPM_STATIC_ASSERT(sizeof(upm_Telemetry) == 832, "upm_Telemetry size");
+UPM_STATIC_ASSERT(sizeof(upm_Telemetry) == 840, "upm_Telemetry size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Telemetry) == 8, "upm_Telemetry align");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, protocol_version) == 0, "upm_Telemetry.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, state) == 4, "upm_Telemetry.state offset");

@@ -38,9 +38,16 @@ pub struct DriverTelemetry {
     pub lost_frames: u64,
     /// Frames from the wire that were not ours or not well formed.
     pub bad_frames: u64,
+    /// With distributed clocks: how long after SYNC0 the last whole frame
+    /// reached the reference drive (ns); [`NO_SYNC0`] when the drives run
+    /// free or there is no bus.
+    pub sync0_phase_ns: i64,
 }
 
-const _: () = assert!(size_of::<DriverTelemetry>() == 8 + DRIVER_AXES * 8 + 16);
+/// `sync0_phase_ns` when there are no distributed clocks.
+pub const NO_SYNC0: i64 = -1;
+
+const _: () = assert!(size_of::<DriverTelemetry>() == 8 + DRIVER_AXES * 8 + 24);
 
 impl DriverTelemetry {
     /// A simulator: operational, nothing lost.
@@ -50,6 +57,7 @@ impl DriverTelemetry {
         faults: [0; DRIVER_AXES],
         lost_frames: 0,
         bad_frames: 0,
+        sync0_phase_ns: NO_SYNC0,
     };
 
     /// The kind's name, `None` for an unknown code.

@@ -49,7 +49,7 @@ pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;
 pub use core_command::{CoreCommand, CoreCommandError};
 pub use core_state::CoreState;
-pub use driver_telemetry::{DRIVER_AXES, DriverTelemetry, bus_state, driver_kind};
+pub use driver_telemetry::{DRIVER_AXES, DriverTelemetry, NO_SYNC0, bus_state, driver_kind};
 pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};
 pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
 pub use header::HeaderError;

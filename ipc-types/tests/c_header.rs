@@ -19,6 +19,7 @@ fn c_type(ty: &str) -> (String, Option<String>) {
         "u8" => "uint8_t".to_owned(),
         "u32" => "uint32_t".to_owned(),
         "u64" => "uint64_t".to_owned(),
+        "i64" => "int64_t".to_owned(),
         "f64" => "double".to_owned(),
         other => format!("upm_{other}"),
     };

@@ -71,6 +71,9 @@ pub fn driver_json(t: &Telemetry) -> Value {
         "faults": &d.faults[..],
         "lost_frames": d.lost_frames,
         "bad_frames": d.bad_frames,
+        // µs after SYNC0 the last whole frame reached the reference drive;
+        // null without distributed clocks.
+        "sync0_phase_us": (d.sync0_phase_ns >= 0).then(|| d.sync0_phase_ns as f64 / 1e3),
     })
 }
 
@@ -158,7 +161,7 @@ pub fn to_text(t: &Telemetry) -> String {
         "state {}  health {}\n\
          cycle {}  ticks {}  overruns {}  holds {}\n\
          ages: parts {:.1} ms, request {:.1} ms;  rejected: parts {}, requests {}{}\n\
-         driver: {} {}, axis faults {:?}, lost frames {}, bad frames {}\n\
+         driver: {} {}, axis faults {:?}, lost frames {}, bad frames {}{}\n\
          driver faults read {}, fault holds {}, resumes {}, clamped {}, rejected {}\n\
          motor wake-up µs: p50 {:.1}  p99 {:.1}  p99.9 {:.1}  max {:.1}\n\
          real-time: {}  PM QoS held: {}  rt allocations: {}\n\
@@ -179,6 +182,11 @@ pub fn to_text(t: &Telemetry) -> String {
         t.driver.faults,
         t.driver.lost_frames,
         t.driver.bad_frames,
+        if t.driver.sync0_phase_ns >= 0 {
+            format!(", frames {:.1} µs after SYNC0", t.driver.sync0_phase_ns as f64 / 1e3)
+        } else {
+            String::new()
+        },
         c.driver_faults,
         c.fault_holds,
         c.resumes,

@@ -166,6 +166,8 @@ fn upm_run_sort_with_the_ethercat_sim_driver_and_upm_status_shows_it() {
     assert_eq!((d["kind"].as_str(), d["state"].as_str()), (Some("ethercat"), Some("op")), "{status}");
     assert_eq!(d["faults"], serde_json::json!([0, 0, 0, 0, 0, 0, 0, 0]));
     assert_eq!(d["lost_frames"], 0);
+    // The drives run on distributed clocks: the SYNC0 phase is shown.
+    assert!(d["sync0_phase_us"].is_number(), "{status}");
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
             .expect("json");

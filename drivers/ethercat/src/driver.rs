@@ -382,6 +382,7 @@ impl<W: Wire> EthercatDriver<W> {
                     if let Some(dc) = dc {
                         self.correction_ns = self.phase_correction(dc);
                     }
+                    self.health.sync0_phase_ns = dc.map(|d| d.after_sync0_ns);
                 }
                 whole
             }

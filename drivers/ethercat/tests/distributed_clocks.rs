@@ -69,6 +69,7 @@ fn drives_run_on_sync0_with_agreeing_clocks() {
         }
     }
     assert!(d.distributed_clocks().is_some(), "the driver runs on distributed clocks");
+    assert!(d.health().sync0_phase_ns.is_some(), "and reports the phase");
     assert!(d.read(&mut PlateState::default()).is_ok());
 
     // Lost frames: SYNC0 keeps ticking, the drives see it pass without data.
@@ -85,7 +86,7 @@ fn drives_run_on_sync0_with_agreeing_clocks() {
 fn without_distributed_clocks_the_drives_run_free() {
     let mut d = start(false);
     hold(&mut d, 1000);
-    assert_eq!(d.distributed_clocks(), None);
+    assert_eq!((d.distributed_clocks(), d.health().sync0_phase_ns), (None, None));
     assert!(drives(&d).iter().all(|s| s.0 == 0 && s.1 == 0), "no SYNC0 configured");
     assert!(d.read(&mut PlateState::default()).is_ok());
 }

@@ -137,7 +137,7 @@ pub fn all() -> Vec<Layout> {
             health_detail,
             driver
         }),
-        layout!(DriverTelemetry { kind, state, faults, lost_frames, bad_frames }),
+        layout!(DriverTelemetry { kind, state, faults, lost_frames, bad_frames, sync0_phase_ns }),
         layout!(CoreCounters {
             ticks,
             overruns,

@@ -39,6 +39,9 @@ pub struct DriverHealth {
     pub lost_frames: u64,
     /// Frames from the wire that were not ours or not well formed.
     pub bad_frames: u64,
+    /// With distributed clocks, how long after SYNC0 the last whole frame
+    /// reached the reference drive (ns); `None` without.
+    pub sync0_phase_ns: Option<u64>,
 }
 
 impl DriverHealth {
@@ -49,5 +52,6 @@ impl DriverHealth {
         faults: [0; MAX_ACTUATORS],
         lost_frames: 0,
         bad_frames: 0,
+        sync0_phase_ns: None,
     };
 }

@@ -1,9 +1,9 @@
 //! The driver's health as the motor last read it, for the io thread's
 //! telemetry: atomics only (the motor stores, the io thread loads).
 
-use core::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
+use core::sync::atomic::{AtomicI64, AtomicU32, AtomicU64, Ordering::Relaxed};
 
-use ipc_types::{DRIVER_AXES, DriverTelemetry};
+use ipc_types::{DRIVER_AXES, DriverTelemetry, NO_SYNC0};
 
 use crate::driver::{BusState, DriverHealth, DriverKind, MAX_ACTUATORS};
 
@@ -16,6 +16,7 @@ pub struct DriverCell {
     faults: [AtomicU64; DRIVER_AXES],
     lost_frames: AtomicU64,
     bad_frames: AtomicU64,
+    sync0_phase_ns: AtomicI64,
 }
 
 impl Default for DriverCell {
@@ -27,6 +28,7 @@ impl Default for DriverCell {
             faults: Default::default(),
             lost_frames: AtomicU64::new(0),
             bad_frames: AtomicU64::new(0),
+            sync0_phase_ns: AtomicI64::new(s.sync0_phase_ns),
         }
     }
 }
@@ -41,6 +43,8 @@ impl DriverCell {
         }
         self.lost_frames.store(h.lost_frames, Relaxed);
         self.bad_frames.store(h.bad_frames, Relaxed);
+        let phase = h.sync0_phase_ns.map_or(NO_SYNC0, |p| i64::try_from(p).unwrap_or(i64::MAX));
+        self.sync0_phase_ns.store(phase, Relaxed);
     }
 
     pub fn load(&self) -> DriverTelemetry {
@@ -50,6 +54,7 @@ impl DriverCell {
             faults: core::array::from_fn(|i| self.faults[i].load(Relaxed)),
             lost_frames: self.lost_frames.load(Relaxed),
             bad_frames: self.bad_frames.load(Relaxed),
+            sync0_phase_ns: self.sync0_phase_ns.load(Relaxed),
         }
     }
 }
