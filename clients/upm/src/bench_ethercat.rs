@@ -25,30 +25,16 @@ use rt_core::driver::{ActuatorCommand, PlateDriver};
 use rt_core::runtime::rt_setup::{
     hold_cpu_dma_latency, lock_memory, make_current_thread_realtime_on, online_cpus,
 };
+use rt_core::runtime::{Clock, MonotonicClock};
 use serde_json::{Value, json};
 use upm_ethercat::{EthercatDriver, EthercatParams, RawSocketWire};
 
-use crate::bench_latency::summary_ns;
+use crate::bench_latency::{new_histogram as histogram, summary_ns};
 
 /// Simulator ticks per second behind the chain (the plant's own step).
 const PLANT_HZ: f64 = 8_000.0;
 const CYCLE_PRIORITY: u8 = 80;
 const CHAIN_PRIORITY: u8 = 70;
-
-fn histogram() -> anyhow::Result<Histogram<u64>> {
-    Histogram::new_with_bounds(1, 10_000_000_000, 3).context("histogram")
-}
-
-fn clock_ns() -> u64 {
-    ipc_types::monotonic_now_ns()
-}
-
-fn sleep_until(ns: u64) {
-    let ts =
-        libc::timespec { tv_sec: (ns / 1_000_000_000) as libc::time_t, tv_nsec: (ns % 1_000_000_000) as _ };
-    // SAFETY: a valid timespec; absolute CLOCK_MONOTONIC sleep.
-    unsafe { libc::clock_nanosleep(libc::CLOCK_MONOTONIC, libc::TIMER_ABSTIME, &ts, core::ptr::null_mut()) };
-}
 
 /// A veth pair with the chain answering on its far end, until dropped.
 fn chain(rate_hz: f64, cpu: usize) -> anyhow::Result<ChainServer<SimulatedRig>> {
@@ -95,13 +81,14 @@ fn cycle_loop(
     let mut lost = 0;
     let placed = make_current_thread_realtime_on(CYCLE_PRIORITY, cpu);
     anyhow::ensure!(placed.fifo, "SCHED_FIFO {CYCLE_PRIORITY} on CPU {cpu} refused (run as root)");
-    let mut next = clock_ns() + 10 * period_ns;
+    let clock = MonotonicClock;
+    let mut next = clock.now_ns() + 10 * period_ns;
     for cycle in 0..cycles {
-        sleep_until(next);
-        let woke = clock_ns();
+        clock.sleep_until(next);
+        let woke = clock.now_ns();
         let _ = wake.record(woke.saturating_sub(next).max(1));
         let e = exchange(cycle);
-        let done = clock_ns();
+        let done = clock.now_ns();
         let _ = rtt.record(done.saturating_sub(woke).max(1));
         lost += u64::from(!e.ok);
         // Skip rather than catch up, as the motor loop does.
@@ -117,8 +104,7 @@ fn poll_path(rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<
     let chain = chain(rate_hz, cpus.0)?;
     let p = EthercatParams { tick_hz: rate_hz, cycle_divisor: 1, ..EthercatParams::default() };
     // Checked against the 1–4 kHz rule with divisor 1.
-    let wire = RawSocketWire::open(chain.near(), Duration::from_secs_f64(0.5 / rate_hz))
-        .map_err(anyhow::Error::msg)?;
+    let wire = RawSocketWire::open(chain.near(), p.frame_deadline()).map_err(anyhow::Error::msg)?;
     let near = std::thread::scope(|s| {
         s.spawn(|| -> anyhow::Result<PathRun> {
             let mut d = EthercatDriver::start(wire, p, rt_core::motion::RigParams::default())

@@ -8,7 +8,6 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use anyhow::Context;
 use drivers::{SimConfig, Simulator};
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::*;
@@ -18,7 +17,7 @@ use ipc_types::{PartStates, monotonic_now_ns};
 use rt_core::runtime::{CoreParams, ReceiverWake, RunOptions, run_core};
 use serde_json::{Value, json};
 
-use crate::bench_latency::{summary_ns as summary, summary_row};
+use crate::bench_latency::{new_histogram, summary_ns as summary, summary_row};
 
 fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
     Ok(rig_node(prefix, None, SignalHandlingMode::Disabled)?)
@@ -76,7 +75,7 @@ fn raw_ping_pong(
                 let placed = rt_core::runtime::rt_setup::make_current_thread_realtime(priority, cpu);
                 anyhow::ensure!(placed.fifo, "the echo thread could not get SCHED_FIFO {priority}");
             }
-            let mut one_way = Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")?;
+            let mut one_way = new_histogram()?;
             let n = node(&prefix)?;
             let ping = open_pub_sub::<PartStates>(&n, "bench/ping")?
                 .subscriber_builder()
@@ -128,7 +127,7 @@ fn raw_ping_pong(
     let woken =
         raw_event(&n, "bench/pong")?.listener_builder().create().map_err(|e| anyhow::anyhow!("{e:?}"))?;
     std::thread::sleep(Duration::from_millis(100));
-    let mut h = Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")?;
+    let mut h = new_histogram()?;
     let mut msg = PartStates::new();
     let mut warm = 0;
     while (h.len() as usize) < samples {

@@ -35,7 +35,7 @@ pub fn summary_ns(h: &Histogram<u64>) -> Summary {
     }
 }
 
-fn new_histogram() -> anyhow::Result<Histogram<u64>> {
+pub(crate) fn new_histogram() -> anyhow::Result<Histogram<u64>> {
     Histogram::new_with_bounds(1, 100_000_000_000, 3).context("histogram")
 }
 

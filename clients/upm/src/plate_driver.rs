@@ -55,15 +55,24 @@ pub fn ethercat_sim_with(
     shown: &str,
     prepare: impl FnOnce(&mut SimulatedRig),
 ) -> anyhow::Result<(EthercatDriver<SimulatedRig>, SimParts)> {
-    let (sim, parts) = simulator(config, shown)?;
-    let p = config.ethercat_params(shown)?;
-    let rig = *sim.rig().params();
-    let mut chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let (mut chain, p, rig, parts) = simulated_chain(config, shown)?;
     prepare(&mut chain);
     let driver = EthercatDriver::start(chain, p, rig)
         .map_err(anyhow::Error::msg)
         .context("driver.kind = \"ethercat-sim\"")?;
     Ok((driver, parts))
+}
+
+/// The simulated chain `[driver]` and `[sim]` describe, the driver's
+/// parameters and the rig's.
+fn simulated_chain(
+    config: &Config,
+    shown: &str,
+) -> anyhow::Result<(SimulatedRig, upm_ethercat::EthercatParams, rt_core::motion::RigParams, SimParts)> {
+    let (sim, parts) = simulator(config, shown)?;
+    let p = config.ethercat_params(shown)?;
+    let rig = *sim.rig().params();
+    Ok((SimulatedRig::for_params(sim, &p), p, rig, parts))
 }
 
 /// For real runs: the simulated chain keeps real time (CLOCK_MONOTONIC)
@@ -80,8 +89,7 @@ pub fn keep_real_time(rig: &mut SimulatedRig) {
 /// The EtherCAT driver on `driver.interface` (needs CAP_NET_RAW).
 pub fn ethercat(config: &Config, shown: &str) -> anyhow::Result<EthercatDriver<upm_ethercat::RawSocketWire>> {
     let p = config.ethercat_params(shown)?;
-    let deadline = std::time::Duration::from_secs_f64(0.5 / p.cycle_hz());
-    let wire = upm_ethercat::RawSocketWire::open(&config.driver.interface, deadline)
+    let wire = upm_ethercat::RawSocketWire::open(&config.driver.interface, p.frame_deadline())
         .map_err(anyhow::Error::msg)
         .with_context(|| format!("driver.interface {:?}", config.driver.interface))?;
     let rig = config.core_params(shown)?.rig;
@@ -162,11 +170,8 @@ pub fn ethercat_over_veth(
         Ok(pair) => pair,
         Err(why) => return Ok(Err(why)),
     };
-    let (sim, parts) = simulator(config, shown)?;
-    let p = config.ethercat_params(shown)?;
+    let (mut chain, p, rig, parts) = simulated_chain(config, shown)?;
     let core = config.core_params(shown)?;
-    let rig = *sim.rig().params();
-    let mut chain = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
     keep_real_time(&mut chain);
     let placement = ServerPlacement {
         realtime: Some((core.rt.motor_priority.saturating_sub(1).max(1), core.rt.motor_cpu.unwrap_or(0))),
@@ -174,8 +179,7 @@ pub fn ethercat_over_veth(
     let chain = ChainServer::start(pair, chain, placement)
         .map_err(anyhow::Error::msg)
         .context("driver.kind = \"ethercat-sim\": the simulated chain on the veth pair")?;
-    let deadline = std::time::Duration::from_secs_f64(0.5 / p.cycle_hz());
-    let wire = upm_ethercat::RawSocketWire::open(chain.near(), deadline)
+    let wire = upm_ethercat::RawSocketWire::open(chain.near(), p.frame_deadline())
         .map_err(anyhow::Error::msg)
         .with_context(|| format!("driver.kind = \"ethercat-sim\": {}", chain.near()))?;
     let driver = EthercatDriver::start(wire, p, rig)

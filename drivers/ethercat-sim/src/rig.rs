@@ -9,7 +9,7 @@
 
 use drivers::Simulator;
 use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState};
-use upm_ethercat::{Wire, WireError};
+use upm_ethercat::{EthercatParams, Wire, WireError};
 
 use crate::chain::{Chain, FrameError};
 use crate::cia402::Servo;
@@ -53,6 +53,12 @@ pub struct SimulatedRig {
 }
 
 impl SimulatedRig {
+    /// [`SimulatedRig::new`] with the scaling and bus cycle the driver
+    /// will use.
+    pub fn for_params(sim: Simulator, p: &EthercatParams) -> Self {
+        Self::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor)
+    }
+
     /// One drive per actuator of `sim`'s rig, each moving its actuator;
     /// `ticks_per_cycle` simulator ticks per bus cycle.
     pub fn new(sim: Simulator, counts_per_metre: f64, rated_force_n: f64, ticks_per_cycle: u32) -> Self {

@@ -267,7 +267,7 @@ impl SubDevice {
     /// FPWR / APWR / BWR: write `data` into the registers that take it.
     pub fn write(&mut self, ado: u16, data: &[u8]) -> u16 {
         let span = Self::span(ado, data.len());
-        if Self::overlaps(&span, reg::DC_SYSTEM_TIME, 8) && span.start == usize::from(reg::DC_SYSTEM_TIME) {
+        if !span.is_empty() && span.start == usize::from(reg::DC_SYSTEM_TIME) {
             self.compare_system_time(data);
         }
         for (k, a) in span.clone().enumerate() {

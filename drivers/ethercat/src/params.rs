@@ -92,6 +92,11 @@ impl EthercatParams {
         self.tick_hz / f64::from(self.cycle_divisor.max(1))
     }
 
+    /// How long a wire waits for a frame's answer: half a bus cycle.
+    pub fn frame_deadline(&self) -> core::time::Duration {
+        core::time::Duration::from_secs_f64(0.5 / self.cycle_hz())
+    }
+
     pub fn validate(&self) -> Result<(), ParamsError> {
         let positive = |x: f64| x.is_finite() && x > 0.0;
         if !(3..=MAX_ACTUATORS).contains(&self.count) {

@@ -2,24 +2,19 @@
 //! chain: the same checks the simulator passes, through the whole
 //! MainDevice stack (ethercrab, CiA 402, the chain, the servo model).
 
+mod common;
+
 use drivers::conformance;
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::SimulatedRig;
 use upm_ethercat::{EthercatDriver, EthercatParams};
 
 fn ethercat(cycle_divisor: u32) -> EthercatDriver<SimulatedRig> {
-    let cfg = SimConfig::default();
     let parts =
         [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
-    let sim = Simulator::new(cfg, &parts).expect("default sim");
-    let params = EthercatParams {
-        tick_hz: cfg.tick_hz,
-        count: cfg.rig.count,
-        cycle_divisor,
-        ..EthercatParams::default()
-    };
-    let rig = SimulatedRig::new(sim, params.counts_per_metre, params.rated_force_n, params.cycle_divisor);
-    EthercatDriver::start(rig, params, cfg.rig).unwrap_or_else(|e| panic!("{e}"))
+    let p = EthercatParams { cycle_divisor, ..common::params() };
+    EthercatDriver::start(common::chain(&p, &parts), p, SimConfig::default().rig)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Bus cycles of 4 and 5 ticks (2.5 and 2 kHz), which divide the demo

@@ -6,23 +6,18 @@
 //! SYNC0 event with fresh outputs, and lost frames show as SYNC0 events
 //! without data. Without DC (turned off) the drives run free.
 
-use drivers::{SimConfig, Simulator};
+mod common;
+
+use drivers::SimConfig;
 use ethercat_sim::chain::HOP_NS;
 use ethercat_sim::{ChainTime, SimulatedRig};
 use rt_core::driver::{PlateDriver, PlateState};
 use upm_ethercat::{EthercatDriver, EthercatParams};
 
 fn start(distributed_clocks: bool) -> EthercatDriver<SimulatedRig> {
-    let cfg = SimConfig::default();
-    let p = EthercatParams {
-        tick_hz: cfg.tick_hz,
-        count: cfg.rig.count,
-        distributed_clocks,
-        ..EthercatParams::default()
-    };
-    let sim = Simulator::new(cfg, &[]).expect("default sim");
-    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
-    EthercatDriver::start(rig, p, cfg.rig).unwrap_or_else(|e| panic!("{e}"))
+    let p = EthercatParams { distributed_clocks, ..common::params() };
+    EthercatDriver::start(common::chain(&p, &[]), p, SimConfig::default().rig)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn hold(d: &mut EthercatDriver<SimulatedRig>, cycles: u32) {
@@ -100,14 +95,9 @@ fn run_on_a_drifting_bus(follow: bool) -> (u64, u64, u64) {
     use std::sync::Arc;
     use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
     let cfg = SimConfig::default();
-    let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
+    let p = common::params();
     let clock = Arc::new(AtomicU64::new(1_000_000_000));
-    let mut rig = SimulatedRig::new(
-        Simulator::new(cfg, &[]).expect("default sim"),
-        p.counts_per_metre,
-        p.rated_force_n,
-        p.cycle_divisor,
-    );
+    let mut rig = common::chain(&p, &[]);
     let source = clock.clone();
     rig.chain_time = ChainTime::Source(Box::new(move || source.load(Relaxed)));
     rig.chain.devices[0].drift_ppb = 50_000;

@@ -4,22 +4,18 @@
 //! holds), is counted, and clears without restarting anything. Start-up
 //! refuses a bus that is not the one configured, naming the device.
 
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
+mod common;
+
+use common::params;
+use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::SimulatedRig;
 use rt_core::driver::{ActuatorCommand, BusState, PlateDriver, PlateState, ReadError};
 use upm_ethercat::{EthercatDriver, EthercatParams, ExpectedSubDevice, StartError, Wire, WireError};
 
 fn rig(params: &EthercatParams) -> SimulatedRig {
-    let cfg = SimConfig::default();
     let parts =
         [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
-    let sim = Simulator::new(cfg, &parts).expect("default sim");
-    SimulatedRig::new(sim, params.counts_per_metre, params.rated_force_n, params.cycle_divisor)
-}
-
-fn params() -> EthercatParams {
-    let cfg = SimConfig::default();
-    EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() }
+    common::chain(params, &parts)
 }
 
 fn start<W: Wire>(wire: impl FnOnce(SimulatedRig) -> W) -> EthercatDriver<W> {

@@ -3,26 +3,26 @@
 //! fault and its reset, lost frames, a cut cable, garbled answers). Shown
 //! able to fail: a planted allocation in the same closure is counted.
 
+mod common;
+
 use drivers::conformance::demo_motion;
 use drivers::playback::play;
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::SimulatedRig;
 use rt_core::driver::{PlateDriver, PlateState};
 use rt_core::motion::Rig;
 use rt_core::runtime::alloc_count::{RtAllocCounter, allocations_in, counter_installed};
-use upm_ethercat::{EthercatDriver, EthercatParams};
+use upm_ethercat::EthercatDriver;
 
 #[global_allocator]
 static A: RtAllocCounter = RtAllocCounter;
 
 fn driver() -> EthercatDriver<SimulatedRig> {
-    let cfg = SimConfig::default();
     let parts =
         [PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: 0.04, position: [0.2, 0.1], angle: 0.0 }];
-    let sim = Simulator::new(cfg, &parts).expect("sim");
-    let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
-    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
-    EthercatDriver::start(rig, p, cfg.rig).unwrap_or_else(|e| panic!("{e}"))
+    let p = common::params();
+    EthercatDriver::start(common::chain(&p, &parts), p, SimConfig::default().rig)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn hold<D: PlateDriver>(d: &mut D, ticks: usize) {

@@ -4,24 +4,24 @@
 //! torque) once started; a drive that cannot map an entry stops the start
 //! with one line naming the drive and the object.
 
-use drivers::{SimConfig, Simulator};
+mod common;
+
+use drivers::SimConfig;
 use ethercat_sim::SimulatedRig;
 use ethercat_sim::pdo_map::PdoMap;
 use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState};
-use upm_ethercat::{EthercatDriver, EthercatParams, StartError};
+use upm_ethercat::{EthercatDriver, StartError};
 
 const RX_ALL: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x60B1_0020, 0x60B2_0010, 0x6060_0008];
 const TX_ALL: [u32; 4] = [0x6041_0010, 0x6064_0020, 0x6077_0010, 0x6061_0008];
 
 fn start(remap: impl Fn(usize) -> (PdoMap, PdoMap)) -> Result<EthercatDriver<SimulatedRig>, StartError> {
-    let cfg = SimConfig::default();
-    let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
-    let sim = Simulator::new(cfg, &[]).expect("default sim");
-    let mut rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let p = common::params();
+    let mut rig = common::chain(&p, &[]);
     for (i, d) in rig.chain.devices.iter_mut().enumerate() {
         (d.drive.rx, d.drive.tx) = remap(i);
     }
-    EthercatDriver::start(rig, p, cfg.rig)
+    EthercatDriver::start(rig, p, SimConfig::default().rig)
 }
 
 #[test]

@@ -6,18 +6,19 @@
 //! lost, then recovers when it answers again. Needs root; skipped with
 //! the reason otherwise.
 
+mod common;
+
 use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
 use drivers::conformance::demo_motion;
 use drivers::playback::play;
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
-use ethercat_sim::SimulatedRig;
+use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use rt_core::driver::{BusState, PlateDriver, PlateState, ReadError};
 use rt_core::motion::Rig;
-use upm_ethercat::{EthercatDriver, EthercatParams, RawSocketWire};
+use upm_ethercat::{EthercatDriver, RawSocketWire};
 
 #[test]
 fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
@@ -31,9 +32,8 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
     let cfg = SimConfig::default();
     let parts =
         [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
-    let p = EthercatParams { tick_hz: cfg.tick_hz, count: cfg.rig.count, ..EthercatParams::default() };
-    let sim = Simulator::new(cfg, &parts).expect("sim");
-    let rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, p.cycle_divisor);
+    let p = common::params();
+    let rig = common::chain(&p, &parts);
     let server =
         ChainServer::start(pair, rig, ServerPlacement { realtime: None }).expect("the chain's server");
     // A generous deadline: the far end is a normal thread on a shared VM.
