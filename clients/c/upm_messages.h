@@ -15,7 +15,7 @@
 #define UPM_ALIGNOF _Alignof
 #endif
 
-#define UPM_PROTOCOL_VERSION 3u
+#define UPM_PROTOCOL_VERSION 4u
 #define UPM_MAX_PARTS 64
 #define UPM_MAX_CURLS 16
 #define UPM_MAX_SLOTS 192
@@ -30,8 +30,8 @@
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
-/* iceoryx2 type name "upm::PartState.v3", 64 bytes, align 8 */
-#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v3"
+/* iceoryx2 type name "upm::PartState.v4", 64 bytes, align 8 */
+#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v4"
 typedef struct {
     uint32_t id;
     uint32_t class_;
@@ -57,8 +57,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartState, vx) == 40, "upm_PartState.vx offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, vy) == 48, "upm_PartState.vy offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, omega) == 56, "upm_PartState.omega offset");
 
-/* iceoryx2 type name "upm::PartStates.v3", 4120 bytes, align 8 */
-#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v3"
+/* iceoryx2 type name "upm::PartStates.v4", 4120 bytes, align 8 */
+#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -74,8 +74,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartStates, seq) == 8, "upm_PartStates.seq offset
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, stamp_ns) == 16, "upm_PartStates.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, parts) == 24, "upm_PartStates.parts offset");
 
-/* iceoryx2 type name "upm::ForceEntry.v3", 40 bytes, align 8 */
-#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v3"
+/* iceoryx2 type name "upm::ForceEntry.v4", 40 bytes, align 8 */
+#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v4"
 typedef struct {
     uint32_t part_id;
     uint32_t force_flag;
@@ -95,8 +95,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fx) == 16, "upm_ForceEntry.fx offset"
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fy) == 24, "upm_ForceEntry.fy offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, curl) == 32, "upm_ForceEntry.curl offset");
 
-/* iceoryx2 type name "upm::ForceRequest.v3", 2592 bytes, align 8 */
-#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v3"
+/* iceoryx2 type name "upm::ForceRequest.v4", 2592 bytes, align 8 */
+#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -114,8 +114,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, stamp_ns) == 16, "upm_ForceRequest.
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, deadline_ns) == 24, "upm_ForceRequest.deadline_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, entries) == 32, "upm_ForceRequest.entries offset");
 
-/* iceoryx2 type name "upm::ExplicitSlot.v3", 16 bytes, align 8 */
-#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v3"
+/* iceoryx2 type name "upm::ExplicitSlot.v4", 16 bytes, align 8 */
+#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v4"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -127,8 +127,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, center_index) == 0, "upm_ExplicitSl
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, reserved) == 4, "upm_ExplicitSlot.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, k) == 8, "upm_ExplicitSlot.k offset");
 
-/* iceoryx2 type name "upm::ExplicitSchedule.v3", 3096 bytes, align 8 */
-#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v3"
+/* iceoryx2 type name "upm::ExplicitSchedule.v4", 3096 bytes, align 8 */
+#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -144,8 +144,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, seq) == 8, "upm_ExplicitSchedul
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, stamp_ns) == 16, "upm_ExplicitSchedule.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, slots) == 24, "upm_ExplicitSchedule.slots offset");
 
-/* iceoryx2 type name "upm::CoreCommand.v3", 24 bytes, align 8 */
-#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v3"
+/* iceoryx2 type name "upm::CoreCommand.v4", 24 bytes, align 8 */
+#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t command;
@@ -159,8 +159,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, command) == 4, "upm_CoreCommand.comm
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, seq) == 8, "upm_CoreCommand.seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, stamp_ns) == 16, "upm_CoreCommand.stamp_ns offset");
 
-/* iceoryx2 type name "upm::ScheduleSlot.v3", 32 bytes, align 8 */
-#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v3"
+/* iceoryx2 type name "upm::ScheduleSlot.v4", 32 bytes, align 8 */
+#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v4"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -176,8 +176,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, x) == 8, "upm_ScheduleSlot.x offset
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, y) == 16, "upm_ScheduleSlot.y offset");
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, k) == 24, "upm_ScheduleSlot.k offset");
 
-/* iceoryx2 type name "upm::Schedule.v3", 6208 bytes, align 8 */
-#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v3"
+/* iceoryx2 type name "upm::Schedule.v4", 6224 bytes, align 8 */
+#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -185,13 +185,15 @@ typedef struct {
     uint64_t stamp_ns;
     uint64_t cycle;
     uint64_t solve_time_ns;
+    uint64_t parts_seq;
+    uint64_t parts_stamp_ns;
     double residual;
     double condition;
     uint32_t rank;
     uint32_t saturated;
     upm_ScheduleSlot slots[192];
 } upm_Schedule;
-UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6208, "upm_Schedule size");
+UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6224, "upm_Schedule size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Schedule) == 8, "upm_Schedule align");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, protocol_version) == 0, "upm_Schedule.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, count) == 4, "upm_Schedule.count offset");
@@ -199,14 +201,16 @@ UPM_STATIC_ASSERT(offsetof(upm_Schedule, seq) == 8, "upm_Schedule.seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, stamp_ns) == 16, "upm_Schedule.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, cycle) == 24, "upm_Schedule.cycle offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, solve_time_ns) == 32, "upm_Schedule.solve_time_ns offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, residual) == 40, "upm_Schedule.residual offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, condition) == 48, "upm_Schedule.condition offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 56, "upm_Schedule.rank offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 60, "upm_Schedule.saturated offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 64, "upm_Schedule.slots offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, parts_seq) == 40, "upm_Schedule.parts_seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, parts_stamp_ns) == 48, "upm_Schedule.parts_stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, residual) == 56, "upm_Schedule.residual offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, condition) == 64, "upm_Schedule.condition offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 72, "upm_Schedule.rank offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 76, "upm_Schedule.saturated offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 80, "upm_Schedule.slots offset");
 
-/* iceoryx2 type name "upm::Rejection.v3", 160 bytes, align 8 */
-#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v3"
+/* iceoryx2 type name "upm::Rejection.v4", 160 bytes, align 8 */
+#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t kind;
@@ -228,8 +232,8 @@ UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 32, "upm_Rejection.reason o
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 36, "upm_Rejection.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 40, "upm_Rejection.detail offset");
 
-/* iceoryx2 type name "upm::FrameHeader.v3", 48 bytes, align 8 */
-#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v3"
+/* iceoryx2 type name "upm::FrameHeader.v4", 48 bytes, align 8 */
+#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t pixel_format;
@@ -253,8 +257,8 @@ UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, seq) == 24, "upm_FrameHeader.seq off
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stamp_ns) == 32, "upm_FrameHeader.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, exposure_ns) == 40, "upm_FrameHeader.exposure_ns offset");
 
-/* iceoryx2 type name "upm::DriverTelemetry.v3", 96 bytes, align 8 */
-#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v3"
+/* iceoryx2 type name "upm::DriverTelemetry.v4", 96 bytes, align 8 */
+#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v4"
 typedef struct {
     uint32_t kind;
     uint32_t state;
@@ -272,8 +276,8 @@ UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, lost_frames) == 72, "upm_DriverT
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, bad_frames) == 80, "upm_DriverTelemetry.bad_frames offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, sync0_phase_ns) == 88, "upm_DriverTelemetry.sync0_phase_ns offset");
 
-/* iceoryx2 type name "upm::CoreCounters.v3", 96 bytes, align 8 */
-#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v3"
+/* iceoryx2 type name "upm::CoreCounters.v4", 96 bytes, align 8 */
+#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v4"
 typedef struct {
     uint64_t ticks;
     uint64_t overruns;
@@ -303,8 +307,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_rejected) == 72, "upm_CoreCo
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, fault_holds) == 80, "upm_CoreCounters.fault_holds offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, resumes) == 88, "upm_CoreCounters.resumes offset");
 
-/* iceoryx2 type name "upm::LatencyPercentiles.v3", 40 bytes, align 8 */
-#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v3"
+/* iceoryx2 type name "upm::LatencyPercentiles.v4", 40 bytes, align 8 */
+#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v4"
 typedef struct {
     uint64_t samples;
     uint64_t p50_ns;
@@ -320,8 +324,8 @@ UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p99_ns) == 16, "upm_LatencyPe
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p999_ns) == 24, "upm_LatencyPercentiles.p999_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, max_ns) == 32, "upm_LatencyPercentiles.max_ns offset");
 
-/* iceoryx2 type name "upm::CoreLatencies.v3", 160 bytes, align 8 */
-#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v3"
+/* iceoryx2 type name "upm::CoreLatencies.v4", 160 bytes, align 8 */
+#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v4"
 typedef struct {
     upm_LatencyPercentiles motor_wakeup;
     upm_LatencyPercentiles solver;
@@ -335,8 +339,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, solver) == 40, "upm_CoreLatencies.
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, ipc_vision_to_core) == 80, "upm_CoreLatencies.ipc_vision_to_core offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, frame_to_schedule) == 120, "upm_CoreLatencies.frame_to_schedule offset");
 
-/* iceoryx2 type name "upm::Telemetry.v3", 840 bytes, align 8 */
-#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v3"
+/* iceoryx2 type name "upm::Telemetry.v4", 840 bytes, align 8 */
+#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v4"
 typedef struct {
     uint32_t protocol_version;
     uint32_t state;

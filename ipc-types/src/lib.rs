@@ -43,6 +43,7 @@ mod telemetry;
 mod validation;
 pub mod wake_event;
 mod wire_code;
+pub mod wire_message;
 
 pub use camera_frame::{FrameError, FrameHeader};
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
@@ -61,8 +62,9 @@ pub use rejection::{RejectedKind, Rejection};
 pub use schedule::{Schedule, ScheduleError, ScheduleSlot};
 pub use telemetry::{CoreCounters, CoreLatencies, Telemetry, TelemetryError};
 pub use validation::ValidationLimits;
+pub use wire_message::{WireMessage, WrongLength};
 
 /// Version of the wire format. Bump it on any layout or meaning change; it is
 /// also part of every payload's iceoryx2 `type_name`, so mismatched builds
 /// fail when opening a service instead of misreading each other.
-pub const PROTOCOL_VERSION: u32 = 3;
+pub const PROTOCOL_VERSION: u32 = 4;

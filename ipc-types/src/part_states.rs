@@ -13,7 +13,7 @@ use crate::validation::{ValidationLimits, first_non_finite};
 /// velocity in m/s and rad/s.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartState.v3")]
+#[type_name("upm::PartState.v4")]
 pub struct PartState {
     /// Tracking id, unique within one message.
     pub id: u32,
@@ -58,7 +58,7 @@ impl PartState {
 /// Vision → core: every part seen in one camera frame.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartStates.v3")]
+#[type_name("upm::PartStates.v4")]
 pub struct PartStates {
     pub protocol_version: u32,
     /// Number of used entries of `parts`.

@@ -12,7 +12,7 @@ use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag}
 /// (m, plate coordinates; centers may lie off the plate) with intensity k.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ScheduleSlot.v3")]
+#[type_name("upm::ScheduleSlot.v4")]
 pub struct ScheduleSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -37,7 +37,7 @@ impl ScheduleSlot {
 /// one), with the solver's diagnostics.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Schedule.v3")]
+#[type_name("upm::Schedule.v4")]
 pub struct Schedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`.
@@ -49,6 +49,11 @@ pub struct Schedule {
     pub cycle: u64,
     /// Wall time of the solve (ns); 0 for an explicit schedule.
     pub solve_time_ns: u64,
+    /// `seq` and `stamp_ns` of the part states the schedule was solved
+    /// against (the newest the core had accepted); 0 for an explicit
+    /// schedule. With `seq` (the request's) they name the whole input.
+    pub parts_seq: u64,
+    pub parts_stamp_ns: u64,
     /// ‖A·K − b‖ in force units (N); finite, ≥ 0.
     pub residual: f64,
     /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient,
@@ -63,7 +68,7 @@ pub struct Schedule {
 }
 
 const _: () =
-    assert!(size_of::<Schedule>() == 4 + 4 + 4 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>());
+    assert!(size_of::<Schedule>() == 4 + 4 + 6 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>());
 
 /// Why a [`Schedule`] was rejected. Indices refer to `slots`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,7 +125,7 @@ impl core::error::Error for ScheduleError {}
 crate::counted_message::counted_message!(
     Schedule,
     slots / slots_mut: [ScheduleSlot; MAX_SLOTS],
-    new { cycle: 0, solve_time_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0 }
+    new { cycle: 0, solve_time_ns: 0, parts_seq: 0, parts_stamp_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0 }
 );
 
 impl Schedule {

@@ -7,7 +7,7 @@ import ctypes
 import time
 
 # ipc-types/src/lib.rs and capacity.rs
-PROTOCOL_VERSION = 3
+PROTOCOL_VERSION = 4
 MAX_PARTS = 64
 MAX_CURLS = 16
 MAX_SLOTS = 192
@@ -61,7 +61,7 @@ class PartState(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartState.v3"
+        return "upm::PartState.v4"
 
 
 class PartStates(ctypes.Structure):
@@ -76,7 +76,7 @@ class PartStates(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartStates.v3"
+        return "upm::PartStates.v4"
 
     def used(self):
         """The used entries (count clamped to the capacity, as in Rust)."""
@@ -95,7 +95,7 @@ class ForceEntry(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceEntry.v3"
+        return "upm::ForceEntry.v4"
 
 
 class ForceRequest(ctypes.Structure):
@@ -111,7 +111,7 @@ class ForceRequest(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceRequest.v3"
+        return "upm::ForceRequest.v4"
 
     def __init__(self):
         super().__init__()
@@ -138,7 +138,7 @@ class ScheduleSlot(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ScheduleSlot.v3"
+        return "upm::ScheduleSlot.v4"
 
 
 class Schedule(ctypes.Structure):
@@ -150,6 +150,8 @@ class Schedule(ctypes.Structure):
         ("stamp_ns", ctypes.c_uint64),
         ("cycle", ctypes.c_uint64),
         ("solve_time_ns", ctypes.c_uint64),
+        ("parts_seq", ctypes.c_uint64),
+        ("parts_stamp_ns", ctypes.c_uint64),
         ("residual", ctypes.c_double),
         ("condition", ctypes.c_double),
         ("rank", ctypes.c_uint32),
@@ -159,7 +161,7 @@ class Schedule(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Schedule.v3"
+        return "upm::Schedule.v4"
 
 
 # Rejection.kind codes and the reject reasons (docs/protocol.md).
@@ -189,7 +191,7 @@ class Rejection(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Rejection.v3"
+        return "upm::Rejection.v4"
 
     def __str__(self):
         kind = REJECTED_KINDS[self.kind] if self.kind < len(REJECTED_KINDS) else "unknown"
@@ -215,7 +217,7 @@ class FrameHeader(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::FrameHeader.v3"
+        return "upm::FrameHeader.v4"
 
 
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
@@ -224,5 +226,5 @@ assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(Pa
 assert ctypes.sizeof(ForceEntry) == 4 * 4 + 3 * 8
 assert ctypes.sizeof(ForceRequest) == 4 + 4 + 3 * 8 + MAX_PARTS * ctypes.sizeof(ForceEntry)
 assert ctypes.sizeof(ScheduleSlot) == 4 + 4 + 3 * 8
-assert ctypes.sizeof(Schedule) == 4 + 4 + 4 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
+assert ctypes.sizeof(Schedule) == 4 + 4 + 6 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
 assert ctypes.sizeof(Rejection) == 4 + 4 + 8 + 8 + 8 + 4 + 4 + DETAIL_BYTES

@@ -37,6 +37,37 @@ pub enum Command {
     /// The planner client (same as `upm-planner`).
     #[command(hide = true)]
     Planner(upm_planner::args::PlannerArgs),
+    /// The flight recorder (same as `upm-recorder`); `upm run` starts it so.
+    #[command(hide = true)]
+    Recorder(upm_recorder::args::RecorderArgs),
+    /// Replay a recording (`run.mcap`): feed its part states and requests
+    /// to a lock-step core and compare every schedule bit for bit. Exit 0
+    /// identical, 1 divergent, 2 unreadable.
+    Replay {
+        file: PathBuf,
+        /// Feed the recorded part states to this planner instead (open
+        /// loop) and write what comes out to --out.
+        #[arg(long)]
+        planner: Option<String>,
+        /// With --planner: the new recording.
+        #[arg(long, default_value = "replay.mcap")]
+        out: PathBuf,
+        /// Print JSON instead of a line.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Live view of a running rig: its channels (as recorded) over
+    /// Foxglove's WebSocket protocol on localhost, until Ctrl-C.
+    Monitor {
+        /// The rig's service prefix (`upm status` lists running rigs).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config ([service], [plate]) for the scene; built-in defaults without.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        #[arg(long, default_value_t = 8765)]
+        port: u16,
+    },
     /// The closed loop: core, vision and planner as separate processes.
     Run {
         /// Scenario name (scenarios/NAME.toml) or path.
@@ -80,6 +111,13 @@ pub enum Command {
         /// `driver.interface`).
         #[arg(long, value_enum)]
         driver: Option<crate::config::DriverChoice>,
+        /// Do not record the run (by default upm-recorder writes every
+        /// message to OUT/run.mcap).
+        #[arg(long)]
+        no_record: bool,
+        /// Serve the live view (Foxglove WebSocket) on this localhost port.
+        #[arg(long, num_args = 0..=1, default_missing_value = "8765")]
+        monitor: Option<u16>,
     },
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
@@ -287,6 +325,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             vision_cmd,
             camera,
             driver,
+            no_record,
+            monitor,
         } => {
             let path = crate::scenario::resolve(&scenario);
             let sc = crate::scenario::Scenario::load(&path)?;
@@ -324,13 +364,35 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 planner_cmd,
                 vision_cmd,
                 camera,
+                record: !no_record,
+                monitor,
             };
+            if let Some(port) = monitor {
+                eprintln!("upm run: live view on ws://127.0.0.1:{port} (Foxglove: open connection)");
+            }
             let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             ipc_types::rig_node::remove_prefix_segment(&prefix);
             let outcome = outcome?;
             println!("{}", serde_json::to_string_pretty(&outcome.metrics)?);
             eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
+            if !no_record {
+                eprintln!("upm run: recorded {}", out.join(crate::launcher::RECORDING).display());
+            }
             Ok(())
+        }
+        Command::Recorder(args) => upm_recorder::args::run_recorder_process(args),
+        Command::Replay { file, planner, out, json } => {
+            crate::replay::run_command(&file, planner.as_deref(), &out, json)
+        }
+        Command::Monitor { prefix, config, port } => {
+            let args = upm_recorder::args::RecorderArgs {
+                process: rig_config::ProcessArgs { config, prefix, duration: None },
+                out: None,
+                serve: Some(port),
+                frame_pixels: false,
+                info: Vec::new(),
+            };
+            upm_recorder::args::run_recorder_process(args)
         }
         Command::Bench {
             what,

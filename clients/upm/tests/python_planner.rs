@@ -120,7 +120,7 @@ while rig.wait(0.01):
     let _ = std::fs::remove_file(&script_path);
     assert!(r.out.status.success(), "{}", String::from_utf8_lossy(&r.out.stderr));
     let why = "force_request seq 42 rejected: wrong_protocol_version \
-               (force_request.protocol_version is 2, expected 3)";
+               (force_request.protocol_version is 2, expected 4)";
     assert!(r.planner_log.contains(&format!("told: {why}")), "planner.log:\n{}", r.planner_log);
     assert!(r.core_log.contains(why), "core.log:\n{}", r.core_log);
 }

@@ -23,7 +23,7 @@ pub struct Field {
 pub struct Layout {
     /// The Rust name (`PartStates`).
     pub rust: &'static str,
-    /// The iceoryx2 type name (`upm::PartStates.v3`).
+    /// The iceoryx2 type name (`upm::PartStates.v4`).
     pub type_name: &'static str,
     pub size: usize,
     pub align: usize,
@@ -84,6 +84,8 @@ pub fn all() -> Vec<Layout> {
             stamp_ns,
             cycle,
             solve_time_ns,
+            parts_seq,
+            parts_stamp_ns,
             residual,
             condition,
             rank,

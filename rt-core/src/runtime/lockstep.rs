@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use ipc_types::{Schedule, Telemetry};
+use ipc_types::{Rejection, Schedule, Telemetry};
 
 use super::clock::{Clock, ManualClock};
 use super::handoff::{StagedMotion, motion_handoff};
@@ -36,6 +36,7 @@ pub struct Lockstep<D: PlateDriver> {
     outputs: StageOutputsRx,
     histograms: LatencyHistograms,
     published: Vec<Schedule>,
+    rejections: Vec<Rejection>,
 }
 
 impl<D: PlateDriver> Lockstep<D> {
@@ -67,6 +68,7 @@ impl<D: PlateDriver> Lockstep<D> {
             outputs,
             histograms: LatencyHistograms::default(),
             published: Vec::new(),
+            rejections: Vec::new(),
         })
     }
 
@@ -101,6 +103,21 @@ impl<D: PlateDriver> Lockstep<D> {
         &self.published
     }
 
+    /// Rejections the io thread would have published, in order.
+    pub fn rejections(&self) -> &[Rejection] {
+        &self.rejections
+    }
+
+    /// Move the clock to `now_ns` (never back) and hand the inbox to the
+    /// solve stage there, without motor ticks: how a replay puts each
+    /// recorded message at the instant the recorded core handled it.
+    pub fn handle_at(&mut self, now_ns: u64) -> usize {
+        self.clock.sleep_until(now_ns);
+        let handled = drain(&mut self.inbox, &mut self.stage, &mut self.buf, &self.clock);
+        self.collect();
+        handled
+    }
+
     pub fn histograms(&self) -> &LatencyHistograms {
         &self.histograms
     }
@@ -132,8 +149,9 @@ impl<D: PlateDriver> Lockstep<D> {
         while let Ok(s) = self.outputs.schedules.pop() {
             self.published.push(s);
         }
-        // Counted by reason in `shared`; nobody subscribes in lock-step.
-        while self.outputs.rejections.pop().is_ok() {}
+        while let Ok(r) = self.outputs.rejections.pop() {
+            self.rejections.push(r);
+        }
     }
 
     /// Telemetry as the io thread would publish it now.

@@ -436,6 +436,8 @@ impl SolveStage {
         m.stamp_ns = now_ns;
         m.cycle = self.shared.cycle.load(Relaxed) + 1;
         m.solve_time_ns = solve_ns;
+        m.parts_seq = self.parts.seq;
+        m.parts_stamp_ns = self.parts.stamp_ns;
         m.residual = s.residual;
         m.condition = s.condition;
         m.rank = s.rank as u32;
@@ -471,6 +473,8 @@ impl SolveStage {
         m.stamp_ns = now_ns;
         m.cycle = self.shared.cycle.load(Relaxed) + 1;
         m.solve_time_ns = 0;
+        m.parts_seq = 0;
+        m.parts_stamp_ns = 0;
         m.residual = 0.0;
         m.condition = 0.0;
         m.rank = 0;

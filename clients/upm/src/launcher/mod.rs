@@ -38,7 +38,14 @@ pub struct RunPlan {
     /// Load every CPU but the motor's while the loop runs (see `cpu_load`).
     pub stress: bool,
     pub camera: CameraChoice,
+    /// Record every message into `run.mcap` (upm-recorder).
+    pub record: bool,
+    /// Serve the live view on this localhost port (upm-recorder).
+    pub monitor: Option<u16>,
 }
+
+/// The recording of a run, in the output directory.
+pub const RECORDING: &str = "run.mcap";
 
 /// Where vision's part poses come from in a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -144,6 +151,25 @@ pub fn run_plan(
     }
     let mut camera = rendered.then(|| client("upm-camera", &None, "camera.log"));
     let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log");
+    let recording = out.join(RECORDING);
+    let mut recorder_process = (plan.record || plan.monitor.is_some()).then(|| {
+        let mut r = client("upm-recorder", &None, "recorder.log")
+            .arg("--info")
+            .arg(&format!("scenario={}", plan.scenario))
+            .arg("--info")
+            .arg(&format!("seed={}", plan.seed));
+        if plan.record {
+            r = r.arg("--out").arg(&recording.display().to_string());
+        }
+        if let Some(port) = plan.monitor {
+            r = r.arg("--serve").arg(&port.to_string());
+        }
+        r
+    });
+    if plan.record {
+        // The recorder never overwrites a file; this run's output is ours.
+        let _ = std::fs::remove_file(&recording);
+    }
 
     let mut recorder = Recorder::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
     core.start()?;
@@ -162,6 +188,10 @@ pub fn run_plan(
             bail!("upm-core did not come up within 20 s; see {}", logs.join("core.log").display());
         }
         std::thread::sleep(Duration::from_millis(20));
+    }
+    if let Some(r) = &mut recorder_process {
+        r.start()?;
+        wait_for_recorder(r, plan.record.then_some(recording.as_path()), &logs)?;
     }
     if let Some(c) = &mut camera {
         c.start()?;
@@ -229,6 +259,13 @@ pub fn run_plan(
         c.stop(Duration::from_secs(3));
     }
     let core_exit = core.stop(Duration::from_secs(5));
+    // Last, so it has the core's final telemetry.
+    let recorder_exit = recorder_process.as_mut().and_then(|r| r.stop(Duration::from_secs(10)));
+    let recording_json = if plan.record {
+        crate::recording::summary_json(&recording, recorder_exit.is_some_and(|s| s.success()))
+    } else {
+        Value::Null
+    };
     let t = recorder.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
     let mut metrics = json!({
         "scenario": plan.scenario,
@@ -265,6 +302,7 @@ pub fn run_plan(
         "processes": pids,
         "restarts": restarts,
         "camera": if rendered { "rendered" } else { "truth" },
+        "recording": recording_json,
         // What vision did with the frames (rendered camera only).
         "vision": std::fs::read_to_string(&vision_stats).ok().and_then(|t| serde_json::from_str::<Value>(&t).ok()),
     });
@@ -288,4 +326,27 @@ pub fn run_plan(
         );
     }
     Ok(RunOutcome { metrics, trails: recorder.trails, interrupted })
+}
+
+/// Wait until upm-recorder listens: its file exists (it subscribes first)
+/// or, serving only, its log names the port.
+fn wait_for_recorder(r: &mut Supervised, file: Option<&Path>, logs: &Path) -> anyhow::Result<()> {
+    let log = logs.join("recorder.log");
+    let up = Instant::now();
+    loop {
+        let ready = match file {
+            Some(f) => f.exists(),
+            None => std::fs::read_to_string(&log).is_ok_and(|t| t.contains("ws://")),
+        };
+        if ready {
+            return Ok(());
+        }
+        if let Some(s) = r.exited() {
+            bail!("upm-recorder exited at start-up ({s}); see {}", log.display());
+        }
+        if up.elapsed() > Duration::from_secs(20) {
+            bail!("upm-recorder did not start within 20 s; see {}", log.display());
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
 }

@@ -1,0 +1,86 @@
+//! `upm-recorder` command-line arguments and entry point.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Context as _;
+use clap::Parser;
+use rig_config::{ConfigError, ProcessArgs};
+
+use crate::{LogOptions, PlateView, Recorder, RecorderOptions};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "upm-recorder",
+    version,
+    about = "UPM flight recorder (MCAP) and live view (Foxglove WebSocket)"
+)]
+pub struct RecorderArgs {
+    /// `--config` is read for [service] and [plate] and attached to the
+    /// recording whole (replay needs it).
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Write the recording here (an existing file is never overwritten).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Serve the Foxglove WebSocket protocol on this localhost port (0: a
+    /// free one, printed at start).
+    #[arg(long)]
+    pub serve: Option<u16>,
+    /// Record camera frames' pixels too (headers are always recorded).
+    #[arg(long)]
+    pub frame_pixels: bool,
+    /// key=value pairs for the recording's metadata (scenario, seed, …).
+    #[arg(long = "info", value_parser = parse_info)]
+    pub info: Vec<(String, String)>,
+}
+
+fn parse_info(s: &str) -> Result<(String, String), String> {
+    s.split_once('=')
+        .map(|(k, v)| (k.to_owned(), v.to_owned()))
+        .ok_or_else(|| format!("--info {s:?}: expected key=value"))
+}
+
+/// Record until SIGINT/SIGTERM or `--duration`; prints what was received and lost.
+pub fn run_recorder_process(args: RecorderArgs) -> anyhow::Result<()> {
+    if args.out.is_none() && args.serve.is_none() {
+        anyhow::bail!("nothing to do: give --out FILE, --serve PORT or both");
+    }
+    let file = args.process.file()?;
+    let prefix = args.process.prefix(&file)?;
+    let plate = file.section::<PlateView>("plate")?;
+    let config_text = match &args.process.config {
+        Some(p) => Some(std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?),
+        None => None,
+    };
+    let duration =
+        args.process.duration().map_err(|m| anyhow::anyhow!(ConfigError::invalid("--duration", m)))?;
+    let opts = RecorderOptions {
+        prefix,
+        log: LogOptions {
+            plate,
+            mcap: args.out.clone(),
+            serve_port: args.serve,
+            config_text,
+            info: args.info.into_iter().collect::<BTreeMap<_, _>>(),
+        },
+        frame_pixels: args.frame_pixels,
+    };
+    let mut recorder = Recorder::start(&opts)?;
+    if let Some(port) = recorder.port() {
+        println!("upm-recorder: Foxglove WebSocket on ws://127.0.0.1:{port}");
+    }
+    if let Some(out) = &args.out {
+        println!("upm-recorder: recording to {}", out.display());
+    }
+    let started = Instant::now();
+    recorder.run(|| duration.is_some_and(|d| started.elapsed() >= d))?;
+    let counts = recorder.finish()?;
+    let (received, lost) = counts.values().fold((0, 0), |(r, l), (a, b)| (r + a, l + b));
+    eprintln!("upm-recorder: {received} messages recorded, {lost} lost");
+    for (topic, (r, l)) in counts.iter().filter(|(_, (_, l))| *l > 0) {
+        eprintln!("upm-recorder: {topic}: {l} lost of {}", r + l);
+    }
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! The decoded companion of each message: JSON that Foxglove, PlotJuggler
+//! or `mcap cat --json` show as fields, with a JSON schema inferred from
+//! the same code, so the two never drift. Only the used entries of a
+//! counted message are shown (a corrupt `count` is clamped); codes are
+//! shown as names where the protocol has one.
+
+use ipc_types::{
+    CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, FrameHeader,
+    LatencyPercentiles, PartState, PartStates, REJECT_REASONS, RejectReason, Rejection, Schedule,
+    ScheduleSlot, Telemetry,
+};
+use serde_json::{Map, Value, json};
+
+/// A message with a decoded form.
+pub trait Decoded: Sized {
+    fn decoded(&self) -> Value;
+    /// A message with one entry in each list, to infer the schema from.
+    fn sample() -> Self;
+}
+
+fn code_name(name: Option<&'static str>, code: u32) -> Value {
+    name.map_or_else(|| json!(format!("unknown ({code})")), |n| json!(n))
+}
+
+impl Decoded for PartStates {
+    fn decoded(&self) -> Value {
+        let parts: Vec<Value> = self
+            .parts()
+            .iter()
+            .map(|p| {
+                json!({"id": p.id, "class": p.class, "friction_class": p.friction_class, "x": p.x, "y": p.y,
+                       "theta": p.theta, "vx": p.vx, "vy": p.vy, "omega": p.omega})
+            })
+            .collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "count": self.count, "parts": parts})
+    }
+    fn sample() -> Self {
+        let mut m = Self::new();
+        let _ = m.push(PartState::ZERO);
+        m
+    }
+}
+
+impl Decoded for ForceRequest {
+    fn decoded(&self) -> Value {
+        let entries: Vec<Value> = self
+            .entries()
+            .iter()
+            .map(|e| {
+                json!({"part_id": e.part_id, "force_flag": e.force_flag, "curl_flag": e.curl_flag,
+                       "fx": e.fx, "fy": e.fy, "curl": e.curl})
+            })
+            .collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "deadline_ns": self.deadline_ns, "count": self.count, "entries": entries})
+    }
+    fn sample() -> Self {
+        let mut m = Self::new();
+        let _ = m.push(ForceEntry::ZERO);
+        m
+    }
+}
+
+impl Decoded for ExplicitSchedule {
+    fn decoded(&self) -> Value {
+        let slots: Vec<Value> =
+            self.slots().iter().map(|s| json!({"center_index": s.center_index, "k": s.k})).collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "count": self.count, "slots": slots})
+    }
+    fn sample() -> Self {
+        let mut m = Self::new();
+        let _ = m.push(ExplicitSlot::new(0, 0.0));
+        m
+    }
+}
+
+impl Decoded for CoreCommand {
+    fn decoded(&self) -> Value {
+        json!({"protocol_version": self.protocol_version, "command": self.command, "seq": self.seq,
+               "stamp_ns": self.stamp_ns})
+    }
+    fn sample() -> Self {
+        Self::new(0, 0, 0)
+    }
+}
+
+impl Decoded for Schedule {
+    fn decoded(&self) -> Value {
+        let slots: Vec<Value> = self
+            .slots()
+            .iter()
+            .map(|s| json!({"center_index": s.center_index, "x": s.x, "y": s.y, "k": s.k}))
+            .collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "cycle": self.cycle, "solve_time_ns": self.solve_time_ns, "parts_seq": self.parts_seq,
+               "parts_stamp_ns": self.parts_stamp_ns, "residual": self.residual,
+               "condition": finite_or_null(self.condition), "rank": self.rank, "saturated": self.saturated,
+               "count": self.count, "slots": slots})
+    }
+    fn sample() -> Self {
+        let mut m = Self::new();
+        let _ = m.push(ScheduleSlot::ZERO);
+        m
+    }
+}
+
+/// JSON has no ∞ or NaN: shown as null.
+fn finite_or_null(v: f64) -> Value {
+    if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+fn latency(p: &LatencyPercentiles) -> Value {
+    let us = |ns: u64| ns as f64 / 1e3;
+    json!({"p50_us": us(p.p50_ns), "p99_us": us(p.p99_ns), "p999_us": us(p.p999_ns), "max_us": us(p.max_ns),
+           "samples": p.samples})
+}
+
+/// The core's latency figures alone (the live view's latency panel).
+pub fn latencies(t: &Telemetry) -> Value {
+    let l = &t.latency;
+    json!({"stamp_ns": t.stamp_ns, "motor_wakeup": latency(&l.motor_wakeup), "solver": latency(&l.solver),
+           "ipc_vision_to_core": latency(&l.ipc_vision_to_core),
+           "frame_to_schedule": latency(&l.frame_to_schedule)})
+}
+
+impl Decoded for Telemetry {
+    fn decoded(&self) -> Value {
+        let c = &self.counters;
+        let by_reason: Map<String, Value> = (0..REJECT_REASONS)
+            .filter_map(|i| {
+                let r = RejectReason::from_code(i as u32)?;
+                Some((r.as_str().to_owned(), json!(self.rejected_by_reason[i])))
+            })
+            .collect();
+        let d = &self.driver;
+        json!({
+            "protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+            "state": code_name(self.core_state().map(CoreState::as_str), self.state), "cycle": self.cycle,
+            "plate": {"x": self.plate_x, "y": self.plate_y, "theta": self.plate_theta},
+            "counters": {"ticks": c.ticks, "overruns": c.overruns, "hold_events": c.hold_events,
+                "schedule_swaps": c.schedule_swaps, "rejected_parts": c.rejected_parts,
+                "rejected_requests": c.rejected_requests, "rt_thread_allocations": c.rt_thread_allocations,
+                "driver_faults": c.driver_faults, "driver_clamped": c.driver_clamped,
+                "driver_rejected": c.driver_rejected, "fault_holds": c.fault_holds, "resumes": c.resumes},
+            "parts_age_ms": finite_or_null(self.parts_age_ms), "request_age_ms": finite_or_null(self.request_age_ms),
+            "latency": latencies(self),
+            "realtime_flags": self.realtime_flags,
+            "rejected_by_reason": by_reason,
+            "health_detail": self.health_detail_str(),
+            "driver": {"kind": code_name(d.kind_str(), d.kind), "state": code_name(d.state_str(), d.state),
+                "faults": d.faults.to_vec(), "lost_frames": d.lost_frames, "bad_frames": d.bad_frames,
+                "sync0_phase_ns": d.sync0_phase_ns},
+        })
+    }
+    fn sample() -> Self {
+        Self::new()
+    }
+}
+
+impl Decoded for Rejection {
+    fn decoded(&self) -> Value {
+        json!({"protocol_version": self.protocol_version,
+               "kind": code_name(self.kind().map(|k| k.as_str()), self.kind), "seq": self.seq,
+               "message_stamp_ns": self.message_stamp_ns, "stamp_ns": self.stamp_ns,
+               "reason": code_name(self.reason().map(|r| r.as_str()), self.reason), "detail": self.detail_str()})
+    }
+    fn sample() -> Self {
+        Self::new(ipc_types::RejectedKind::PartStates, 0, 0, 0, RejectReason::Empty, format_args!(""))
+    }
+}
+
+impl Decoded for FrameHeader {
+    fn decoded(&self) -> Value {
+        json!({"protocol_version": self.protocol_version, "pixel_format": self.pixel_format, "width": self.width,
+               "height": self.height, "stride": self.stride, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "exposure_ns": self.exposure_ns})
+    }
+    fn sample() -> Self {
+        Self::default()
+    }
+}
+
+/// A JSON schema describing `v`'s shape (integers, numbers, strings,
+/// objects with every key required, lists typed by their first element).
+pub fn schema_of(v: &Value) -> Value {
+    match v {
+        Value::Null => json!({"type": ["number", "null"]}),
+        Value::Bool(_) => json!({"type": "boolean"}),
+        Value::Number(n) if n.is_f64() => json!({"type": "number"}),
+        Value::Number(_) => json!({"type": "integer"}),
+        Value::String(_) => json!({"type": "string"}),
+        Value::Array(a) => json!({"type": "array", "items": a.first().map_or(json!({}), schema_of)}),
+        Value::Object(o) => {
+            let props: Map<String, Value> = o.iter().map(|(k, v)| (k.clone(), schema_of(v))).collect();
+            json!({"type": "object", "properties": props})
+        }
+    }
+}
+
+/// The JSON schema of `T`'s decoded form.
+pub fn schema<T: Decoded>() -> Value {
+    schema_of(&T::sample().decoded())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_corrupt_count_is_clamped_and_codes_have_names() {
+        let mut m = PartStates::sample();
+        m.count = u32::MAX;
+        let v = m.decoded();
+        assert_eq!(v["parts"].as_array().map(Vec::len), Some(ipc_types::MAX_PARTS));
+        let mut r = Rejection::sample();
+        r.reason = 9999;
+        assert_eq!(r.decoded()["reason"], json!("unknown (9999)"));
+        let s = schema::<Schedule>();
+        assert_eq!(s["properties"]["slots"]["items"]["properties"]["k"]["type"], json!("number"));
+        assert_eq!(s["properties"]["seq"]["type"], json!("integer"));
+    }
+}

@@ -1,0 +1,149 @@
+//! The flight recorder: every service of a rig, subscribed, into a
+//! [`RigLog`]. It runs in a process of its own: if it falls behind,
+//! iceoryx2 overwrites its oldest samples (the core never waits) and the
+//! gap in each publisher's `seq` is counted into the file's metadata.
+
+use std::collections::BTreeMap;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use iceoryx2::prelude::*;
+use ipc_types::ports::{FrameSub, Sub, subscriber};
+use ipc_types::{
+    CoreCommand, ExplicitSchedule, ForceRequest, PartStates, Rejection, Schedule, Telemetry,
+    monotonic_now_ns, service_names,
+};
+
+use crate::rig_log::{LogOptions, RigLog};
+
+/// What to record, where to.
+#[derive(Debug, Clone, Default)]
+pub struct RecorderOptions {
+    pub prefix: String,
+    pub log: LogOptions,
+    /// Record camera frames' pixels (the header is always recorded).
+    pub frame_pixels: bool,
+}
+
+/// Every service of the rig, subscribed.
+#[derive(Debug)]
+struct Subscriptions {
+    parts: Sub<PartStates>,
+    request: Sub<ForceRequest>,
+    explicit: Sub<ExplicitSchedule>,
+    command: Sub<CoreCommand>,
+    schedule: Sub<Schedule>,
+    telemetry: Sub<Telemetry>,
+    rejection: Sub<Rejection>,
+    truth: Sub<PartStates>,
+    frames: Option<FrameSub>,
+}
+
+/// A running recorder; [`Recorder::poll`] at least every few milliseconds
+/// (or [`Recorder::run`]), then [`Recorder::finish`].
+#[derive(Debug)]
+pub struct Recorder {
+    node: Node<ipc::Service>,
+    subs: Subscriptions,
+    log: RigLog,
+    /// CLOCK_MONOTONIC and Unix time at start: log times are Unix ns.
+    mono0: u64,
+    unix0: u64,
+    frame_pixels: bool,
+}
+
+impl Recorder {
+    pub fn start(opts: &RecorderOptions) -> anyhow::Result<Self> {
+        // Subscribed before the file exists: a launcher that waits for the
+        // file knows nothing published after it is missed.
+        let node =
+            ipc_types::rig_node::rig_node(&opts.prefix, None, SignalHandlingMode::HandleTerminationRequests)?;
+        let subs = Subscriptions {
+            parts: subscriber(&node, service_names::PART_STATES)?,
+            truth: subscriber(&node, service_names::SIM_GROUND_TRUTH)?,
+            request: subscriber(&node, service_names::FORCE_REQUEST)?,
+            explicit: subscriber(&node, service_names::EXPLICIT_SCHEDULE)?,
+            command: subscriber(&node, service_names::CORE_COMMAND)?,
+            schedule: subscriber(&node, service_names::SCHEDULE)?,
+            telemetry: subscriber(&node, service_names::TELEMETRY)?,
+            rejection: subscriber(&node, service_names::REJECTION)?,
+            // Only a rig with a camera has the frame service.
+            frames: ipc_types::ports::frame_subscriber(&node).ok(),
+        };
+        let mono0 = monotonic_now_ns();
+        let unix0 = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_nanos() as u64);
+        let mut log_opts = opts.log.clone();
+        log_opts.info.insert("prefix".into(), opts.prefix.clone());
+        log_opts.info.insert("monotonic_at_start_ns".into(), mono0.to_string());
+        log_opts.info.insert("unix_at_start_ns".into(), unix0.to_string());
+        log_opts.info.insert("frame_pixels".into(), opts.frame_pixels.to_string());
+        let log = RigLog::open(&log_opts)?;
+        Ok(Self { node, subs, log, mono0, unix0, frame_pixels: opts.frame_pixels })
+    }
+
+    /// The WebSocket server's port, if serving.
+    pub fn port(&self) -> Option<u16> {
+        self.log.port()
+    }
+
+    fn log_ns(&self) -> u64 {
+        self.unix0 + monotonic_now_ns().saturating_sub(self.mono0)
+    }
+
+    /// Take everything that arrived; returns how many messages.
+    pub fn poll(&mut self) -> anyhow::Result<u64> {
+        let mut n = 0;
+        macro_rules! drain {
+            ($sub:ident, $service:expr) => {
+                while let Some(s) =
+                    self.subs.$sub.receive().map_err(|e| anyhow::anyhow!("{}: {e:?}", $service))?
+                {
+                    let m = *s.payload();
+                    let at = self.log_ns();
+                    self.log.log($service, &m, m.seq, &[], at);
+                    n += 1;
+                }
+            };
+        }
+        drain!(parts, service_names::PART_STATES);
+        drain!(request, service_names::FORCE_REQUEST);
+        drain!(explicit, service_names::EXPLICIT_SCHEDULE);
+        drain!(command, service_names::CORE_COMMAND);
+        drain!(schedule, service_names::SCHEDULE);
+        drain!(rejection, service_names::REJECTION);
+        drain!(truth, service_names::SIM_GROUND_TRUTH);
+        drain!(telemetry, service_names::TELEMETRY);
+        if let Some(frames) = &self.subs.frames {
+            while let Some(s) = frames.receive().map_err(|e| anyhow::anyhow!("camera frame: {e:?}"))? {
+                let h = *s.user_header();
+                let at = self.unix0 + monotonic_now_ns().saturating_sub(self.mono0);
+                let pixels: &[u8] = if self.frame_pixels { s.payload() } else { &[] };
+                self.log.log(service_names::CAMERA_FRAME, &h, h.seq, pixels, at);
+                n += 1;
+            }
+        }
+        self.log.view(self.log_ns());
+        Ok(n)
+    }
+
+    /// Poll until SIGINT/SIGTERM or until `stop` returns true (checked
+    /// every millisecond).
+    pub fn run(&mut self, mut stop: impl FnMut() -> bool) -> anyhow::Result<()> {
+        loop {
+            self.poll()?;
+            if stop() || self.node.wait(Duration::from_millis(1)).is_err() {
+                return Ok(());
+            }
+        }
+    }
+
+    /// Messages received and lost per topic so far.
+    pub fn counts(&self) -> BTreeMap<String, (u64, u64)> {
+        self.log.counts()
+    }
+
+    /// Take what is left, then close the log (see [`RigLog::finish`]).
+    pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, u64)>> {
+        self.poll()?;
+        self.log.finish()
+    }
+}

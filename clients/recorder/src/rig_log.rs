@@ -1,0 +1,303 @@
+//! The channels of a rig's log, on one foxglove `Context`: each service's
+//! raw messages (topic = the service name, message encoding `upm-repr-c`,
+//! schema name = the type name: their exact bytes, what `upm replay`
+//! reads), a decoded JSON companion per service (topic + `/json`, with a
+//! JSON schema), a `foxglove.SceneUpdate` and the core's latency figures.
+//! The sinks are an MCAP file (zstd chunks, index, statistics, the rig's
+//! TOML attached), a Foxglove WebSocket server on localhost, or both.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::Context as _;
+use foxglove::messages::{SceneUpdate, Timestamp};
+use foxglove::{
+    Channel, ChannelBuilder, Context, McapAttachment, McapCompression, McapWriteOptions, McapWriterHandle,
+    PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
+};
+use ipc_types::{
+    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, Schedule, Telemetry,
+    WireMessage, service_names,
+};
+
+use crate::decoded::{Decoded, latencies, schema, schema_of};
+use crate::scene::{PlateView, Scene};
+use crate::seq_gaps::SeqGaps;
+
+/// Message encoding of the raw channels: the payload's bytes as in shared
+/// memory (little-endian, layout in docs/protocol.md).
+pub const RAW_ENCODING: &str = "upm-repr-c";
+/// Suffix of the decoded companion of a raw topic.
+pub const JSON_SUFFIX: &str = "/json";
+pub const SCENE_TOPIC: &str = "upm/scene";
+pub const LATENCY_TOPIC: &str = "upm/latency";
+/// MCAP profile of a UPM recording.
+pub const PROFILE: &str = "upm";
+/// Metadata written at start (protocol version, prefix, clocks, run info)
+/// and at the end (messages received and lost per topic).
+pub const RUN_METADATA: &str = "upm";
+pub const COUNTS_METADATA: &str = "upm.recorder";
+/// Attachment holding the rig's TOML (what the core ran with).
+pub const CONFIG_ATTACHMENT: &str = "config.toml";
+
+/// Scene at most this often; decoded ground truth (1 kHz raw) likewise.
+const VIEW_PERIOD_NS: u64 = 100_000_000;
+const TRUTH_JSON_PERIOD_NS: u64 = 20_000_000;
+
+/// Where the log goes and what it says about itself.
+#[derive(Debug, Clone, Default)]
+pub struct LogOptions {
+    pub plate: PlateView,
+    /// Write an MCAP file here (must not exist).
+    pub mcap: Option<PathBuf>,
+    /// Serve the Foxglove WebSocket protocol on this localhost port (0: any free one).
+    pub serve_port: Option<u16>,
+    /// Attached as `config.toml` (replay needs it).
+    pub config_text: Option<String>,
+    /// The run metadata's key/values (prefix, scenario, seed, clocks, …);
+    /// the protocol version is added.
+    pub info: BTreeMap<String, String>,
+}
+
+/// One service: its raw and decoded channels and what was seen on it.
+#[derive(Debug)]
+struct Topic {
+    raw: Arc<RawChannel>,
+    json: Arc<RawChannel>,
+    received: u64,
+    gaps: SeqGaps,
+    /// Whether `seq` numbers this publisher's messages one by one (a
+    /// schedule's `seq` is its request's, a rejection's the refused
+    /// message's: their gaps are not losses).
+    counts_by_seq: bool,
+    json_period_ns: u64,
+    last_json_ns: u64,
+}
+
+impl Topic {
+    /// `T` on `service`.
+    fn new<T: WireMessage + Decoded>(ctx: &Arc<Context>, service: &'static str) -> anyhow::Result<Self> {
+        let layout = format!(
+            "{} as #[repr(C)] bytes, {} bytes, little-endian; docs/protocol.md",
+            T::wire_type_name(),
+            size_of::<T>()
+        );
+        let raw = ChannelBuilder::new(service)
+            .context(ctx)
+            .message_encoding(RAW_ENCODING)
+            .schema(Schema::new(T::wire_type_name(), RAW_ENCODING, layout.into_bytes()))
+            .add_metadata("type_name", T::wire_type_name())
+            .add_metadata("size", &size_of::<T>().to_string())
+            .build_raw()?;
+        let json = ChannelBuilder::new(format!("{service}{JSON_SUFFIX}"))
+            .context(ctx)
+            .message_encoding("json")
+            .schema(Schema::new(T::wire_type_name(), "jsonschema", serde_json::to_vec(&schema::<T>())?))
+            .build_raw()?;
+        // The ground truth is the newest pose when the io thread publishes (its
+        // seq is the tick), so its gaps are not losses either.
+        let counts_by_seq = !matches!(
+            service,
+            service_names::SCHEDULE | service_names::REJECTION | service_names::SIM_GROUND_TRUTH
+        );
+        let json_period_ns =
+            if service == service_names::SIM_GROUND_TRUTH { TRUTH_JSON_PERIOD_NS } else { 0 };
+        Ok(Self {
+            raw,
+            json,
+            received: 0,
+            gaps: SeqGaps::default(),
+            counts_by_seq,
+            json_period_ns,
+            last_json_ns: 0,
+        })
+    }
+}
+
+/// The log of one rig; see the module doc.
+#[derive(Debug)]
+pub struct RigLog {
+    topics: BTreeMap<&'static str, Topic>,
+    scene: Scene,
+    scene_channel: Channel<SceneUpdate>,
+    latency: Arc<RawChannel>,
+    last_view_ns: u64,
+    mcap: Option<McapWriterHandle<BufWriter<File>>>,
+    ws: Option<WebSocketServerHandle>,
+    _ctx: Arc<Context>,
+}
+
+impl RigLog {
+    pub fn open(opts: &LogOptions) -> anyhow::Result<Self> {
+        let ctx = Context::new();
+        let mut topics = BTreeMap::new();
+        topics.insert(PartStates::SERVICE, Topic::new::<PartStates>(&ctx, PartStates::SERVICE)?);
+        topics.insert(ForceRequest::SERVICE, Topic::new::<ForceRequest>(&ctx, ForceRequest::SERVICE)?);
+        topics.insert(
+            ExplicitSchedule::SERVICE,
+            Topic::new::<ExplicitSchedule>(&ctx, ExplicitSchedule::SERVICE)?,
+        );
+        topics.insert(CoreCommand::SERVICE, Topic::new::<CoreCommand>(&ctx, CoreCommand::SERVICE)?);
+        topics.insert(Schedule::SERVICE, Topic::new::<Schedule>(&ctx, Schedule::SERVICE)?);
+        topics.insert(Telemetry::SERVICE, Topic::new::<Telemetry>(&ctx, Telemetry::SERVICE)?);
+        topics.insert(Rejection::SERVICE, Topic::new::<Rejection>(&ctx, Rejection::SERVICE)?);
+        topics.insert(FrameHeader::SERVICE, Topic::new::<FrameHeader>(&ctx, FrameHeader::SERVICE)?);
+        // The simulator's ground truth is PartStates on a service of its own.
+        let truth = service_names::SIM_GROUND_TRUTH;
+        topics.insert(truth, Topic::new::<PartStates>(&ctx, truth)?);
+        let scene_channel = ChannelBuilder::new(SCENE_TOPIC).context(&ctx).build::<SceneUpdate>();
+        let latency_schema = serde_json::to_vec(&schema_of(&latencies(&Telemetry::new())))?;
+        let latency = ChannelBuilder::new(LATENCY_TOPIC)
+            .context(&ctx)
+            .message_encoding("json")
+            .schema(Schema::new("upm.Latency", "jsonschema", latency_schema))
+            .build_raw()?;
+        let mcap = match &opts.mcap {
+            Some(path) => {
+                let options = McapWriteOptions::new()
+                    .compression(Some(McapCompression::Zstd))
+                    .chunk_size(Some(1 << 20))
+                    .use_chunks(true)
+                    .emit_statistics(true)
+                    .emit_metadata_indexes(true)
+                    .emit_attachment_indexes(true)
+                    .profile(PROFILE);
+                let w = ctx
+                    .mcap_writer_with_options(options)
+                    .create_new_buffered_file(path)
+                    .with_context(|| format!("creating {}", path.display()))?;
+                let mut info = opts.info.clone();
+                info.insert("protocol_version".into(), ipc_types::PROTOCOL_VERSION.to_string());
+                w.write_metadata(RUN_METADATA, info)?;
+                if let Some(text) = &opts.config_text {
+                    w.attach(&McapAttachment {
+                        log_time: 0,
+                        create_time: 0,
+                        name: CONFIG_ATTACHMENT.into(),
+                        media_type: "application/toml".into(),
+                        data: std::borrow::Cow::Borrowed(text.as_bytes()),
+                    })?;
+                }
+                Some(w)
+            }
+            None => None,
+        };
+        let ws = match opts.serve_port {
+            Some(port) => Some(
+                WebSocketServer::new()
+                    .context(&ctx)
+                    .name("upm")
+                    .bind("127.0.0.1", port)
+                    .start_blocking()
+                    .context("starting the Foxglove WebSocket server")?,
+            ),
+            None => None,
+        };
+        Ok(Self {
+            topics,
+            scene: Scene::new(opts.plate.clone()),
+            scene_channel,
+            latency,
+            last_view_ns: 0,
+            mcap,
+            ws,
+            _ctx: ctx,
+        })
+    }
+
+    /// The WebSocket server's port, if serving.
+    pub fn port(&self) -> Option<u16> {
+        self.ws.as_ref().map(WebSocketServerHandle::port)
+    }
+
+    /// Log `m` (followed by `extra` bytes: a frame's pixels) as received on
+    /// `service` at `log_ns` (Unix ns); the scene follows part states,
+    /// requests and schedules. A service without a topic is ignored.
+    pub fn log<T: WireMessage + Decoded>(
+        &mut self,
+        service: &'static str,
+        m: &T,
+        seq: u64,
+        extra: &[u8],
+        log_ns: u64,
+    ) {
+        let Some(t) = self.topics.get_mut(service) else { return };
+        t.received += 1;
+        if t.counts_by_seq {
+            t.gaps.see(seq);
+        }
+        let meta = PartialMetadata::with_log_time(log_ns);
+        if extra.is_empty() {
+            t.raw.log_with_meta(m.as_bytes(), meta);
+        } else {
+            let mut bytes = Vec::with_capacity(size_of::<T>() + extra.len());
+            bytes.extend_from_slice(m.as_bytes());
+            bytes.extend_from_slice(extra);
+            t.raw.log_with_meta(&bytes, meta);
+        }
+        if log_ns >= t.last_json_ns.saturating_add(t.json_period_ns) && t.json.has_sinks() {
+            t.last_json_ns = log_ns;
+            if let Ok(text) = serde_json::to_vec(&m.decoded()) {
+                t.json.log_with_meta(&text, PartialMetadata::with_log_time(log_ns));
+            }
+        }
+        let any: &dyn core::any::Any = m;
+        if service == service_names::PART_STATES
+            && let Some(p) = any.downcast_ref::<PartStates>()
+        {
+            self.scene.on_parts(p);
+        } else if let Some(r) = any.downcast_ref::<ForceRequest>() {
+            self.scene.on_request(r);
+        } else if let Some(s) = any.downcast_ref::<Schedule>() {
+            self.scene.on_schedule(s);
+        } else if let Some(t) = any.downcast_ref::<Telemetry>()
+            && self.latency.has_sinks()
+            && let Ok(text) = serde_json::to_vec(&latencies(t))
+        {
+            self.latency.log_with_meta(&text, PartialMetadata::with_log_time(log_ns));
+        }
+    }
+
+    /// Log the scene if its period has passed.
+    pub fn view(&mut self, log_ns: u64) {
+        if log_ns < self.last_view_ns.saturating_add(VIEW_PERIOD_NS) {
+            return;
+        }
+        self.last_view_ns = log_ns;
+        if self.scene_channel.has_sinks() {
+            let stamp = Timestamp::new((log_ns / 1_000_000_000) as u32, (log_ns % 1_000_000_000) as u32);
+            self.scene_channel
+                .log_with_meta(&self.scene.update(stamp), PartialMetadata::with_log_time(log_ns));
+        }
+    }
+
+    /// Messages received and lost per topic so far.
+    pub fn counts(&self) -> BTreeMap<String, (u64, u64)> {
+        self.topics.iter().map(|(k, t)| ((*k).to_owned(), (t.received, t.gaps.lost))).collect()
+    }
+
+    /// Write the counts into the file's metadata, close the file and stop
+    /// the server. Returns the counts.
+    pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, u64)>> {
+        let counts = self.counts();
+        if let Some(w) = self.mcap.take() {
+            let mut m: BTreeMap<String, String> = BTreeMap::new();
+            let mut lost_total = 0;
+            for (topic, (received, lost)) in &counts {
+                m.insert(format!("received {topic}"), received.to_string());
+                m.insert(format!("lost {topic}"), lost.to_string());
+                lost_total += lost;
+            }
+            m.insert("lost_total".into(), lost_total.to_string());
+            w.write_metadata(COUNTS_METADATA, m)?;
+            w.close()?;
+        }
+        if let Some(ws) = self.ws.take() {
+            ws.stop().wait_blocking();
+        }
+        Ok(counts)
+    }
+}

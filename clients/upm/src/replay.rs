@@ -1,0 +1,452 @@
+//! `upm replay FILE`: the recorded inputs fed to a lock-step core, each at
+//! the instant the recorded core handled it, and every output compared bit
+//! for bit with the recorded one.
+//!
+//! A recorded schedule names its whole input: the request (`seq`), the part
+//! states it was solved against (`parts_seq`, `parts_stamp_ns`) and the
+//! instant the core picked the request up (`stamp_ns`); a rejection names
+//! the refused message and the instant. Outputs are replayed in that order
+//! through the core's own solve stage (`Lockstep::handle_at`), so the
+//! solver's warm start sees the same history. Compared: every field but
+//! `cycle` and `solve_time_ns` (timing, not a function of the input).
+//!
+//! `--planner NAME` instead feeds the recorded part states to another
+//! planner and the core, open loop (the parts move as they did), and writes
+//! what came out to a new recording.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use drivers::IdealDriver;
+use ipc_types::{
+    ExplicitSchedule, ForceRequest, PartStates, RejectedKind, Rejection, Schedule, WireMessage, service_names,
+};
+use rt_core::runtime::lockstep::Lockstep;
+use serde_json::{Value, json};
+use upm_recorder::{LogOptions, PlateView, RigLog};
+
+use crate::config::Config;
+use crate::recording::{RawMessage, Recording};
+
+/// What a recording holds that a replay needs, in log order.
+#[derive(Debug, Default)]
+struct Inputs {
+    parts: Vec<(u64, PartStates)>,
+    requests: Vec<ForceRequest>,
+    explicit: Vec<ExplicitSchedule>,
+    schedules: Vec<Schedule>,
+    rejections: Vec<Rejection>,
+}
+
+fn read_inputs(rec: &Recording) -> anyhow::Result<Inputs> {
+    rec.check_type::<PartStates>(service_names::PART_STATES)?;
+    rec.check_type::<ForceRequest>(service_names::FORCE_REQUEST)?;
+    rec.check_type::<ExplicitSchedule>(service_names::EXPLICIT_SCHEDULE)?;
+    rec.check_type::<Schedule>(service_names::SCHEDULE)?;
+    rec.check_type::<Rejection>(service_names::REJECTION)?;
+    let mut i = Inputs::default();
+    rec.for_each_raw(|index, m: RawMessage<'_>| {
+        match m.topic {
+            service_names::PART_STATES => i.parts.push((m.log_time, rec.decode(index, m)?)),
+            service_names::FORCE_REQUEST => i.requests.push(rec.decode(index, m)?),
+            service_names::EXPLICIT_SCHEDULE => i.explicit.push(rec.decode(index, m)?),
+            service_names::SCHEDULE => i.schedules.push(rec.decode(index, m)?),
+            service_names::REJECTION => i.rejections.push(rec.decode(index, m)?),
+            _ => {}
+        }
+        Ok(())
+    })?;
+    Ok(i)
+}
+
+/// The core the recording ran with, in lock-step at `start_ns`.
+fn core_for(rec: &Recording, start_ns: u64) -> anyhow::Result<(Config, Lockstep<IdealDriver>)> {
+    let shown = format!("{} (its {})", rec.shown, upm_recorder::CONFIG_ATTACHMENT);
+    let config = Config::parse(rec.config_text()?, &shown)?;
+    let params = config.core_params(&shown)?;
+    // Schedules do not depend on the plate: any driver will do.
+    let driver = IdealDriver::new(params.rig, params.motion.tick_hz).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let core =
+        Lockstep::new(&params, driver, start_ns.max(1)).map_err(|e| anyhow::anyhow!("{shown}: {e}"))?;
+    Ok((config, core))
+}
+
+/// One recorded output: what the core answered, in the order it did.
+#[derive(Debug, Clone, Copy)]
+enum Output {
+    Schedule(Schedule),
+    Rejection(Rejection),
+}
+
+impl Output {
+    fn handled_ns(&self) -> u64 {
+        match self {
+            Self::Schedule(s) => s.stamp_ns,
+            Self::Rejection(r) => r.stamp_ns,
+        }
+    }
+}
+
+/// The first field in which two schedules differ (timing fields aside).
+fn schedule_difference(a: &Schedule, b: &Schedule) -> Option<(String, String, String)> {
+    macro_rules! same {
+        ($($f:ident),*) => {$(
+            if a.$f != b.$f {
+                return Some((stringify!($f).into(), a.$f.to_string(), b.$f.to_string()));
+            }
+        )*};
+    }
+    same!(protocol_version, count, seq, stamp_ns, parts_seq, parts_stamp_ns, rank, saturated);
+    let bits = |name: &str, x: f64, y: f64| {
+        (x.to_bits() != y.to_bits()).then(|| (name.to_owned(), format!("{x:e}"), format!("{y:e}")))
+    };
+    if let Some(d) =
+        bits("residual", a.residual, b.residual).or_else(|| bits("condition", a.condition, b.condition))
+    {
+        return Some(d);
+    }
+    for (i, (x, y)) in a.slots().iter().zip(b.slots()).enumerate() {
+        if x.center_index != y.center_index {
+            return Some((
+                format!("slots[{i}].center_index"),
+                x.center_index.to_string(),
+                y.center_index.to_string(),
+            ));
+        }
+        for (name, u, v) in [("x", x.x, y.x), ("y", x.y, y.y), ("k", x.k, y.k)] {
+            if let Some(d) = bits(&format!("slots[{i}].{name}"), u, v) {
+                return Some(d);
+            }
+        }
+    }
+    None
+}
+
+fn rejection_difference(a: &Rejection, b: &Rejection) -> Option<(String, String, String)> {
+    let fields = [
+        ("kind", a.kind.to_string(), b.kind.to_string()),
+        ("seq", a.seq.to_string(), b.seq.to_string()),
+        ("reason", a.reason.to_string(), b.reason.to_string()),
+        ("detail", a.detail_str().to_owned(), b.detail_str().to_owned()),
+    ];
+    fields.into_iter().find(|(_, x, y)| x != y).map(|(f, x, y)| (f.to_owned(), x, y))
+}
+
+/// How a replay ended.
+#[derive(Debug)]
+pub struct ReplayReport {
+    /// None: identical; else the first divergence in one line.
+    pub divergence: Option<String>,
+    pub schedules: usize,
+    pub rejections: usize,
+    pub recorded_s: f64,
+    pub replay_s: f64,
+}
+
+impl ReplayReport {
+    pub fn to_json(&self) -> Value {
+        json!({
+            "identical": self.divergence.is_none(),
+            "divergence": self.divergence,
+            "schedules": self.schedules,
+            "rejections": self.rejections,
+            "recorded_s": self.recorded_s,
+            "replay_s": self.replay_s,
+            "speed_x_real_time": self.recorded_s / self.replay_s.max(1e-9),
+        })
+    }
+}
+
+/// Replay `path`; see the module doc.
+pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
+    let rec = Recording::open(path)?;
+    let started = Instant::now();
+    let inputs = read_inputs(&rec)?;
+    let mut outputs: Vec<Output> = inputs.schedules.iter().map(|s| Output::Schedule(*s)).collect();
+    // Commands only move the motor; they leave no schedule to compare.
+    outputs.extend(
+        inputs
+            .rejections
+            .iter()
+            .filter(|r| r.kind() != Some(RejectedKind::CoreCommand))
+            .map(|r| Output::Rejection(*r)),
+    );
+    outputs.sort_by_key(Output::handled_ns); // stable: ties keep the recorded order
+    let first = outputs.first().map_or(1, Output::handled_ns);
+    let first_parts = inputs.parts.iter().map(|(_, p)| p.stamp_ns).min().unwrap_or(first);
+    let (_, mut core) = core_for(&rec, first.min(first_parts).saturating_sub(1))?;
+    let lost = rec.lost_total();
+    let missing = |what: String| {
+        anyhow::anyhow!(
+            "{}: cannot replay: {what} is not in the recording (the recorder counted {lost} lost messages)",
+            rec.shown
+        )
+    };
+    let mut current_parts: Option<(u64, u64)> = None;
+    let (mut n_sched, mut n_rej) = (0, 0);
+    let mut divergence = None;
+    for (n, out) in outputs.iter().enumerate() {
+        let (seen_s, seen_r) = (core.published().len(), core.rejections().len());
+        let now = out.handled_ns();
+        match out {
+            Output::Schedule(s) if s.parts_seq == 0 && s.solve_time_ns == 0 => {
+                let m = inputs
+                    .explicit
+                    .iter()
+                    .rfind(|m| m.seq == s.seq && m.stamp_ns <= now)
+                    .ok_or_else(|| missing(format!("the explicit schedule seq {}", s.seq)))?;
+                core.inbox().push_explicit(m);
+            }
+            Output::Schedule(s) => {
+                let key = (s.parts_seq, s.parts_stamp_ns);
+                if current_parts != Some(key) {
+                    let (_, p) =
+                        inputs.parts.iter().find(|(_, p)| (p.seq, p.stamp_ns) == key).ok_or_else(|| {
+                            missing(format!(
+                                "part states seq {} stamp {} (schedule seq {})",
+                                key.0, key.1, s.seq
+                            ))
+                        })?;
+                    core.inbox().push_parts(p);
+                    core.handle_at(p.stamp_ns);
+                    current_parts = Some(key);
+                }
+                let m = inputs
+                    .requests
+                    .iter()
+                    .rfind(|m| m.seq == s.seq && m.stamp_ns <= now)
+                    .ok_or_else(|| missing(format!("the force request seq {}", s.seq)))?;
+                core.inbox().push_request(m);
+            }
+            Output::Rejection(r) => {
+                let at = |seq: u64, stamp: u64| seq == r.seq && stamp == r.message_stamp_ns;
+                let what = || {
+                    format!(
+                        "the {} seq {} that was rejected",
+                        r.kind().map_or("message", |k| k.as_str()),
+                        r.seq
+                    )
+                };
+                match r.kind() {
+                    Some(RejectedKind::PartStates) => {
+                        let (_, p) = inputs
+                            .parts
+                            .iter()
+                            .find(|(_, p)| at(p.seq, p.stamp_ns))
+                            .ok_or_else(|| missing(what()))?;
+                        core.inbox().push_parts(p);
+                    }
+                    Some(RejectedKind::ForceRequest) => {
+                        let m = inputs
+                            .requests
+                            .iter()
+                            .find(|m| at(m.seq, m.stamp_ns))
+                            .ok_or_else(|| missing(what()))?;
+                        core.inbox().push_request(m);
+                    }
+                    Some(RejectedKind::ExplicitSchedule) => {
+                        let m = inputs
+                            .explicit
+                            .iter()
+                            .find(|m| at(m.seq, m.stamp_ns))
+                            .ok_or_else(|| missing(what()))?;
+                        core.inbox().push_explicit(m);
+                    }
+                    _ => continue,
+                }
+            }
+        }
+        core.handle_at(now);
+        let new_s = &core.published()[seen_s..];
+        let new_r = &core.rejections()[seen_r..];
+        let diff = match (out, new_s, new_r) {
+            (Output::Schedule(want), [got], []) => {
+                n_sched += 1;
+                schedule_difference(want, got)
+                    .map(|(f, a, b)| format!("schedule seq {}: {f}: recorded {a}, replayed {b}", want.seq))
+            }
+            (Output::Rejection(want), [], [got]) => {
+                n_rej += 1;
+                rejection_difference(want, got).map(|(f, a, b)| {
+                    format!("rejection of seq {}: {f}: recorded {a}, replayed {b}", want.seq)
+                })
+            }
+            (_, s, r) => Some(format!(
+                "output {n} ({}): recorded one, replayed {} schedules and {} rejections{}",
+                match out {
+                    Output::Schedule(s) => format!("schedule seq {}", s.seq),
+                    Output::Rejection(r) => format!("rejection of seq {}", r.seq),
+                },
+                s.len(),
+                r.len(),
+                r.first().map_or(String::new(), |r| format!(" ({})", r.detail_str()))
+            )),
+        };
+        if diff.is_some() {
+            divergence = diff;
+            break;
+        }
+    }
+    let (t0, t1) = rec.span_ns;
+    Ok(ReplayReport {
+        divergence,
+        schedules: n_sched,
+        rejections: n_rej,
+        recorded_s: t1.saturating_sub(t0) as f64 / 1e9,
+        replay_s: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// What `--planner` produced.
+#[derive(Debug)]
+pub struct PlannerReplay {
+    pub planner: String,
+    pub part_states: usize,
+    pub requests: usize,
+    pub schedules: usize,
+    pub rejections: usize,
+    pub saturated: usize,
+    pub mean_residual: f64,
+    /// The recording's own schedules, for comparison.
+    pub recorded_schedules: usize,
+    pub recorded_saturated: usize,
+    pub recorded_mean_residual: f64,
+}
+
+impl PlannerReplay {
+    pub fn to_json(&self) -> Value {
+        json!({
+            "planner": self.planner, "part_states": self.part_states, "requests": self.requests,
+            "schedules": self.schedules, "rejections": self.rejections, "saturated": self.saturated,
+            "mean_residual_n": self.mean_residual,
+            "recorded": {"schedules": self.recorded_schedules, "saturated": self.recorded_saturated,
+                         "mean_residual_n": self.recorded_mean_residual},
+        })
+    }
+}
+
+fn mean_residual(s: &[Schedule]) -> f64 {
+    s.iter().map(|s| s.residual).sum::<f64>() / s.len().max(1) as f64
+}
+
+/// Feed the recorded part states to `planner` and a lock-step core; write
+/// part states, requests, schedules and rejections to `out` (MCAP).
+pub fn replay_with_planner(path: &Path, planner: &str, out: &Path) -> anyhow::Result<PlannerReplay> {
+    let rec = Recording::open(path)?;
+    let inputs = read_inputs(&rec)?;
+    let first = inputs.parts.iter().map(|(_, p)| p.stamp_ns).min().unwrap_or(1);
+    let (config, mut core) = core_for(&rec, first.saturating_sub(1))?;
+    let chosen = if config.planner.name() == planner {
+        config.planner.clone()
+    } else {
+        upm_planner::PlannerConfig::by_name(planner).map_err(anyhow::Error::msg)?
+    };
+    let mut p = chosen.build().map_err(|m| anyhow::anyhow!("planner {planner}: {m}"))?;
+    if out.exists() {
+        bail!("{} exists; the replay never overwrites a recording", out.display());
+    }
+    let mut info = rec.run.clone();
+    info.insert("replayed_from".into(), rec.shown.clone());
+    info.insert("planner".into(), planner.into());
+    let plate = PlateView {
+        half_extent: config.plate.half_extent,
+        mu_m_g: config.plate.mu_m_g,
+        centers: config.plate.centers.clone(),
+    };
+    let mut log = RigLog::open(&LogOptions {
+        plate,
+        mcap: Some(out.to_path_buf()),
+        serve_port: None,
+        config_text: rec.config_text.clone(),
+        info,
+    })?;
+    let mut req = ForceRequest::new();
+    let mut requests = 0;
+    let t0 = first;
+    for (log_time, parts) in &inputs.parts {
+        let (seen_s, seen_r) = (core.published().len(), core.rejections().len());
+        let now = parts.stamp_ns.max(core.now_ns());
+        core.inbox().push_parts(parts);
+        core.handle_at(now);
+        log.log(PartStates::SERVICE, parts, parts.seq, &[], *log_time);
+        if p.plan(parts, now.saturating_sub(t0) as f64 / 1e9, &mut req) {
+            requests += 1;
+            req.seq = requests as u64;
+            req.stamp_ns = now;
+            req.deadline_ns = now + upm_planner::run::REQUEST_LIFETIME_NS;
+            core.inbox().push_request(&req);
+            core.handle_at(now);
+            log.log(ForceRequest::SERVICE, &req, req.seq, &[], *log_time);
+        }
+        for s in &core.published()[seen_s..] {
+            log.log(Schedule::SERVICE, s, s.seq, &[], *log_time);
+        }
+        for r in &core.rejections()[seen_r..] {
+            log.log(Rejection::SERVICE, r, r.seq, &[], *log_time);
+        }
+        log.view(*log_time);
+    }
+    log.finish().with_context(|| format!("writing {}", out.display()))?;
+    let schedules = core.published();
+    Ok(PlannerReplay {
+        planner: planner.into(),
+        part_states: inputs.parts.len(),
+        requests,
+        schedules: schedules.len(),
+        rejections: core.rejections().len(),
+        saturated: schedules.iter().filter(|s| s.is_saturated()).count(),
+        mean_residual: mean_residual(schedules),
+        recorded_schedules: inputs.schedules.len(),
+        recorded_saturated: inputs.schedules.iter().filter(|s| s.is_saturated()).count(),
+        recorded_mean_residual: mean_residual(&inputs.schedules),
+    })
+}
+
+/// `upm replay`: prints the verdict; exits 1 on a divergence, 2 when the
+/// file cannot be replayed.
+pub fn run_command(file: &Path, planner: Option<&str>, out: &Path, as_json: bool) -> anyhow::Result<()> {
+    let fail = |e: anyhow::Error| -> ! {
+        eprintln!("upm replay: error: {}", format!("{e:#}").replace('\n', " "));
+        std::process::exit(2)
+    };
+    if let Some(name) = planner {
+        let r = replay_with_planner(file, name, out).unwrap_or_else(|e| fail(e));
+        if as_json {
+            println!("{}", serde_json::to_string_pretty(&r.to_json())?);
+        } else {
+            println!(
+                "planner {}: {} part states -> {} requests, {} schedules ({} saturated, mean residual {:.3e} N), \
+                 {} rejections; recorded: {} schedules ({} saturated, mean residual {:.3e} N); wrote {}",
+                r.planner,
+                r.part_states,
+                r.requests,
+                r.schedules,
+                r.saturated,
+                r.mean_residual,
+                r.rejections,
+                r.recorded_schedules,
+                r.recorded_saturated,
+                r.recorded_mean_residual,
+                out.display()
+            );
+        }
+        return Ok(());
+    }
+    let r = replay(file).unwrap_or_else(|e| fail(e));
+    if as_json {
+        println!("{}", serde_json::to_string_pretty(&r.to_json())?);
+    } else {
+        match &r.divergence {
+            None => println!(
+                "identical: {} schedules and {} rejections reproduced bit for bit ({:.1} s recorded, replayed in {:.2} s)",
+                r.schedules, r.rejections, r.recorded_s, r.replay_s
+            ),
+            Some(d) => println!("diverged: {d}"),
+        }
+    }
+    if r.divergence.is_some() {
+        std::process::exit(1);
+    }
+    Ok(())
+}
