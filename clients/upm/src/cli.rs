@@ -265,6 +265,9 @@ pub enum BenchTarget {
     /// driver's motor-thread poll beside ethercrab's io_uring task, with
     /// the cycle thread's wake-up (needs root).
     Ethercat,
+    /// The flight recorder and live view: the core's p99 without and with
+    /// them, bytes per minute, replay speed.
+    Record,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -385,6 +388,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             crate::replay::run_command(&file, planner.as_deref(), &out, json)
         }
         Command::Monitor { prefix, config, port } => {
+            let prefix = Some(rig_prefix(prefix, config.clone())?);
             let args = upm_recorder::args::RecorderArgs {
                 process: rig_config::ProcessArgs { config, prefix, duration: None },
                 out: None,
@@ -445,6 +449,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 }
                 (BenchTarget::Vision, None) => {
                     (crate::bench_vision::run(quick)?, crate::bench_vision::to_text)
+                }
+                (BenchTarget::Record, None) => {
+                    let (s, r) = if quick { (seconds.min(5.0), 1) } else { (seconds, rounds) };
+                    (crate::bench_record::run(s, r)?, crate::bench_record::to_text)
                 }
                 (BenchTarget::Ethercat, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };

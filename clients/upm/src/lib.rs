@@ -7,6 +7,7 @@
 pub mod bench_ethercat;
 pub mod bench_ipc;
 pub mod bench_latency;
+pub mod bench_record;
 pub mod bench_solver;
 pub mod bench_sort;
 pub mod bench_vision;

@@ -1,0 +1,290 @@
+//! The flight recorder across the process boundary: a real multi-process
+//! run is recorded by upm-recorder and `upm replay` reproduces every
+//! schedule bit for bit; a recording with one schedule changed by one ulp
+//! is caught with the field named; messages the core rejects are recorded
+//! with the core's reason and the replay rejects them the same way; and a
+//! truncated, foreign or other-version file is refused in one line.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use ipc_types::{
+    CoreCommand, CoreState, ExplicitSchedule, ForceEntry, ForceRequest, FrameHeader, PartStates, Rejection,
+    Schedule, Telemetry, WireMessage, monotonic_now_ns, service_names,
+};
+use upm_cli::recording::Recording;
+use upm_recorder::{LogOptions, PlateView, RigLog};
+
+const UPM: &str = env!("CARGO_BIN_EXE_upm");
+
+fn dir(tag: &str) -> PathBuf {
+    let d =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("record_replay_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("test dir");
+    d
+}
+
+fn replay(file: &Path) -> Output {
+    Command::new(UPM).arg("replay").arg(file).output().expect("upm replay")
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+/// `rec` rewritten message by message, `change` applied to each schedule
+/// (with its index among the schedules).
+fn rewrite(rec: &Recording, to: &Path, mut change: impl FnMut(usize, &mut Schedule)) {
+    let mut log = RigLog::open(&LogOptions {
+        plate: PlateView::default(),
+        mcap: Some(to.to_path_buf()),
+        serve_port: None,
+        config_text: rec.config_text.clone(),
+        info: rec.run.clone(),
+    })
+    .expect("open the copy");
+    let mut schedules = 0;
+    rec.for_each_raw(|i, m| {
+        macro_rules! copy {
+            ($t:ty) => {{
+                let v: $t = rec.decode(i, m)?;
+                log.log(<$t>::SERVICE, &v, 0, &[], m.log_time);
+            }};
+        }
+        match m.topic {
+            service_names::PART_STATES => copy!(PartStates),
+            service_names::FORCE_REQUEST => copy!(ForceRequest),
+            service_names::EXPLICIT_SCHEDULE => copy!(ExplicitSchedule),
+            service_names::CORE_COMMAND => copy!(CoreCommand),
+            service_names::TELEMETRY => copy!(Telemetry),
+            service_names::REJECTION => copy!(Rejection),
+            service_names::CAMERA_FRAME => copy!(FrameHeader),
+            service_names::SCHEDULE => {
+                let mut s: Schedule = rec.decode(i, m)?;
+                change(schedules, &mut s);
+                schedules += 1;
+                log.log(Schedule::SERVICE, &s, s.seq, &[], m.log_time);
+            }
+            _ => {}
+        }
+        Ok(())
+    })
+    .expect("read the recording");
+    log.finish().expect("close the copy");
+}
+
+#[test]
+fn a_real_run_is_replayed_bit_for_bit_and_a_one_ulp_change_is_caught() {
+    let out = dir("run");
+    let prefix = common::unique_prefix("rec");
+    let run = Command::new(UPM)
+        .args(["run", "sort", "--duration", "6", "--quiet", "--prefix", &prefix, "--out"])
+        .arg(&out)
+        .output()
+        .expect("upm run");
+    common::remove_prefix(&prefix);
+    assert!(run.status.success(), "upm run failed: {}", text(&run));
+    let metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    let file = out.join("run.mcap");
+    assert_eq!(metrics["recording"]["file"], file.display().to_string(), "{}", metrics["recording"]);
+    assert_eq!(metrics["recording"]["recorder_exit_ok"], true);
+
+    let o = replay(&file);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{said}");
+    let schedules: usize = said
+        .strip_prefix("identical: ")
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("unexpected verdict: {said}"));
+    assert!(schedules >= 50, "a 6 s sort solves at the frame rate: {said}");
+    eprintln!("{said}");
+
+    // The same recording with the 10th schedule's first k one ulp larger.
+    let rec = Recording::open(&file).expect("open");
+    let changed = out.join("changed.mcap");
+    let mut seq = 0;
+    rewrite(&rec, &changed, |i, s| {
+        if i == 9 {
+            s.slots_mut()[0].k = f64::from_bits(s.slots()[0].k.to_bits() + 1);
+            seq = s.seq;
+        }
+    });
+    let o = replay(&changed);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{said}");
+    assert!(said.starts_with(&format!("diverged: schedule seq {seq}: slots[0].k: recorded ")), "{said}");
+
+    // A copy without changes replays identically: the copy itself is exact.
+    let same = out.join("same.mcap");
+    rewrite(&rec, &same, |_, _| {});
+    assert_eq!(replay(&same).status.code(), Some(0));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn stop(mut c: Killed) -> std::process::ExitStatus {
+    // SIGINT: the recorder closes its file as on Ctrl-C.
+    let _ = Command::new("kill").args(["-INT", &c.0.id().to_string()]).status();
+    let status = c.0.wait().expect("wait");
+    std::mem::forget(c);
+    status
+}
+
+#[test]
+fn rejected_messages_are_recorded_with_the_reason_and_replayed_alike() {
+    let out = dir("reject");
+    let prefix = common::unique_prefix("recrej");
+    let config = out.join("rig.toml");
+    std::fs::write(&config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
+        .expect("write");
+    let core = Killed(
+        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+            .args(["--prefix", &prefix, "--duration", "60", "--config"])
+            .arg(&config)
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("spawn upm-core"),
+    );
+    let up = Instant::now();
+    while upm_cli::status::read_telemetry(&prefix, Duration::from_secs(1))
+        .map_or(true, |t| t.core_state() != Some(CoreState::Idle))
+    {
+        assert!(up.elapsed() < Duration::from_secs(20), "core did not come up");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let file = out.join("rig.mcap");
+    let recorder = Killed(
+        Command::new(UPM)
+            .args(["recorder", "--prefix", &prefix, "--config"])
+            .arg(&config)
+            .arg("--out")
+            .arg(&file)
+            .stdout(Stdio::null())
+            .spawn()
+            .expect("spawn upm recorder"),
+    );
+    while !file.exists() {
+        assert!(up.elapsed() < Duration::from_secs(30), "recorder did not start");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+
+    let node = common::plain_node(&prefix);
+    let parts = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES).expect("pub");
+    let requests =
+        ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST).expect("pub");
+    let mut wake = ipc_types::wake_event::WakeNotifier::new(&node, ipc_types::wake_event::WakeEvent::Inbox)
+        .expect("wake");
+    let mut bad = 0;
+    for seq in 1..=40u64 {
+        let now = monotonic_now_ns();
+        parts.send_copy(common::part_states(seq, now, &common::PAPER_PARTS)).expect("send");
+        wake.notify();
+        let mut r = common::request(seq, now, &common::PAPER_PARTS, 1.0);
+        match seq % 10 {
+            3 => r.protocol_version = 2,
+            5 => r.entries_mut()[0].fx = f64::NAN,
+            7 => r.entries_mut()[1] = ForceEntry::force(99, [0.0, 0.0]),
+            _ => {}
+        }
+        bad += u64::from(matches!(seq % 10, 3 | 5 | 7));
+        requests.send_copy(r).expect("send");
+        wake.notify();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(stop(recorder).success(), "recorder exit");
+    drop(core);
+    drop(node);
+    common::remove_prefix(&prefix);
+
+    let rec = Recording::open(&file).expect("open");
+    let mut reasons = Vec::new();
+    rec.for_each_raw(|i, m| {
+        if m.topic == service_names::REJECTION {
+            let r: Rejection = rec.decode(i, m)?;
+            reasons.push(r.reason().map(|r| r.as_str()).unwrap_or("?"));
+        }
+        Ok(())
+    })
+    .expect("read");
+    assert_eq!(reasons.len() as u64, bad, "{reasons:?}");
+    for want in ["wrong_protocol_version", "non_finite", "unknown_part"] {
+        assert!(reasons.contains(&want), "{want} in {reasons:?}");
+    }
+    let o = replay(&file);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{said}");
+    assert!(said.contains(&format!(" and {bad} rejections reproduced")), "{said}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_damaged_foreign_or_other_version_file_is_refused_in_one_line() {
+    let out = dir("bad");
+    let good = out.join("good.mcap");
+    let mut log = RigLog::open(&LogOptions {
+        mcap: Some(good.clone()),
+        config_text: Some(String::new()),
+        ..LogOptions::default()
+    })
+    .expect("open");
+    for seq in 1..2000u64 {
+        log.log(PartStates::SERVICE, &common::part_states(seq, seq, &common::PAPER_PARTS), seq, &[], seq);
+    }
+    log.finish().expect("close");
+    let bytes = std::fs::read(&good).expect("read");
+
+    let cases: [(&str, Vec<u8>, &str); 3] = [
+        ("cut.mcap", bytes[..bytes.len() / 2].to_vec(), "truncated or corrupt"),
+        ("text.mcap", b"[plate]\n".to_vec(), "not an MCAP file"),
+        ("empty.mcap", Vec::new(), "not an MCAP file"),
+    ];
+    for (name, content, want) in cases {
+        let f = out.join(name);
+        std::fs::write(&f, content).expect("write");
+        let o = replay(&f);
+        let said = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {said}");
+        assert!(said.starts_with("upm replay: error: ") && said.contains(want), "{name}: {said}");
+        assert_eq!(said.trim_end().lines().count(), 1, "{name}: {said}");
+    }
+
+    // An MCAP file from elsewhere, and one claiming another protocol version.
+    for (name, metadata, want) in [
+        ("foreign.mcap", None, "not a UPM recording"),
+        ("v3.mcap", Some("3"), "recorded with protocol version 3; this upm speaks protocol version 4"),
+    ] {
+        let f = out.join(name);
+        let mut w = mcap::Writer::new(std::io::BufWriter::new(std::fs::File::create(&f).expect("create")))
+            .expect("writer");
+        if let Some(v) = metadata {
+            let m = mcap::records::Metadata {
+                name: upm_recorder::RUN_METADATA.into(),
+                metadata: [("protocol_version".to_owned(), v.to_owned())].into(),
+            };
+            w.write_metadata(&m).expect("metadata");
+        }
+        w.finish().expect("finish");
+        drop(w);
+        let o = replay(&f);
+        let said = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {said}");
+        assert!(said.contains(want), "{name}: {said}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
