@@ -31,6 +31,10 @@ pub struct RecorderArgs {
     /// Record camera frames' pixels too (headers are always recorded).
     #[arg(long)]
     pub frame_pixels: bool,
+    /// Keep at most this many simulator ground-truth messages a second
+    /// (0: every one).
+    #[arg(long, default_value_t = 100.0)]
+    pub truth_hz: f64,
     /// key=value pairs for the recording's metadata (scenario, seed, …).
     #[arg(long = "info", value_parser = parse_info)]
     pub info: Vec<(String, String)>,
@@ -66,6 +70,7 @@ pub fn run_recorder_process(args: RecorderArgs) -> anyhow::Result<()> {
             info: args.info.into_iter().collect::<BTreeMap<_, _>>(),
         },
         frame_pixels: args.frame_pixels,
+        truth_hz: args.truth_hz,
     };
     let mut recorder = Recorder::start(&opts)?;
     if let Some(port) = recorder.port() {

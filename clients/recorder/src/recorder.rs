@@ -22,6 +22,10 @@ pub struct RecorderOptions {
     pub log: LogOptions,
     /// Record camera frames' pixels (the header is always recorded).
     pub frame_pixels: bool,
+    /// Keep at most this many simulator ground-truth messages a second (0:
+    /// all). The truth is no input of the core; at the core's 1 kHz it
+    /// would be most of the file.
+    pub truth_hz: f64,
 }
 
 /// Every service of the rig, subscribed.
@@ -49,6 +53,10 @@ pub struct Recorder {
     mono0: u64,
     unix0: u64,
     frame_pixels: bool,
+    truth_period_ns: u64,
+    last_truth_ns: u64,
+    /// Ground truth left out by `truth_hz` (not lost: chosen).
+    truth_thinned: u64,
 }
 
 impl Recorder {
@@ -76,8 +84,21 @@ impl Recorder {
         log_opts.info.insert("monotonic_at_start_ns".into(), mono0.to_string());
         log_opts.info.insert("unix_at_start_ns".into(), unix0.to_string());
         log_opts.info.insert("frame_pixels".into(), opts.frame_pixels.to_string());
+        log_opts.info.insert("truth_hz".into(), opts.truth_hz.to_string());
         let log = RigLog::open(&log_opts)?;
-        Ok(Self { node, subs, log, mono0, unix0, frame_pixels: opts.frame_pixels })
+        let truth_period_ns =
+            if opts.truth_hz > 0.0 && opts.truth_hz.is_finite() { (1e9 / opts.truth_hz) as u64 } else { 0 };
+        Ok(Self {
+            node,
+            subs,
+            log,
+            mono0,
+            unix0,
+            frame_pixels: opts.frame_pixels,
+            truth_period_ns,
+            last_truth_ns: 0,
+            truth_thinned: 0,
+        })
     }
 
     /// The WebSocket server's port, if serving.
@@ -110,7 +131,17 @@ impl Recorder {
         drain!(command, service_names::CORE_COMMAND);
         drain!(schedule, service_names::SCHEDULE);
         drain!(rejection, service_names::REJECTION);
-        drain!(truth, service_names::SIM_GROUND_TRUTH);
+        while let Some(s) = self.subs.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
+            let at = self.log_ns();
+            if at >= self.last_truth_ns.saturating_add(self.truth_period_ns) {
+                self.last_truth_ns = at;
+                let m = *s.payload();
+                self.log.log(service_names::SIM_GROUND_TRUTH, &m, m.seq, &[], at);
+                n += 1;
+            } else {
+                self.truth_thinned += 1;
+            }
+        }
         drain!(telemetry, service_names::TELEMETRY);
         if let Some(frames) = &self.subs.frames {
             while let Some(s) = frames.receive().map_err(|e| anyhow::anyhow!("camera frame: {e:?}"))? {
@@ -144,6 +175,8 @@ impl Recorder {
     /// Take what is left, then close the log (see [`RigLog::finish`]).
     pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, u64)>> {
         self.poll()?;
+        let thinned = self.truth_thinned.to_string();
+        self.log.note(&format!("thinned {}", service_names::SIM_GROUND_TRUTH), thinned);
         self.log.finish()
     }
 }

@@ -127,6 +127,8 @@ pub struct RigLog {
     last_view_ns: u64,
     mcap: Option<McapWriterHandle<BufWriter<File>>>,
     ws: Option<WebSocketServerHandle>,
+    /// More key/values for the counts metadata.
+    notes: BTreeMap<String, String>,
     _ctx: Arc<Context>,
 }
 
@@ -204,6 +206,7 @@ impl RigLog {
             last_view_ns: 0,
             mcap,
             ws,
+            notes: BTreeMap::new(),
             _ctx: ctx,
         })
     }
@@ -279,6 +282,11 @@ impl RigLog {
         self.topics.iter().map(|(k, t)| ((*k).to_owned(), (t.received, t.gaps.lost))).collect()
     }
 
+    /// A key/value for the counts metadata written at the end.
+    pub fn note(&mut self, key: &str, value: String) {
+        self.notes.insert(key.into(), value);
+    }
+
     /// Write the counts into the file's metadata, close the file and stop
     /// the server. Returns the counts.
     pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, u64)>> {
@@ -292,6 +300,7 @@ impl RigLog {
                 lost_total += lost;
             }
             m.insert("lost_total".into(), lost_total.to_string());
+            m.extend(std::mem::take(&mut self.notes));
             w.write_metadata(COUNTS_METADATA, m)?;
             w.close()?;
         }

@@ -394,6 +394,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 out: None,
                 serve: Some(port),
                 frame_pixels: false,
+                truth_hz: 100.0,
                 info: Vec::new(),
             };
             upm_recorder::args::run_recorder_process(args)

@@ -89,7 +89,7 @@ fn live_client() -> LiveClient {
             let forced = std::env::var("UPM_TEST_FOXGLOVE_CLIENT").is_ok_and(|v| v == "python");
             if forced || !has("node") || !has("npm") {
                 // Fallback: our own code (live_topic.py), not a stranger's client.
-                eprintln!("recording_clients: no node/npm; the live test uses its own Python client");
+                eprintln!("recording_clients: the live test uses its own Python client (forced: {forced})");
                 return LiveClient::Python(venv("upm-websockets-python", "websockets", "websockets>=13,<16"));
             }
             let dir = Path::new(TMP).join("upm-foxglove-node");
