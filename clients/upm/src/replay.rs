@@ -162,6 +162,21 @@ impl ReplayReport {
 pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
     let rec = Recording::open(path)?;
     let started = Instant::now();
+    let gaps: Vec<String> =
+        [service_names::PART_STATES, service_names::FORCE_REQUEST, service_names::EXPLICIT_SCHEDULE]
+            .iter()
+            .filter_map(|t| {
+                rec.counts.get(&format!("lost {t}")).filter(|n| *n != "0").map(|n| format!("{n} on {t}"))
+            })
+            .collect();
+    if !gaps.is_empty() {
+        // The solver's warm start depends on every input it saw.
+        bail!(
+            "{}: cannot replay bit for bit: the recorder lost core inputs ({})",
+            rec.shown,
+            gaps.join(", ")
+        );
+    }
     let inputs = read_inputs(&rec)?;
     let mut outputs: Vec<Output> = inputs.schedules.iter().map(|s| Output::Schedule(*s)).collect();
     // Commands only move the motor; they leave no schedule to compare.

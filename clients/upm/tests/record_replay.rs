@@ -20,6 +20,13 @@ use upm_recorder::{LogOptions, PlateView, RigLog};
 
 const UPM: &str = env!("CARGO_BIN_EXE_upm");
 
+/// One rig at a time: on two CPUs, parallel rigs would starve each other.
+static RIG: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_rig() -> std::sync::MutexGuard<'static, ()> {
+    RIG.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 fn dir(tag: &str) -> PathBuf {
     let d =
         Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("record_replay_{tag}_{}", std::process::id()));
@@ -79,6 +86,7 @@ fn rewrite(rec: &Recording, to: &Path, mut change: impl FnMut(usize, &mut Schedu
 
 #[test]
 fn a_real_run_is_replayed_bit_for_bit_and_a_one_ulp_change_is_caught() {
+    let _rig = one_rig();
     let out = dir("run");
     let prefix = common::unique_prefix("rec");
     let run = Command::new(UPM)
@@ -147,6 +155,7 @@ fn stop(mut c: Killed) -> std::process::ExitStatus {
 
 #[test]
 fn rejected_messages_are_recorded_with_the_reason_and_replayed_alike() {
+    let _rig = one_rig();
     let out = dir("reject");
     let prefix = common::unique_prefix("recrej");
     let config = out.join("rig.toml");
@@ -286,5 +295,101 @@ fn a_damaged_foreign_or_other_version_file_is_refused_in_one_line() {
         assert_eq!(o.status.code(), Some(2), "{name}: {said}");
         assert!(said.contains(want), "{name}: {said}");
     }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_stalled_recorder_loses_for_itself_and_counts_it_while_the_core_goes_on() {
+    let _rig = one_rig();
+    let out = dir("stall");
+    let prefix = common::unique_prefix("recstall");
+    let config = out.join("rig.toml");
+    std::fs::write(&config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
+        .expect("write");
+    let core = Killed(
+        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+            .args(["--prefix", &prefix, "--duration", "60", "--config"])
+            .arg(&config)
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("spawn upm-core"),
+    );
+    let up = Instant::now();
+    while upm_cli::status::read_telemetry(&prefix, Duration::from_secs(1))
+        .map_or(true, |t| t.core_state() != Some(CoreState::Idle))
+    {
+        assert!(up.elapsed() < Duration::from_secs(20), "core did not come up");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let file = out.join("stall.mcap");
+    let recorder = Killed(
+        Command::new(UPM)
+            .args(["recorder", "--prefix", &prefix, "--config"])
+            .arg(&config)
+            .arg("--out")
+            .arg(&file)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("spawn upm recorder"),
+    );
+    while !file.exists() {
+        assert!(up.elapsed() < Duration::from_secs(30), "recorder did not start");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let node = common::plain_node(&prefix);
+    let schedules = ipc_types::ports::subscriber::<Schedule>(&node, service_names::SCHEDULE).expect("sub");
+    let stop_feed = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let feeder = {
+        let (p, s) = (prefix.clone(), stop_feed.clone());
+        std::thread::spawn(move || common::feed(&p, Duration::from_millis(10), &s))
+    };
+    std::thread::sleep(Duration::from_millis(500));
+    let pid = recorder.0.id().to_string();
+    assert!(Command::new("kill").args(["-STOP", &pid]).status().expect("kill").success());
+    // While the recorder is stopped, the core goes on answering.
+    while schedules.receive().expect("receive").is_some() {}
+    let stalled = Instant::now();
+    let mut answered = 0;
+    while stalled.elapsed() < Duration::from_millis(1500) {
+        while schedules.receive().expect("receive").is_some() {
+            answered += 1;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(Command::new("kill").args(["-CONT", &pid]).status().expect("kill").success());
+    std::thread::sleep(Duration::from_millis(300));
+    stop_feed.store(true, std::sync::atomic::Ordering::Relaxed);
+    feeder.join().expect("feeder");
+    assert!(answered >= 50, "the core answered {answered} requests in 1.5 s while the recorder was stopped");
+    let t = upm_cli::status::read_telemetry(&prefix, Duration::from_secs(1)).expect("telemetry");
+    assert_eq!(t.counters.hold_events, 0, "the core never held");
+    assert!(stop(recorder).success(), "recorder exit");
+    drop(core);
+    drop(node);
+    common::remove_prefix(&prefix);
+
+    let rec = Recording::open(&file).expect("a stalled recorder still closes its file");
+    let lost = |topic: &str| rec.counts.get(&format!("lost {topic}")).and_then(|v| v.parse::<u64>().ok());
+    let parts_lost = lost(service_names::PART_STATES).expect("counted");
+    let requests_lost = lost(service_names::FORCE_REQUEST).expect("counted");
+    // 1.5 s at 100 Hz, 8 kept per subscriber: about 140 of each lost.
+    assert!(
+        parts_lost >= 100 && requests_lost >= 100,
+        "lost {parts_lost} part states, {requests_lost} requests"
+    );
+    assert_eq!(
+        rec.lost_total(),
+        rec.counts
+            .iter()
+            .filter(|(k, _)| k.starts_with("lost "))
+            .map(|(_, v)| v.parse::<u64>().unwrap_or(0))
+            .sum::<u64>()
+    );
+    // What was lost cannot be replayed, and the replay says why.
+    let o = replay(&file);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{said}");
+    assert!(said.contains("cannot replay bit for bit: the recorder lost core inputs ("), "{said}");
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -139,7 +139,13 @@ pub fn run_frames(
         if end.is_some_and(|e| monotonic_now_ns() >= e) || !out.wait(Duration::ZERO) {
             break;
         }
-        woken.timed_wait(|_| {}, POLL).map_err(|e| anyhow::anyhow!("waiting for a frame: {e:?}"))?;
+        match woken.timed_wait(|_| {}, POLL) {
+            Ok(_) => {}
+            // SIGINT/SIGTERM while asleep: stop as the node's wait would,
+            // with the statistics written.
+            Err(iceoryx2::port::listener::ListenerWaitError::InterruptSignal) => break,
+            Err(e) => anyhow::bail!("waiting for a frame: {e:?}"),
+        }
     }
     let counts = pipeline.counts;
     stats.detected = counts.detected;

@@ -4,8 +4,8 @@
 //! the end or on Ctrl-C, and write `metrics.json`, `trails.svg` and
 //! `latency/*.hgrm` into the output directory.
 
+pub mod observer;
 pub mod plot;
-pub mod recorder;
 pub mod supervisor;
 
 use std::path::{Path, PathBuf};
@@ -18,7 +18,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 
 use crate::config::Config;
-pub use recorder::{PartTrail, Recorder, Trails};
+pub use observer::{Observer, PartTrail, Trails};
 use supervisor::Supervised;
 
 /// Everything the launcher needs to run one scenario.
@@ -152,7 +152,7 @@ pub fn run_plan(
     let mut camera = rendered.then(|| client("upm-camera", &None, "camera.log"));
     let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log");
     let recording = out.join(RECORDING);
-    let mut recorder_process = (plan.record || plan.monitor.is_some()).then(|| {
+    let mut recorder = (plan.record || plan.monitor.is_some()).then(|| {
         let mut r = client("upm-recorder", &None, "recorder.log")
             .arg("--info")
             .arg(&format!("scenario={}", plan.scenario))
@@ -171,10 +171,10 @@ pub fn run_plan(
         let _ = std::fs::remove_file(&recording);
     }
 
-    let mut recorder = Recorder::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
+    let mut observer = Observer::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
     core.start()?;
     if let Some(cpu) = plan.config.cpu_to_avoid() {
-        // The recorder and progress bar need no RT CPU (the core, started
+        // The observer and progress bar need no RT CPU (the core, started
         // above, has taken the full set with it).
         let _ = rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
     }
@@ -189,7 +189,7 @@ pub fn run_plan(
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    if let Some(r) = &mut recorder_process {
+    if let Some(r) = &mut recorder {
         r.start()?;
         wait_for_recorder(r, plan.record.then_some(recording.as_path()), &logs)?;
     }
@@ -217,7 +217,7 @@ pub fn run_plan(
     let mut sim_s = 0.0;
     let mut core_failed = None;
     while sim_s < plan.duration_s {
-        sim_s = recorder.poll()?;
+        sim_s = observer.poll()?;
         bar.set_position((sim_s * 10.0) as u64);
         for c in [Some(&mut vision), Some(&mut planner), camera.as_mut()].into_iter().flatten() {
             if c.restart_if_dead()? {
@@ -240,7 +240,7 @@ pub fn run_plan(
     bar.finish_and_clear();
     let stress = load.as_ref().map(|l| l.description().to_owned());
     drop(load);
-    let _ = recorder.poll();
+    let _ = observer.poll();
     let pids = json!({
         "core": core.pid(),
         "vision": vision.pid(),
@@ -260,17 +260,17 @@ pub fn run_plan(
     }
     let core_exit = core.stop(Duration::from_secs(5));
     // Last, so it has the core's final telemetry.
-    let recorder_exit = recorder_process.as_mut().and_then(|r| r.stop(Duration::from_secs(10)));
+    let recorder_exit = recorder.as_mut().and_then(|r| r.stop(Duration::from_secs(10)));
     let recording_json = if plan.record {
         crate::recording::summary_json(&recording, recorder_exit.is_some_and(|s| s.success()))
     } else {
         Value::Null
     };
-    let t = recorder.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
+    let t = observer.last_telemetry.unwrap_or_else(ipc_types::Telemetry::new);
     let mut metrics = json!({
         "scenario": plan.scenario,
         "seed": plan.seed,
-        "sim_seconds": recorder.trails.duration(),
+        "sim_seconds": observer.trails.duration(),
         "interrupted": interrupted,
         "stress": stress,
         "core": {
@@ -297,8 +297,8 @@ pub fn run_plan(
         },
         // Of the schedules the launcher saw (it may miss some when it falls
         // behind; the core's solver histogram above has them all).
-        "frames_late": recorder.frames_late,
-        "schedules_seen": recorder.schedules_seen,
+        "frames_late": observer.frames_late,
+        "schedules_seen": observer.schedules_seen,
         "processes": pids,
         "restarts": restarts,
         "camera": if rendered { "rendered" } else { "truth" },
@@ -306,7 +306,7 @@ pub fn run_plan(
         // What vision did with the frames (rendered camera only).
         "vision": std::fs::read_to_string(&vision_stats).ok().and_then(|t| serde_json::from_str::<Value>(&t).ok()),
     });
-    if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&recorder.trails)) {
+    if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&observer.trails)) {
         m.extend(goals);
     }
     std::fs::write(out.join("metrics.json"), serde_json::to_string_pretty(&metrics)?)?;
@@ -315,7 +315,7 @@ pub fn run_plan(
         &format!("{} (seed {})", plan.scenario, plan.seed),
         plan.config.plate.half_extent,
         &plan.config.plate.centers,
-        &recorder.trails,
+        &observer.trails,
     )?;
     // What was recorded is written first: a dead core loses nothing.
     if let Some(s) = core_failed {
@@ -325,7 +325,7 @@ pub fn run_plan(
             out.display()
         );
     }
-    Ok(RunOutcome { metrics, trails: recorder.trails, interrupted })
+    Ok(RunOutcome { metrics, trails: observer.trails, interrupted })
 }
 
 /// Wait until upm-recorder listens: its file exists (it subscribes first)

@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::anyhow;
 use plotters::prelude::*;
 
-use super::recorder::Trails;
+use super::observer::Trails;
 
 pub fn draw_trails(
     path: &Path,

@@ -1,6 +1,7 @@
-//! What `upm run` records while the loop runs: part trails from the
-//! simulator's ground truth, the core's newest telemetry, and how many
-//! schedules took longer to solve than a camera frame lasts.
+//! What `upm run` watches while the loop runs (the flight recording is
+//! upm-recorder's): part trails from the simulator's ground truth, the
+//! core's newest telemetry, and how many schedules took longer to solve
+//! than a camera frame lasts.
 
 use std::collections::BTreeMap;
 
@@ -31,7 +32,7 @@ impl Trails {
 }
 
 #[derive(Debug)]
-pub struct Recorder {
+pub struct Observer {
     _node: Node<ipc::Service>,
     truth: Sub<PartStates>,
     telemetry: Sub<Telemetry>,
@@ -47,7 +48,7 @@ pub struct Recorder {
     sample_ns: u64,
 }
 
-impl Recorder {
+impl Observer {
     /// Record at most `sample_hz` trail points per second; a solve longer
     /// than 1/`frame_hz` makes its frame late.
     pub fn new(prefix: &str, sample_hz: f64, frame_hz: f64) -> anyhow::Result<Self> {
