@@ -176,7 +176,7 @@ UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, x) == 8, "upm_ScheduleSlot.x offset
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, y) == 16, "upm_ScheduleSlot.y offset");
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, k) == 24, "upm_ScheduleSlot.k offset");
 
-/* iceoryx2 type name "upm::Schedule.v4", 6224 bytes, align 8 */
+/* iceoryx2 type name "upm::Schedule.v4", 6232 bytes, align 8 */
 #define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v4"
 typedef struct {
     uint32_t protocol_version;
@@ -187,13 +187,14 @@ typedef struct {
     uint64_t solve_time_ns;
     uint64_t parts_seq;
     uint64_t parts_stamp_ns;
+    uint64_t request_stamp_ns;
     double residual;
     double condition;
     uint32_t rank;
     uint32_t saturated;
     upm_ScheduleSlot slots[192];
 } upm_Schedule;
-UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6224, "upm_Schedule size");
+UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6232, "upm_Schedule size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Schedule) == 8, "upm_Schedule align");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, protocol_version) == 0, "upm_Schedule.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, count) == 4, "upm_Schedule.count offset");
@@ -203,13 +204,14 @@ UPM_STATIC_ASSERT(offsetof(upm_Schedule, cycle) == 24, "upm_Schedule.cycle offse
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, solve_time_ns) == 32, "upm_Schedule.solve_time_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, parts_seq) == 40, "upm_Schedule.parts_seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, parts_stamp_ns) == 48, "upm_Schedule.parts_stamp_ns offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, residual) == 56, "upm_Schedule.residual offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, condition) == 64, "upm_Schedule.condition offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 72, "upm_Schedule.rank offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 76, "upm_Schedule.saturated offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 80, "upm_Schedule.slots offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, request_stamp_ns) == 56, "upm_Schedule.request_stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, residual) == 64, "upm_Schedule.residual offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, condition) == 72, "upm_Schedule.condition offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 80, "upm_Schedule.rank offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 84, "upm_Schedule.saturated offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 88, "upm_Schedule.slots offset");
 
-/* iceoryx2 type name "upm::Rejection.v4", 160 bytes, align 8 */
+/* iceoryx2 type name "upm::Rejection.v4", 176 bytes, align 8 */
 #define UPM_REJECTION_TYPE_NAME "upm::Rejection.v4"
 typedef struct {
     uint32_t protocol_version;
@@ -217,20 +219,24 @@ typedef struct {
     uint64_t seq;
     uint64_t message_stamp_ns;
     uint64_t stamp_ns;
+    uint64_t parts_seq;
+    uint64_t parts_stamp_ns;
     uint32_t reason;
     uint32_t reserved;
     uint8_t detail[120];
 } upm_Rejection;
-UPM_STATIC_ASSERT(sizeof(upm_Rejection) == 160, "upm_Rejection size");
+UPM_STATIC_ASSERT(sizeof(upm_Rejection) == 176, "upm_Rejection size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Rejection) == 8, "upm_Rejection align");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, protocol_version) == 0, "upm_Rejection.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, kind) == 4, "upm_Rejection.kind offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, seq) == 8, "upm_Rejection.seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, message_stamp_ns) == 16, "upm_Rejection.message_stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, stamp_ns) == 24, "upm_Rejection.stamp_ns offset");
-UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 32, "upm_Rejection.reason offset");
-UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 36, "upm_Rejection.reserved offset");
-UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 40, "upm_Rejection.detail offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, parts_seq) == 32, "upm_Rejection.parts_seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, parts_stamp_ns) == 40, "upm_Rejection.parts_stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 48, "upm_Rejection.reason offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 52, "upm_Rejection.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 56, "upm_Rejection.detail offset");
 
 /* iceoryx2 type name "upm::FrameHeader.v4", 48 bytes, align 8 */
 #define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v4"

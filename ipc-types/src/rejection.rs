@@ -48,6 +48,10 @@ pub struct Rejection {
     pub message_stamp_ns: u64,
     /// CLOCK_MONOTONIC ns when the core refused it.
     pub stamp_ns: u64,
+    /// `seq` and `stamp_ns` of the newest part states the core had
+    /// accepted then (0 and 0: none): what a request was checked against.
+    pub parts_seq: u64,
+    pub parts_stamp_ns: u64,
     /// [`RejectReason`] code.
     pub reason: u32,
     /// Unused, keep 0 (keeps the layout free of padding).
@@ -56,7 +60,7 @@ pub struct Rejection {
     pub detail: [u8; HEALTH_DETAIL_BYTES],
 }
 
-const _: () = assert!(size_of::<Rejection>() == 4 + 4 + 8 + 8 + 8 + 4 + 4 + HEALTH_DETAIL_BYTES);
+const _: () = assert!(size_of::<Rejection>() == 4 + 4 + 5 * 8 + 4 + 4 + HEALTH_DETAIL_BYTES);
 
 impl Rejection {
     /// A rejection of a `kind` message with `seq` and `message_stamp_ns`,
@@ -78,6 +82,8 @@ impl Rejection {
             seq,
             message_stamp_ns,
             stamp_ns,
+            parts_seq: 0,
+            parts_stamp_ns: 0,
             reason: reason.index() as u32,
             reserved: 0,
             detail: text.bytes,

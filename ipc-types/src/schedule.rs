@@ -54,6 +54,8 @@ pub struct Schedule {
     /// schedule. With `seq` (the request's) they name the whole input.
     pub parts_seq: u64,
     pub parts_stamp_ns: u64,
+    /// `stamp_ns` of the request (or explicit schedule) it answers.
+    pub request_stamp_ns: u64,
     /// ‖A·K − b‖ in force units (N); finite, ≥ 0.
     pub residual: f64,
     /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient,
@@ -68,7 +70,7 @@ pub struct Schedule {
 }
 
 const _: () =
-    assert!(size_of::<Schedule>() == 4 + 4 + 6 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>());
+    assert!(size_of::<Schedule>() == 4 + 4 + 7 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>());
 
 /// Why a [`Schedule`] was rejected. Indices refer to `slots`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -125,7 +127,7 @@ impl core::error::Error for ScheduleError {}
 crate::counted_message::counted_message!(
     Schedule,
     slots / slots_mut: [ScheduleSlot; MAX_SLOTS],
-    new { cycle: 0, solve_time_ns: 0, parts_seq: 0, parts_stamp_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0 }
+    new { cycle: 0, solve_time_ns: 0, parts_seq: 0, parts_stamp_ns: 0, request_stamp_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0 }
 );
 
 impl Schedule {

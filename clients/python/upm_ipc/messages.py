@@ -152,6 +152,7 @@ class Schedule(ctypes.Structure):
         ("solve_time_ns", ctypes.c_uint64),
         ("parts_seq", ctypes.c_uint64),
         ("parts_stamp_ns", ctypes.c_uint64),
+        ("request_stamp_ns", ctypes.c_uint64),
         ("residual", ctypes.c_double),
         ("condition", ctypes.c_double),
         ("rank", ctypes.c_uint32),
@@ -184,6 +185,8 @@ class Rejection(ctypes.Structure):
         ("seq", ctypes.c_uint64),
         ("message_stamp_ns", ctypes.c_uint64),
         ("stamp_ns", ctypes.c_uint64),
+        ("parts_seq", ctypes.c_uint64),
+        ("parts_stamp_ns", ctypes.c_uint64),
         ("reason", ctypes.c_uint32),
         ("reserved", ctypes.c_uint32),
         ("detail", ctypes.c_uint8 * DETAIL_BYTES),
@@ -226,5 +229,5 @@ assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(Pa
 assert ctypes.sizeof(ForceEntry) == 4 * 4 + 3 * 8
 assert ctypes.sizeof(ForceRequest) == 4 + 4 + 3 * 8 + MAX_PARTS * ctypes.sizeof(ForceEntry)
 assert ctypes.sizeof(ScheduleSlot) == 4 + 4 + 3 * 8
-assert ctypes.sizeof(Schedule) == 4 + 4 + 6 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
-assert ctypes.sizeof(Rejection) == 4 + 4 + 8 + 8 + 8 + 4 + 4 + DETAIL_BYTES
+assert ctypes.sizeof(Schedule) == 4 + 4 + 7 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
+assert ctypes.sizeof(Rejection) == 4 + 4 + 5 * 8 + 4 + 4 + DETAIL_BYTES

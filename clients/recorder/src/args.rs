@@ -82,10 +82,13 @@ pub fn run_recorder_process(args: RecorderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     recorder.run(|| duration.is_some_and(|d| started.elapsed() >= d))?;
     let counts = recorder.finish()?;
-    let (received, lost) = counts.values().fold((0, 0), |(r, l), (a, b)| (r + a, l + b));
+    let received: u64 = counts.values().map(|(r, _)| r).sum();
+    let lost: u64 = counts.values().filter_map(|(_, l)| *l).sum();
     eprintln!("upm-recorder: {received} messages recorded, {lost} lost");
-    for (topic, (r, l)) in counts.iter().filter(|(_, (_, l))| *l > 0) {
-        eprintln!("upm-recorder: {topic}: {l} lost of {}", r + l);
+    for (topic, (r, l)) in &counts {
+        if let Some(l) = l.filter(|l| *l > 0) {
+            eprintln!("upm-recorder: {topic}: {l} lost of {}", r + l);
+        }
     }
     Ok(())
 }

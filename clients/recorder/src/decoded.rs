@@ -95,7 +95,8 @@ impl Decoded for Schedule {
             .collect();
         json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
                "cycle": self.cycle, "solve_time_ns": self.solve_time_ns, "parts_seq": self.parts_seq,
-               "parts_stamp_ns": self.parts_stamp_ns, "residual": self.residual,
+               "parts_stamp_ns": self.parts_stamp_ns, "request_stamp_ns": self.request_stamp_ns,
+               "residual": self.residual,
                "condition": finite_or_null(self.condition), "rank": self.rank, "saturated": self.saturated,
                "count": self.count, "slots": slots})
     }
@@ -164,6 +165,7 @@ impl Decoded for Rejection {
         json!({"protocol_version": self.protocol_version,
                "kind": code_name(self.kind().map(|k| k.as_str()), self.kind), "seq": self.seq,
                "message_stamp_ns": self.message_stamp_ns, "stamp_ns": self.stamp_ns,
+               "parts_seq": self.parts_seq, "parts_stamp_ns": self.parts_stamp_ns,
                "reason": code_name(self.reason().map(|r| r.as_str()), self.reason), "detail": self.detail_str()})
     }
     fn sample() -> Self {
@@ -188,7 +190,8 @@ pub fn schema_of(v: &Value) -> Value {
     match v {
         Value::Null => json!({"type": ["number", "null"]}),
         Value::Bool(_) => json!({"type": "boolean"}),
-        Value::Number(n) if n.is_f64() => json!({"type": "number"}),
+        // A float may be shown as null (∞, NaN: `finite_or_null`).
+        Value::Number(n) if n.is_f64() => json!({"type": ["number", "null"]}),
         Value::Number(_) => json!({"type": "integer"}),
         Value::String(_) => json!({"type": "string"}),
         Value::Array(a) => json!({"type": "array", "items": a.first().map_or(json!({}), schema_of)}),
@@ -218,7 +221,7 @@ mod tests {
         r.reason = 9999;
         assert_eq!(r.decoded()["reason"], json!("unknown (9999)"));
         let s = schema::<Schedule>();
-        assert_eq!(s["properties"]["slots"]["items"]["properties"]["k"]["type"], json!("number"));
+        assert_eq!(s["properties"]["slots"]["items"]["properties"]["k"]["type"], json!(["number", "null"]));
         assert_eq!(s["properties"]["seq"]["type"], json!("integer"));
     }
 }

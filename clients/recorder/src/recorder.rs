@@ -14,6 +14,7 @@ use ipc_types::{
 };
 
 use crate::rig_log::{LogOptions, RigLog};
+use crate::seq_gaps::SeqGaps;
 
 /// What to record, where to.
 #[derive(Debug, Clone, Default)]
@@ -57,7 +58,22 @@ pub struct Recorder {
     last_truth_ns: u64,
     /// Ground truth left out by `truth_hz` (not lost: chosen).
     truth_thinned: u64,
+    /// Gaps in `seq` per (service, publisher).
+    gaps: BTreeMap<(&'static str, u128), SeqGaps>,
 }
+
+/// Services whose publishers number their messages one by one, so a gap
+/// in `seq` is a loss. Not: a schedule's `seq` is its request's, a
+/// rejection's the refused message's, the ground truth's the tick (the io
+/// thread publishes the newest pose).
+const COUNTED_BY_SEQ: [&str; 6] = [
+    service_names::PART_STATES,
+    service_names::FORCE_REQUEST,
+    service_names::EXPLICIT_SCHEDULE,
+    service_names::CORE_COMMAND,
+    service_names::TELEMETRY,
+    service_names::CAMERA_FRAME,
+];
 
 impl Recorder {
     pub fn start(opts: &RecorderOptions) -> anyhow::Result<Self> {
@@ -98,6 +114,7 @@ impl Recorder {
             truth_period_ns,
             last_truth_ns: 0,
             truth_thinned: 0,
+            gaps: BTreeMap::new(),
         })
     }
 
@@ -120,7 +137,8 @@ impl Recorder {
                 {
                     let m = *s.payload();
                     let at = self.log_ns();
-                    self.log.log($service, &m, m.seq, &[], at);
+                    self.gaps.entry(($service, s.header().publisher_id().value())).or_default().see(m.seq);
+                    self.log.log($service, &m, &[], at);
                     n += 1;
                 }
             };
@@ -136,7 +154,7 @@ impl Recorder {
             if at >= self.last_truth_ns.saturating_add(self.truth_period_ns) {
                 self.last_truth_ns = at;
                 let m = *s.payload();
-                self.log.log(service_names::SIM_GROUND_TRUTH, &m, m.seq, &[], at);
+                self.log.log(service_names::SIM_GROUND_TRUTH, &m, &[], at);
                 n += 1;
             } else {
                 self.truth_thinned += 1;
@@ -146,9 +164,11 @@ impl Recorder {
         if let Some(frames) = &self.subs.frames {
             while let Some(s) = frames.receive().map_err(|e| anyhow::anyhow!("camera frame: {e:?}"))? {
                 let h = *s.user_header();
-                let at = self.unix0 + monotonic_now_ns().saturating_sub(self.mono0);
+                let at = self.log_ns();
+                let service = service_names::CAMERA_FRAME;
+                self.gaps.entry((service, s.header().publisher_id().value())).or_default().see(h.seq);
                 let pixels: &[u8] = if self.frame_pixels { s.payload() } else { &[] };
-                self.log.log(service_names::CAMERA_FRAME, &h, h.seq, pixels, at);
+                self.log.log(service, &h, pixels, at);
                 n += 1;
             }
         }
@@ -167,14 +187,21 @@ impl Recorder {
         }
     }
 
-    /// Messages received and lost per topic so far.
-    pub fn counts(&self) -> BTreeMap<String, (u64, u64)> {
+    /// Messages received and lost per topic so far (None: cannot tell).
+    pub fn counts(&mut self) -> BTreeMap<String, (u64, Option<u64>)> {
+        for service in service_names::ALL {
+            let lost = COUNTED_BY_SEQ.contains(&service).then(|| {
+                self.gaps.range((service, 0)..=(service, u128::MAX)).map(|(_, g)| g.lost).sum::<u64>()
+            });
+            self.log.set_lost(service, lost);
+        }
         self.log.counts()
     }
 
     /// Take what is left, then close the log (see [`RigLog::finish`]).
-    pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, u64)>> {
+    pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, Option<u64>)>> {
         self.poll()?;
+        let _ = self.counts();
         let thinned = self.truth_thinned.to_string();
         self.log.note(&format!("thinned {}", service_names::SIM_GROUND_TRUTH), thinned);
         self.log.finish()

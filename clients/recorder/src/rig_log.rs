@@ -25,7 +25,6 @@ use ipc_types::{
 
 use crate::decoded::{Decoded, latencies, schema, schema_of};
 use crate::scene::{PlateView, Scene};
-use crate::seq_gaps::SeqGaps;
 
 /// Message encoding of the raw channels: the payload's bytes as in shared
 /// memory (little-endian, layout in docs/protocol.md).
@@ -37,7 +36,8 @@ pub const LATENCY_TOPIC: &str = "upm/latency";
 /// MCAP profile of a UPM recording.
 pub const PROFILE: &str = "upm";
 /// Metadata written at start (protocol version, prefix, clocks, run info)
-/// and at the end (messages received and lost per topic).
+/// and at the end (messages received and lost per topic, `unknown` where
+/// the source cannot tell).
 pub const RUN_METADATA: &str = "upm";
 pub const COUNTS_METADATA: &str = "upm.recorder";
 /// Attachment holding the rig's TOML (what the core ran with).
@@ -68,11 +68,8 @@ struct Topic {
     raw: Arc<RawChannel>,
     json: Arc<RawChannel>,
     received: u64,
-    gaps: SeqGaps,
-    /// Whether `seq` numbers this publisher's messages one by one (a
-    /// schedule's `seq` is its request's, a rejection's the refused
-    /// message's: their gaps are not losses).
-    counts_by_seq: bool,
+    /// Messages the source knows it missed; None: it cannot tell.
+    lost: Option<u64>,
     json_period_ns: u64,
     last_json_ns: u64,
 }
@@ -97,23 +94,9 @@ impl Topic {
             .message_encoding("json")
             .schema(Schema::new(T::wire_type_name(), "jsonschema", serde_json::to_vec(&schema::<T>())?))
             .build_raw()?;
-        // The ground truth is the newest pose when the io thread publishes (its
-        // seq is the tick), so its gaps are not losses either.
-        let counts_by_seq = !matches!(
-            service,
-            service_names::SCHEDULE | service_names::REJECTION | service_names::SIM_GROUND_TRUTH
-        );
         let json_period_ns =
             if service == service_names::SIM_GROUND_TRUTH { TRUTH_JSON_PERIOD_NS } else { 0 };
-        Ok(Self {
-            raw,
-            json,
-            received: 0,
-            gaps: SeqGaps::default(),
-            counts_by_seq,
-            json_period_ns,
-            last_json_ns: 0,
-        })
+        Ok(Self { raw, json, received: 0, lost: Some(0), json_period_ns, last_json_ns: 0 })
     }
 }
 
@@ -219,19 +202,9 @@ impl RigLog {
     /// Log `m` (followed by `extra` bytes: a frame's pixels) as received on
     /// `service` at `log_ns` (Unix ns); the scene follows part states,
     /// requests and schedules. A service without a topic is ignored.
-    pub fn log<T: WireMessage + Decoded>(
-        &mut self,
-        service: &'static str,
-        m: &T,
-        seq: u64,
-        extra: &[u8],
-        log_ns: u64,
-    ) {
+    pub fn log<T: WireMessage + Decoded>(&mut self, service: &'static str, m: &T, extra: &[u8], log_ns: u64) {
         let Some(t) = self.topics.get_mut(service) else { return };
         t.received += 1;
-        if t.counts_by_seq {
-            t.gaps.see(seq);
-        }
         let meta = PartialMetadata::with_log_time(log_ns);
         if extra.is_empty() {
             t.raw.log_with_meta(m.as_bytes(), meta);
@@ -277,9 +250,16 @@ impl RigLog {
         }
     }
 
+    /// What the source lost on `service` (None: it cannot tell); 0 until set.
+    pub fn set_lost(&mut self, service: &str, lost: Option<u64>) {
+        if let Some(t) = self.topics.get_mut(service) {
+            t.lost = lost;
+        }
+    }
+
     /// Messages received and lost per topic so far.
-    pub fn counts(&self) -> BTreeMap<String, (u64, u64)> {
-        self.topics.iter().map(|(k, t)| ((*k).to_owned(), (t.received, t.gaps.lost))).collect()
+    pub fn counts(&self) -> BTreeMap<String, (u64, Option<u64>)> {
+        self.topics.iter().map(|(k, t)| ((*k).to_owned(), (t.received, t.lost))).collect()
     }
 
     /// A key/value for the counts metadata written at the end.
@@ -289,15 +269,15 @@ impl RigLog {
 
     /// Write the counts into the file's metadata, close the file and stop
     /// the server. Returns the counts.
-    pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, u64)>> {
+    pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, Option<u64>)>> {
         let counts = self.counts();
         if let Some(w) = self.mcap.take() {
             let mut m: BTreeMap<String, String> = BTreeMap::new();
             let mut lost_total = 0;
             for (topic, (received, lost)) in &counts {
                 m.insert(format!("received {topic}"), received.to_string());
-                m.insert(format!("lost {topic}"), lost.to_string());
-                lost_total += lost;
+                m.insert(format!("lost {topic}"), lost.map_or_else(|| "unknown".into(), |n| n.to_string()));
+                lost_total += lost.unwrap_or(0);
             }
             m.insert("lost_total".into(), lost_total.to_string());
             m.extend(std::mem::take(&mut self.notes));

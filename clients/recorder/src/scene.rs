@@ -82,6 +82,8 @@ impl Scene {
 
     pub fn on_parts(&mut self, m: &PartStates) {
         self.parts = Some(*m);
+        // Trails of parts no longer seen go: ids may change without end.
+        self.trails.retain(|id, _| m.parts().iter().any(|p| p.id == *id));
     }
 
     pub fn on_request(&mut self, m: &ForceRequest) {

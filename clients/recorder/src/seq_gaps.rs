@@ -1,4 +1,5 @@
-//! Messages a subscriber never saw, from gaps in a publisher's `seq`.
+//! Messages a subscriber never saw, from gaps in one publisher's `seq`
+//! (keep one per publisher: two publishers' numbers interleave).
 //! iceoryx2 overwrites the oldest sample of a subscriber that falls behind
 //! (safe overflow), so the publisher never waits; the gap is how the
 //! subscriber learns what it lost. A `seq` that goes back is a restarted

@@ -7,6 +7,15 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 
+/// An error with its own exit status (1 for every other error); an empty
+/// message prints nothing (the command said it already).
+#[derive(Debug, thiserror::Error)]
+#[error("{message}")]
+pub struct Exit {
+    pub code: u8,
+    pub message: String,
+}
+
 #[derive(Debug, Parser)]
 #[command(
     name = "upm",

@@ -141,23 +141,20 @@ impl Recording {
     ) -> Result<(), RecordingError> {
         let stream = mcap::MessageStream::new(&self.bytes)
             .map_err(|e| RecordingError::Damaged(self.shown.clone(), e.to_string()))?;
-        let mut index = 0;
-        for m in stream {
+        for (index, m) in (0u64..).zip(stream) {
             let m = m.map_err(|e| {
                 RecordingError::Damaged(self.shown.clone(), format!("after {index} messages: {e}"))
             })?;
             if m.channel.message_encoding == RAW_ENCODING {
                 f(index, RawMessage { topic: &m.channel.topic, log_time: m.log_time, bytes: &m.data })?;
             }
-            index += 1;
         }
         Ok(())
     }
 
-    /// `bytes` as a `T`, or an error naming the message.
+    /// `bytes` as a `T` (exactly its size), or an error naming the message.
     pub fn decode<T: WireMessage>(&self, index: u64, m: RawMessage<'_>) -> Result<T, RecordingError> {
-        let n = size_of::<T>().min(m.bytes.len());
-        T::from_bytes(&m.bytes[..n]).map_err(|e| RecordingError::Message {
+        T::from_bytes(m.bytes).map_err(|e| RecordingError::Message {
             path: self.shown.clone(),
             index,
             topic: m.topic.into(),

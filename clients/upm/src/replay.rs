@@ -2,17 +2,25 @@
 //! the instant the recorded core handled it, and every output compared bit
 //! for bit with the recorded one.
 //!
-//! A recorded schedule names its whole input: the request (`seq`), the part
-//! states it was solved against (`parts_seq`, `parts_stamp_ns`) and the
-//! instant the core picked the request up (`stamp_ns`); a rejection names
-//! the refused message and the instant. Outputs are replayed in that order
-//! through the core's own solve stage (`Lockstep::handle_at`), so the
-//! solver's warm start sees the same history. Compared: every field but
-//! `cycle` and `solve_time_ns` (timing, not a function of the input).
+//! A recorded schedule names its whole input: the request (`seq`,
+//! `request_stamp_ns`), the part states it was solved against (`parts_seq`,
+//! `parts_stamp_ns`) and the instant the core picked the request up
+//! (`stamp_ns`); a rejection names the refused message, the newest part
+//! states the core had accepted and the instant. Outputs are replayed in
+//! that order through the core's own solve stage (`Lockstep::handle_at`),
+//! each part states fed when an output first names it, so the solver's
+//! warm start sees the same history. Compared: every field but `cycle` and
+//! `solve_time_ns` (timing, not a function of the input).
+//!
+//! Refused rather than half-compared: a recording whose recorder lost core
+//! inputs, one with a recorded request no output answers (an answer lost),
+//! and one with nothing to compare.
 //!
 //! `--planner NAME` instead feeds the recorded part states to another
 //! planner and the core, open loop (the parts move as they did), and writes
-//! what came out to a new recording.
+//! what came out to a new recording. It plans on every recorded part
+//! states; the planner process plans on the newest each time it wakes, so
+//! under load it may plan less often than this.
 
 use std::path::Path;
 use std::time::Instant;
@@ -35,8 +43,9 @@ struct Inputs {
     parts: Vec<(u64, PartStates)>,
     requests: Vec<ForceRequest>,
     explicit: Vec<ExplicitSchedule>,
-    schedules: Vec<Schedule>,
-    rejections: Vec<Rejection>,
+    /// With their index in the file (the recorded order).
+    schedules: Vec<(usize, Schedule)>,
+    rejections: Vec<(usize, Rejection)>,
 }
 
 fn read_inputs(rec: &Recording) -> anyhow::Result<Inputs> {
@@ -51,8 +60,8 @@ fn read_inputs(rec: &Recording) -> anyhow::Result<Inputs> {
             service_names::PART_STATES => i.parts.push((m.log_time, rec.decode(index, m)?)),
             service_names::FORCE_REQUEST => i.requests.push(rec.decode(index, m)?),
             service_names::EXPLICIT_SCHEDULE => i.explicit.push(rec.decode(index, m)?),
-            service_names::SCHEDULE => i.schedules.push(rec.decode(index, m)?),
-            service_names::REJECTION => i.rejections.push(rec.decode(index, m)?),
+            service_names::SCHEDULE => i.schedules.push((index as usize, rec.decode(index, m)?)),
+            service_names::REJECTION => i.rejections.push((index as usize, rec.decode(index, m)?)),
             _ => {}
         }
         Ok(())
@@ -74,16 +83,46 @@ fn core_for(rec: &Recording, start_ns: u64) -> anyhow::Result<(Config, Lockstep<
 
 /// One recorded output: what the core answered, in the order it did.
 #[derive(Debug, Clone, Copy)]
-enum Output {
-    Schedule(Schedule),
-    Rejection(Rejection),
+enum Output<'a> {
+    Schedule(&'a Schedule),
+    Rejection(&'a Rejection),
 }
 
-impl Output {
+impl Output<'_> {
     fn handled_ns(&self) -> u64 {
         match self {
             Self::Schedule(s) => s.stamp_ns,
             Self::Rejection(r) => r.stamp_ns,
+        }
+    }
+
+    /// The part states the core held when it answered; None: none yet.
+    fn parts(&self) -> Option<(u64, u64)> {
+        let key = match self {
+            Self::Schedule(s) => (s.parts_seq, s.parts_stamp_ns),
+            Self::Rejection(r) => (r.parts_seq, r.parts_stamp_ns),
+        };
+        (key != (0, 0)).then_some(key)
+    }
+
+    /// The message answered: (kind, seq, stamp).
+    fn input(&self) -> Option<(RejectedKind, u64, u64)> {
+        match self {
+            // `solve_time_ns` is 0 exactly for an explicit schedule (protocol.md).
+            Self::Schedule(s) if s.solve_time_ns == 0 => {
+                Some((RejectedKind::ExplicitSchedule, s.seq, s.request_stamp_ns))
+            }
+            Self::Schedule(s) => Some((RejectedKind::ForceRequest, s.seq, s.request_stamp_ns)),
+            Self::Rejection(r) => r.kind().map(|k| (k, r.seq, r.message_stamp_ns)),
+        }
+    }
+
+    fn describe(&self) -> String {
+        match self {
+            Self::Schedule(s) => format!("schedule seq {}", s.seq),
+            Self::Rejection(r) => {
+                format!("rejection of {} seq {}", r.kind().map_or("?", |k| k.as_str()), r.seq)
+            }
         }
     }
 }
@@ -140,6 +179,8 @@ pub struct ReplayReport {
     pub divergence: Option<String>,
     pub schedules: usize,
     pub rejections: usize,
+    /// Every recorded rejection, as the core gave it.
+    pub rejected: Vec<String>,
     pub recorded_s: f64,
     pub replay_s: f64,
 }
@@ -151,11 +192,30 @@ impl ReplayReport {
             "divergence": self.divergence,
             "schedules": self.schedules,
             "rejections": self.rejections,
+            "rejected": self.rejected,
             "recorded_s": self.recorded_s,
             "replay_s": self.replay_s,
             "speed_x_real_time": self.recorded_s / self.replay_s.max(1e-9),
         })
     }
+}
+
+/// The recorded outputs in the order the core produced them (by the
+/// instant it handled each; ties in recorded order), commands left out:
+/// they only move the motor.
+fn timeline(inputs: &Inputs) -> Vec<Output<'_>> {
+    let mut outputs: Vec<(u64, usize, Output)> = Vec::new();
+    let schedules = inputs.schedules.iter().map(|(i, s)| (*i, Output::Schedule(s)));
+    let rejections = inputs
+        .rejections
+        .iter()
+        .filter(|(_, r)| r.kind() != Some(RejectedKind::CoreCommand))
+        .map(|(i, r)| (*i, Output::Rejection(r)));
+    for (index, out) in schedules.chain(rejections) {
+        outputs.push((out.handled_ns(), index, out));
+    }
+    outputs.sort_by_key(|(at, index, _)| (*at, *index));
+    outputs.into_iter().map(|(_, _, o)| o).collect()
 }
 
 /// Replay `path`; see the module doc.
@@ -178,99 +238,78 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
         );
     }
     let inputs = read_inputs(&rec)?;
-    let mut outputs: Vec<Output> = inputs.schedules.iter().map(|s| Output::Schedule(*s)).collect();
-    // Commands only move the motor; they leave no schedule to compare.
-    outputs.extend(
-        inputs
-            .rejections
-            .iter()
-            .filter(|r| r.kind() != Some(RejectedKind::CoreCommand))
-            .map(|r| Output::Rejection(*r)),
-    );
-    outputs.sort_by_key(Output::handled_ns); // stable: ties keep the recorded order
-    let first = outputs.first().map_or(1, Output::handled_ns);
-    let first_parts = inputs.parts.iter().map(|(_, p)| p.stamp_ns).min().unwrap_or(first);
-    let (_, mut core) = core_for(&rec, first.min(first_parts).saturating_sub(1))?;
-    let lost = rec.lost_total();
-    let missing = |what: String| {
-        anyhow::anyhow!(
-            "{}: cannot replay: {what} is not in the recording (the recorder counted {lost} lost messages)",
-            rec.shown
-        )
+    let outputs = timeline(&inputs);
+    let Some(first) = outputs.first() else {
+        bail!("{}: nothing to replay: no schedule or rejection was recorded", rec.shown);
     };
+    let answered: std::collections::BTreeSet<(u64, u64)> = outputs
+        .iter()
+        .filter_map(Output::input)
+        .filter(|(k, ..)| *k == RejectedKind::ForceRequest)
+        .map(|(_, seq, stamp)| (seq, stamp))
+        .collect();
+    let unanswered = inputs.requests.iter().filter(|m| !answered.contains(&(m.seq, m.stamp_ns))).count();
+    if unanswered > 0 {
+        bail!(
+            "{}: cannot replay bit for bit: {unanswered} recorded force requests have no recorded answer \
+             (a schedule or rejection the recorder or the core's output ring lost)",
+            rec.shown
+        );
+    }
+    let first_parts = inputs.parts.iter().map(|(_, p)| p.stamp_ns).min().unwrap_or(u64::MAX);
+    let (_, mut core) = core_for(&rec, first.handled_ns().min(first_parts).saturating_sub(1))?;
+    let missing =
+        |what: String| anyhow::anyhow!("{}: cannot replay: {what} is not in the recording", rec.shown);
     let mut current_parts: Option<(u64, u64)> = None;
     let (mut n_sched, mut n_rej) = (0, 0);
     let mut divergence = None;
-    for (n, out) in outputs.iter().enumerate() {
-        let (seen_s, seen_r) = (core.published().len(), core.rejections().len());
+    for out in &outputs {
         let now = out.handled_ns();
-        match out {
-            Output::Schedule(s) if s.parts_seq == 0 && s.solve_time_ns == 0 => {
-                let m = inputs
-                    .explicit
+        if let Some(key) = out.parts()
+            && current_parts != Some(key)
+        {
+            let (_, p) = inputs
+                .parts
+                .iter()
+                .find(|(_, p)| (p.seq, p.stamp_ns) == key)
+                .ok_or_else(|| missing(format!("part states seq {} stamp {}", key.0, key.1)))?;
+            core.inbox().push_parts(p);
+            // Accepted by the core at some instant before `now`, not before
+            // its stamp (handle_at never goes back).
+            core.handle_at(p.stamp_ns.min(now));
+            current_parts = Some(key);
+        }
+        let (seen_s, seen_r) = (core.published().len(), core.rejections().len());
+        let Some((kind, seq, stamp)) = out.input() else { continue };
+        let what =
+            || format!("the {} seq {seq} stamp {stamp} ({} answered it)", kind.as_str(), out.describe());
+        let exact = |m_seq: u64, m_stamp: u64| (m_seq, m_stamp) == (seq, stamp);
+        match kind {
+            RejectedKind::PartStates => {
+                let (_, p) = inputs
+                    .parts
                     .iter()
-                    .rfind(|m| m.seq == s.seq && m.stamp_ns <= now)
-                    .ok_or_else(|| missing(format!("the explicit schedule seq {}", s.seq)))?;
-                core.inbox().push_explicit(m);
+                    .find(|(_, p)| exact(p.seq, p.stamp_ns))
+                    .ok_or_else(|| missing(what()))?;
+                core.inbox().push_parts(p);
             }
-            Output::Schedule(s) => {
-                let key = (s.parts_seq, s.parts_stamp_ns);
-                if current_parts != Some(key) {
-                    let (_, p) =
-                        inputs.parts.iter().find(|(_, p)| (p.seq, p.stamp_ns) == key).ok_or_else(|| {
-                            missing(format!(
-                                "part states seq {} stamp {} (schedule seq {})",
-                                key.0, key.1, s.seq
-                            ))
-                        })?;
-                    core.inbox().push_parts(p);
-                    core.handle_at(p.stamp_ns);
-                    current_parts = Some(key);
-                }
+            RejectedKind::ForceRequest => {
                 let m = inputs
                     .requests
                     .iter()
-                    .rfind(|m| m.seq == s.seq && m.stamp_ns <= now)
-                    .ok_or_else(|| missing(format!("the force request seq {}", s.seq)))?;
+                    .find(|m| exact(m.seq, m.stamp_ns))
+                    .ok_or_else(|| missing(what()))?;
                 core.inbox().push_request(m);
             }
-            Output::Rejection(r) => {
-                let at = |seq: u64, stamp: u64| seq == r.seq && stamp == r.message_stamp_ns;
-                let what = || {
-                    format!(
-                        "the {} seq {} that was rejected",
-                        r.kind().map_or("message", |k| k.as_str()),
-                        r.seq
-                    )
-                };
-                match r.kind() {
-                    Some(RejectedKind::PartStates) => {
-                        let (_, p) = inputs
-                            .parts
-                            .iter()
-                            .find(|(_, p)| at(p.seq, p.stamp_ns))
-                            .ok_or_else(|| missing(what()))?;
-                        core.inbox().push_parts(p);
-                    }
-                    Some(RejectedKind::ForceRequest) => {
-                        let m = inputs
-                            .requests
-                            .iter()
-                            .find(|m| at(m.seq, m.stamp_ns))
-                            .ok_or_else(|| missing(what()))?;
-                        core.inbox().push_request(m);
-                    }
-                    Some(RejectedKind::ExplicitSchedule) => {
-                        let m = inputs
-                            .explicit
-                            .iter()
-                            .find(|m| at(m.seq, m.stamp_ns))
-                            .ok_or_else(|| missing(what()))?;
-                        core.inbox().push_explicit(m);
-                    }
-                    _ => continue,
-                }
+            RejectedKind::ExplicitSchedule => {
+                let m = inputs
+                    .explicit
+                    .iter()
+                    .find(|m| exact(m.seq, m.stamp_ns))
+                    .ok_or_else(|| missing(what()))?;
+                core.inbox().push_explicit(m);
             }
+            RejectedKind::CoreCommand => continue,
         }
         core.handle_at(now);
         let new_s = &core.published()[seen_s..];
@@ -288,14 +327,11 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
                 })
             }
             (_, s, r) => Some(format!(
-                "output {n} ({}): recorded one, replayed {} schedules and {} rejections{}",
-                match out {
-                    Output::Schedule(s) => format!("schedule seq {}", s.seq),
-                    Output::Rejection(r) => format!("rejection of seq {}", r.seq),
-                },
+                "{}: recorded one answer, replayed {} schedules and {} rejections{}",
+                out.describe(),
                 s.len(),
                 r.len(),
-                r.first().map_or(String::new(), |r| format!(" ({})", r.detail_str()))
+                r.first().map_or(String::new(), |r| format!(" ({r})"))
             )),
         };
         if diff.is_some() {
@@ -308,6 +344,7 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
         divergence,
         schedules: n_sched,
         rejections: n_rej,
+        rejected: inputs.rejections.iter().map(|(_, r)| r.to_string()).collect(),
         recorded_s: t1.saturating_sub(t0) as f64 / 1e9,
         replay_s: started.elapsed().as_secs_f64(),
     })
@@ -384,7 +421,7 @@ pub fn replay_with_planner(path: &Path, planner: &str, out: &Path) -> anyhow::Re
         let now = parts.stamp_ns.max(core.now_ns());
         core.inbox().push_parts(parts);
         core.handle_at(now);
-        log.log(PartStates::SERVICE, parts, parts.seq, &[], *log_time);
+        log.log(PartStates::SERVICE, parts, &[], *log_time);
         if p.plan(parts, now.saturating_sub(t0) as f64 / 1e9, &mut req) {
             requests += 1;
             req.seq = requests as u64;
@@ -392,13 +429,13 @@ pub fn replay_with_planner(path: &Path, planner: &str, out: &Path) -> anyhow::Re
             req.deadline_ns = now + upm_planner::run::REQUEST_LIFETIME_NS;
             core.inbox().push_request(&req);
             core.handle_at(now);
-            log.log(ForceRequest::SERVICE, &req, req.seq, &[], *log_time);
+            log.log(ForceRequest::SERVICE, &req, &[], *log_time);
         }
         for s in &core.published()[seen_s..] {
-            log.log(Schedule::SERVICE, s, s.seq, &[], *log_time);
+            log.log(Schedule::SERVICE, s, &[], *log_time);
         }
         for r in &core.rejections()[seen_r..] {
-            log.log(Rejection::SERVICE, r, r.seq, &[], *log_time);
+            log.log(Rejection::SERVICE, r, &[], *log_time);
         }
         log.view(*log_time);
     }
@@ -413,20 +450,17 @@ pub fn replay_with_planner(path: &Path, planner: &str, out: &Path) -> anyhow::Re
         saturated: schedules.iter().filter(|s| s.is_saturated()).count(),
         mean_residual: mean_residual(schedules),
         recorded_schedules: inputs.schedules.len(),
-        recorded_saturated: inputs.schedules.iter().filter(|s| s.is_saturated()).count(),
-        recorded_mean_residual: mean_residual(&inputs.schedules),
+        recorded_saturated: inputs.schedules.iter().filter(|(_, s)| s.is_saturated()).count(),
+        recorded_mean_residual: mean_residual(&inputs.schedules.iter().map(|(_, s)| *s).collect::<Vec<_>>()),
     })
 }
 
-/// `upm replay`: prints the verdict; exits 1 on a divergence, 2 when the
-/// file cannot be replayed.
+/// `upm replay`: prints the verdict; a divergence is exit status 1, a
+/// file that cannot be replayed 2 (one line).
 pub fn run_command(file: &Path, planner: Option<&str>, out: &Path, as_json: bool) -> anyhow::Result<()> {
-    let fail = |e: anyhow::Error| -> ! {
-        eprintln!("upm replay: error: {}", format!("{e:#}").replace('\n', " "));
-        std::process::exit(2)
-    };
+    let unreadable = |e: anyhow::Error| crate::cli::Exit { code: 2, message: format!("{e:#}") };
     if let Some(name) = planner {
-        let r = replay_with_planner(file, name, out).unwrap_or_else(|e| fail(e));
+        let r = replay_with_planner(file, name, out).map_err(unreadable)?;
         if as_json {
             println!("{}", serde_json::to_string_pretty(&r.to_json())?);
         } else {
@@ -448,7 +482,7 @@ pub fn run_command(file: &Path, planner: Option<&str>, out: &Path, as_json: bool
         }
         return Ok(());
     }
-    let r = replay(file).unwrap_or_else(|e| fail(e));
+    let r = replay(file).map_err(unreadable)?;
     if as_json {
         println!("{}", serde_json::to_string_pretty(&r.to_json())?);
     } else {
@@ -459,9 +493,12 @@ pub fn run_command(file: &Path, planner: Option<&str>, out: &Path, as_json: bool
             ),
             Some(d) => println!("diverged: {d}"),
         }
+        for line in &r.rejected {
+            println!("  recorded: {line}");
+        }
     }
-    if r.divergence.is_some() {
-        std::process::exit(1);
+    match r.divergence {
+        Some(_) => Err(crate::cli::Exit { code: 1, message: String::new() }.into()),
+        None => Ok(()),
     }
-    Ok(())
 }

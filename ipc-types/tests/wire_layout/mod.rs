@@ -86,6 +86,7 @@ pub fn all() -> Vec<Layout> {
             solve_time_ns,
             parts_seq,
             parts_stamp_ns,
+            request_stamp_ns,
             residual,
             condition,
             rank,
@@ -99,6 +100,8 @@ pub fn all() -> Vec<Layout> {
             seq,
             message_stamp_ns,
             stamp_ns,
+            parts_seq,
+            parts_stamp_ns,
             reason,
             reserved,
             detail

@@ -346,7 +346,11 @@ impl SolveStage {
         why: &dyn fmt::Display,
     ) {
         self.shared.count_reject(reason);
-        let answer = Rejection::new(kind, seq, message_stamp_ns, now_ns, reason, format_args!("{why}"));
+        let mut answer = Rejection::new(kind, seq, message_stamp_ns, now_ns, reason, format_args!("{why}"));
+        if self.have_parts {
+            answer.parts_seq = self.parts.seq;
+            answer.parts_stamp_ns = self.parts.stamp_ns;
+        }
         // Dropped (still counted) if the io thread is a full ring behind.
         let _ = self.out.rejections.push(answer);
     }
@@ -438,6 +442,7 @@ impl SolveStage {
         m.solve_time_ns = solve_ns;
         m.parts_seq = self.parts.seq;
         m.parts_stamp_ns = self.parts.stamp_ns;
+        m.request_stamp_ns = msg.stamp_ns;
         m.residual = s.residual;
         m.condition = s.condition;
         m.rank = s.rank as u32;
@@ -475,6 +480,7 @@ impl SolveStage {
         m.solve_time_ns = 0;
         m.parts_seq = 0;
         m.parts_stamp_ns = 0;
+        m.request_stamp_ns = msg.stamp_ns;
         m.residual = 0.0;
         m.condition = 0.0;
         m.rank = 0;

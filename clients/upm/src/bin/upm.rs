@@ -14,9 +14,13 @@ fn main() -> std::process::ExitCode {
     match upm_cli::cli::run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            // One line, naming the field: the contract scripts rely on.
-            eprintln!("upm: error: {}", format!("{e:#}").replace('\n', " "));
-            std::process::ExitCode::FAILURE
+            let (code, said) =
+                e.downcast_ref::<upm_cli::cli::Exit>().map_or((1, false), |x| (x.code, x.message.is_empty()));
+            if !said {
+                // One line, naming the field: the contract scripts rely on.
+                eprintln!("upm: error: {}", format!("{e:#}").replace('\n', " "));
+            }
+            std::process::ExitCode::from(code)
         }
     }
 }
