@@ -127,21 +127,23 @@ fn median(mut v: Vec<f64>) -> f64 {
 pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
     let base = std::env::temp_dir().join(format!("upm_bench_record_{}", std::process::id()));
     let port = std::net::TcpListener::bind("127.0.0.1:0")?.local_addr()?.port();
-    let (mut without, mut recorded, mut with, mut with_all) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut without, mut recorded, mut with, mut with_all) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut monitored = [0, 0];
     let mut bytes_per_min_sort = Vec::new();
     // A run with the recorder and the monitor, watched by a client of `topics`.
-    let watched = |topics: Option<&'static [&'static str]>, out: std::path::PathBuf| -> anyhow::Result<(Value, u64)> {
-        let (stop, received) = (Arc::new(AtomicBool::new(false)), Arc::new(AtomicU64::new(0)));
-        let client = {
-            let (s, r) = (stop.clone(), received.clone());
-            std::thread::spawn(move || watch(port, topics, s, r))
+    let watched =
+        |topics: Option<&'static [&'static str]>, out: std::path::PathBuf| -> anyhow::Result<(Value, u64)> {
+            let (stop, received) = (Arc::new(AtomicBool::new(false)), Arc::new(AtomicU64::new(0)));
+            let client = {
+                let (s, r) = (stop.clone(), received.clone());
+                std::thread::spawn(move || watch(port, topics, s, r))
+            };
+            let m = one_run("sort", seconds, true, Some(port), &out);
+            stop.store(true, Ordering::Relaxed);
+            client.join().map_err(|_| anyhow::anyhow!("monitor client panicked"))??;
+            Ok((m?, received.load(Ordering::Relaxed)))
         };
-        let m = one_run("sort", seconds, true, Some(port), &out);
-        stop.store(true, Ordering::Relaxed);
-        client.join().map_err(|_| anyhow::anyhow!("monitor client panicked"))??;
-        Ok((m?, received.load(Ordering::Relaxed)))
-    };
     for round in 0..rounds.max(1) {
         without.push(one_run("sort", seconds, false, None, &base.join(format!("off{round}")))?);
         recorded.push(one_run("sort", seconds, true, None, &base.join(format!("rec{round}")))?);
@@ -158,8 +160,12 @@ pub fn run(seconds: f64, rounds: usize) -> anyhow::Result<Value> {
     let replay = crate::replay::replay(&sort_file)?;
     let figures = |runs: &[Value], which: &str| runs.iter().map(|m| p99(m, which)).collect::<Vec<f64>>();
     let summary = |which: &str| {
-        let (a, r, b, c) =
-            (figures(&without, which), figures(&recorded, which), figures(&with, which), figures(&with_all, which));
+        let (a, r, b, c) = (
+            figures(&without, which),
+            figures(&recorded, which),
+            figures(&with, which),
+            figures(&with_all, which),
+        );
         let spread = a.iter().copied().fold(f64::NEG_INFINITY, f64::max)
             - a.iter().copied().fold(f64::INFINITY, f64::min);
         json!({"without_p99_us": a, "recorder_p99_us": r, "with_p99_us": b, "all_channels_p99_us": c,
