@@ -25,8 +25,9 @@ struct Rig {
     prefix: String,
     stop_feed: Arc<AtomicBool>,
     feeder: Option<std::thread::JoinHandle<()>>,
-    telemetry: Sub<Telemetry>,
-    _node: Node<ipc::Service>,
+    /// Taken in `drop` before the prefix's files are removed: ports alive
+    /// then would leave them behind.
+    ports: Option<(Sub<Telemetry>, Node<ipc::Service>)>,
 }
 
 impl Rig {
@@ -49,13 +50,14 @@ impl Rig {
             let (p, stop) = (prefix.clone(), stop_feed.clone());
             std::thread::spawn(move || common::feed(&p, Duration::from_millis(10), &stop))
         };
-        Self { core, prefix, stop_feed, feeder: Some(feeder), telemetry, _node: node }
+        Self { core, prefix, stop_feed, feeder: Some(feeder), ports: Some((telemetry, node)) }
     }
 
     fn until(&mut self, within: Duration, want: impl Fn(&Telemetry) -> bool) -> Option<Telemetry> {
         let start = Instant::now();
         while start.elapsed() < within {
-            while let Some(s) = self.telemetry.receive().expect("receive") {
+            let Some((telemetry, _)) = &self.ports else { return None };
+            while let Some(s) = telemetry.receive().expect("receive") {
                 if want(s.payload()) {
                     return Some(*s.payload());
                 }
@@ -99,6 +101,7 @@ impl Drop for Rig {
             let _ = self.core.wait();
         }
         let _ = std::fs::remove_file(std::env::temp_dir().join(format!("{}.toml", self.prefix)));
+        drop(self.ports.take());
         common::remove_prefix(&self.prefix);
     }
 }

@@ -222,7 +222,7 @@ fn rejected_messages_are_recorded_with_the_reason_and_replayed_alike() {
     std::thread::sleep(Duration::from_millis(300));
     assert!(stop(recorder).success(), "recorder exit");
     drop(core);
-    drop(node);
+    drop((parts, requests, wake, node));
     common::remove_prefix(&prefix);
 
     let rec = Recording::open(&file).expect("open");
@@ -375,7 +375,7 @@ fn a_stalled_recorder_loses_for_itself_and_counts_it_while_the_core_goes_on() {
     assert_eq!(t.counters.hold_events, 0, "the core never held");
     assert!(stop(recorder).success(), "recorder exit");
     drop(core);
-    drop(node);
+    drop((schedules, node));
     common::remove_prefix(&prefix);
 
     let rec = Recording::open(&file).expect("a stalled recorder still closes its file");
