@@ -13,8 +13,10 @@
 //! `solve_time_ns` (timing, not a function of the input).
 //!
 //! Refused rather than half-compared: a recording whose recorder lost core
-//! inputs, one with a recorded request no output answers (an answer lost),
-//! and one with nothing to compare.
+//! inputs, one that starts after the core had played schedules (the
+//! solver's warm start carries history the file lacks), one with a
+//! recorded request no output answers (an answer lost), and one with
+//! nothing to compare.
 //!
 //! `--planner NAME` instead feeds the recorded part states to another
 //! planner and the core, open loop (the parts move as they did), and writes
@@ -28,7 +30,8 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use drivers::IdealDriver;
 use ipc_types::{
-    ExplicitSchedule, ForceRequest, PartStates, RejectedKind, Rejection, Schedule, WireMessage, service_names,
+    ExplicitSchedule, ForceRequest, PartStates, RejectedKind, Rejection, Schedule, Telemetry, WireMessage,
+    service_names,
 };
 use rt_core::runtime::lockstep::Lockstep;
 use serde_json::{Value, json};
@@ -46,6 +49,8 @@ struct Inputs {
     /// With their index in the file (the recorded order).
     schedules: Vec<(usize, Schedule)>,
     rejections: Vec<(usize, Rejection)>,
+    /// The first telemetry recorded: what the core had done before.
+    first_telemetry: Option<Telemetry>,
 }
 
 fn read_inputs(rec: &Recording) -> anyhow::Result<Inputs> {
@@ -54,6 +59,7 @@ fn read_inputs(rec: &Recording) -> anyhow::Result<Inputs> {
     rec.check_type::<ExplicitSchedule>(service_names::EXPLICIT_SCHEDULE)?;
     rec.check_type::<Schedule>(service_names::SCHEDULE)?;
     rec.check_type::<Rejection>(service_names::REJECTION)?;
+    rec.check_type::<Telemetry>(service_names::TELEMETRY)?;
     let mut i = Inputs::default();
     rec.for_each_raw(|index, m: RawMessage<'_>| {
         match m.topic {
@@ -62,6 +68,9 @@ fn read_inputs(rec: &Recording) -> anyhow::Result<Inputs> {
             service_names::EXPLICIT_SCHEDULE => i.explicit.push(rec.decode(index, m)?),
             service_names::SCHEDULE => i.schedules.push((index as usize, rec.decode(index, m)?)),
             service_names::REJECTION => i.rejections.push((index as usize, rec.decode(index, m)?)),
+            service_names::TELEMETRY if i.first_telemetry.is_none() => {
+                i.first_telemetry = Some(rec.decode(index, m)?)
+            }
             _ => {}
         }
         Ok(())
@@ -238,6 +247,14 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
         );
     }
     let inputs = read_inputs(&rec)?;
+    if let Some(t) = inputs.first_telemetry.filter(|t| t.counters.schedule_swaps > 0) {
+        bail!(
+            "{}: cannot replay bit for bit: the recording started after the core had played {} schedules, \
+             and the solver's warm start carries that history (record from the core's start, as upm run does)",
+            rec.shown,
+            t.counters.schedule_swaps
+        );
+    }
     let outputs = timeline(&inputs);
     let Some(first) = outputs.first() else {
         bail!("{}: nothing to replay: no schedule or rejection was recorded", rec.shown);

@@ -154,44 +154,90 @@ fn stop(mut c: Killed) -> std::process::ExitStatus {
     status
 }
 
+/// upm-core on `prefix` with the default config written to `config`, up.
+fn start_core(prefix: &str, config: &Path) -> Killed {
+    std::fs::write(config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
+        .expect("write");
+    let core = Killed(
+        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+            .args(["--prefix", prefix, "--duration", "60", "--config"])
+            .arg(config)
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("spawn upm-core"),
+    );
+    let up = Instant::now();
+    while upm_cli::status::read_telemetry(prefix, Duration::from_secs(1))
+        .map_or(true, |t| t.core_state() != Some(CoreState::Idle))
+    {
+        assert!(up.elapsed() < Duration::from_secs(20), "core did not come up");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    core
+}
+
+/// `upm recorder` on `prefix` into `file`, listening.
+fn start_recorder(prefix: &str, config: &Path, file: &Path) -> Killed {
+    let recorder = Killed(
+        Command::new(UPM)
+            .args(["recorder", "--prefix", prefix, "--config"])
+            .arg(config)
+            .arg("--out")
+            .arg(file)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("spawn upm recorder"),
+    );
+    let up = Instant::now();
+    while !file.exists() {
+        assert!(up.elapsed() < Duration::from_secs(20), "recorder did not start");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    recorder
+}
+
+/// The §3.1 feed on `prefix` every 10 ms until the flag is set.
+fn start_feed(prefix: &str) -> (std::sync::Arc<std::sync::atomic::AtomicBool>, std::thread::JoinHandle<()>) {
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let (p, s) = (prefix.to_owned(), stop.clone());
+    (stop, std::thread::spawn(move || common::feed(&p, Duration::from_millis(10), &s)))
+}
+
+#[test]
+fn a_recording_started_mid_run_is_refused_not_called_divergent() {
+    let _rig = one_rig();
+    let out = dir("midrun");
+    let prefix = common::unique_prefix("recmid");
+    let config = out.join("rig.toml");
+    let core = start_core(&prefix, &config);
+    let (stop_feed, feeder) = start_feed(&prefix);
+    std::thread::sleep(Duration::from_millis(700));
+    let file = out.join("mid.mcap");
+    let recorder = start_recorder(&prefix, &config, &file);
+    std::thread::sleep(Duration::from_millis(700));
+    stop_feed.store(true, std::sync::atomic::Ordering::Relaxed);
+    feeder.join().expect("feeder");
+    std::thread::sleep(Duration::from_millis(200));
+    assert!(stop(recorder).success(), "recorder exit");
+    drop(core);
+    common::remove_prefix(&prefix);
+    let o = replay(&file);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{said}");
+    assert!(said.contains("the recording started after the core had played "), "{said}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn rejected_messages_are_recorded_with_the_reason_and_replayed_alike() {
     let _rig = one_rig();
     let out = dir("reject");
     let prefix = common::unique_prefix("recrej");
     let config = out.join("rig.toml");
-    std::fs::write(&config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
-        .expect("write");
-    let core = Killed(
-        Command::new(env!("CARGO_BIN_EXE_upm-core"))
-            .args(["--prefix", &prefix, "--duration", "60", "--config"])
-            .arg(&config)
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("spawn upm-core"),
-    );
-    let up = Instant::now();
-    while upm_cli::status::read_telemetry(&prefix, Duration::from_secs(1))
-        .map_or(true, |t| t.core_state() != Some(CoreState::Idle))
-    {
-        assert!(up.elapsed() < Duration::from_secs(20), "core did not come up");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let core = start_core(&prefix, &config);
     let file = out.join("rig.mcap");
-    let recorder = Killed(
-        Command::new(UPM)
-            .args(["recorder", "--prefix", &prefix, "--config"])
-            .arg(&config)
-            .arg("--out")
-            .arg(&file)
-            .stdout(Stdio::null())
-            .spawn()
-            .expect("spawn upm recorder"),
-    );
-    while !file.exists() {
-        assert!(up.elapsed() < Duration::from_secs(30), "recorder did not start");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    let recorder = start_recorder(&prefix, &config, &file);
 
     let node = common::plain_node(&prefix);
     let parts = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES).expect("pub");
@@ -313,46 +359,12 @@ fn a_stalled_recorder_loses_for_itself_and_counts_it_while_the_core_goes_on() {
     let out = dir("stall");
     let prefix = common::unique_prefix("recstall");
     let config = out.join("rig.toml");
-    std::fs::write(&config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
-        .expect("write");
-    let core = Killed(
-        Command::new(env!("CARGO_BIN_EXE_upm-core"))
-            .args(["--prefix", &prefix, "--duration", "60", "--config"])
-            .arg(&config)
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("spawn upm-core"),
-    );
-    let up = Instant::now();
-    while upm_cli::status::read_telemetry(&prefix, Duration::from_secs(1))
-        .map_or(true, |t| t.core_state() != Some(CoreState::Idle))
-    {
-        assert!(up.elapsed() < Duration::from_secs(20), "core did not come up");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let core = start_core(&prefix, &config);
     let file = out.join("stall.mcap");
-    let recorder = Killed(
-        Command::new(UPM)
-            .args(["recorder", "--prefix", &prefix, "--config"])
-            .arg(&config)
-            .arg("--out")
-            .arg(&file)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("spawn upm recorder"),
-    );
-    while !file.exists() {
-        assert!(up.elapsed() < Duration::from_secs(30), "recorder did not start");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    let recorder = start_recorder(&prefix, &config, &file);
     let node = common::plain_node(&prefix);
     let schedules = ipc_types::ports::subscriber::<Schedule>(&node, service_names::SCHEDULE).expect("sub");
-    let stop_feed = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let feeder = {
-        let (p, s) = (prefix.clone(), stop_feed.clone());
-        std::thread::spawn(move || common::feed(&p, Duration::from_millis(10), &s))
-    };
+    let (stop_feed, feeder) = start_feed(&prefix);
     std::thread::sleep(Duration::from_millis(500));
     let pid = recorder.0.id().to_string();
     assert!(Command::new("kill").args(["-STOP", &pid]).status().expect("kill").success());
