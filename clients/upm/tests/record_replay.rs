@@ -39,6 +39,16 @@ fn replay(file: &Path) -> Output {
     Command::new(UPM).arg("replay").arg(file).output().expect("upm replay")
 }
 
+/// `upm replay file` refuses it (exit 2) with a line containing `want`;
+/// returns what it said.
+fn refused(file: &Path, want: &str) -> String {
+    let o = replay(file);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{}: {said}", file.display());
+    assert!(said.contains(want), "{}: {said}", file.display());
+    said
+}
+
 fn text(o: &Output) -> String {
     format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
@@ -222,10 +232,7 @@ fn a_recording_started_mid_run_is_refused_not_called_divergent() {
     assert!(stop(recorder).success(), "recorder exit");
     drop(core);
     common::remove_prefix(&prefix);
-    let o = replay(&file);
-    let said = text(&o);
-    assert_eq!(o.status.code(), Some(2), "{said}");
-    assert!(said.contains("the recording started after the core had played "), "{said}");
+    refused(&file, "the recording started after the core had played ");
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -321,10 +328,8 @@ fn a_damaged_foreign_or_other_version_file_is_refused_in_one_line() {
     for (name, content, want) in cases {
         let f = out.join(name);
         std::fs::write(&f, content).expect("write");
-        let o = replay(&f);
-        let said = text(&o);
-        assert_eq!(o.status.code(), Some(2), "{name}: {said}");
-        assert!(said.starts_with("upm: error: ") && said.contains(want), "{name}: {said}");
+        let said = refused(&f, want);
+        assert!(said.starts_with("upm: error: "), "{name}: {said}");
         assert_eq!(said.trim_end().lines().count(), 1, "{name}: {said}");
     }
 
@@ -345,10 +350,7 @@ fn a_damaged_foreign_or_other_version_file_is_refused_in_one_line() {
         }
         w.finish().expect("finish");
         drop(w);
-        let o = replay(&f);
-        let said = text(&o);
-        assert_eq!(o.status.code(), Some(2), "{name}: {said}");
-        assert!(said.contains(want), "{name}: {said}");
+        refused(&f, want);
     }
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -408,9 +410,6 @@ fn a_stalled_recorder_loses_for_itself_and_counts_it_while_the_core_goes_on() {
             .sum::<u64>()
     );
     // What was lost cannot be replayed, and the replay says why.
-    let o = replay(&file);
-    let said = text(&o);
-    assert_eq!(o.status.code(), Some(2), "{said}");
-    assert!(said.contains("cannot replay bit for bit: the recorder lost core inputs ("), "{said}");
+    refused(&file, "cannot replay bit for bit: the recorder lost core inputs (");
     let _ = std::fs::remove_dir_all(&out);
 }
