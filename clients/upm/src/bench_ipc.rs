@@ -164,6 +164,8 @@ fn raw_ping_pong(
     }
     stop.store(true, Ordering::Relaxed);
     let echoed = ponger.join().map_err(|_| anyhow::anyhow!("the ping-pong echo thread panicked"))?;
+    // Ports first: alive, they would leave the prefix's files behind.
+    drop((ping, pong, wake, woken, n));
     ipc_types::rig_node::remove_prefix_segment(&prefix);
     let one_way = echoed?;
     if (h.len() as usize) < samples {
