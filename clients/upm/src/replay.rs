@@ -24,6 +24,7 @@
 //! states; the planner process plans on the newest each time it wakes, so
 //! under load it may plan less often than this.
 
+use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
 
@@ -145,7 +146,17 @@ fn schedule_difference(a: &Schedule, b: &Schedule) -> Option<(String, String, St
             }
         )*};
     }
-    same!(protocol_version, count, seq, stamp_ns, parts_seq, parts_stamp_ns, rank, saturated);
+    same!(
+        protocol_version,
+        count,
+        seq,
+        stamp_ns,
+        parts_seq,
+        parts_stamp_ns,
+        request_stamp_ns,
+        rank,
+        saturated
+    );
     let bits = |name: &str, x: f64, y: f64| {
         (x.to_bits() != y.to_bits()).then(|| (name.to_owned(), format!("{x:e}"), format!("{y:e}")))
     };
@@ -207,6 +218,19 @@ impl ReplayReport {
             "speed_x_real_time": self.recorded_s / self.replay_s.max(1e-9),
         })
     }
+}
+
+/// `items` by (seq, stamp_ns), the key an output names its input by; the
+/// first of identical keys wins.
+fn by_key<'a, T>(
+    items: impl IntoIterator<Item = &'a T>,
+    key: impl Fn(&T) -> (u64, u64),
+) -> HashMap<(u64, u64), &'a T> {
+    let mut map = HashMap::new();
+    for m in items {
+        map.entry(key(m)).or_insert(m);
+    }
+    map
 }
 
 /// The recorded outputs in the order the core produced them (by the
@@ -273,6 +297,9 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
             rec.shown
         );
     }
+    let parts = by_key(inputs.parts.iter().map(|(_, p)| p), |p| (p.seq, p.stamp_ns));
+    let requests = by_key(&inputs.requests, |m| (m.seq, m.stamp_ns));
+    let explicit = by_key(&inputs.explicit, |m| (m.seq, m.stamp_ns));
     let first_parts = inputs.parts.iter().map(|(_, p)| p.stamp_ns).min().unwrap_or(u64::MAX);
     let (_, mut core) = core_for(&rec, first.handled_ns().min(first_parts).saturating_sub(1))?;
     let missing =
@@ -285,10 +312,8 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
         if let Some(key) = out.parts()
             && current_parts != Some(key)
         {
-            let (_, p) = inputs
-                .parts
-                .iter()
-                .find(|(_, p)| (p.seq, p.stamp_ns) == key)
+            let p = parts
+                .get(&key)
                 .ok_or_else(|| missing(format!("part states seq {} stamp {}", key.0, key.1)))?;
             core.inbox().push_parts(p);
             // Accepted by the core at some instant before `now`, not before
@@ -300,34 +325,14 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
         let Some((kind, seq, stamp)) = out.input() else { continue };
         let what =
             || format!("the {} seq {seq} stamp {stamp} ({} answered it)", kind.as_str(), out.describe());
-        let exact = |m_seq: u64, m_stamp: u64| (m_seq, m_stamp) == (seq, stamp);
-        match kind {
-            RejectedKind::PartStates => {
-                let (_, p) = inputs
-                    .parts
-                    .iter()
-                    .find(|(_, p)| exact(p.seq, p.stamp_ns))
-                    .ok_or_else(|| missing(what()))?;
-                core.inbox().push_parts(p);
-            }
-            RejectedKind::ForceRequest => {
-                let m = inputs
-                    .requests
-                    .iter()
-                    .find(|m| exact(m.seq, m.stamp_ns))
-                    .ok_or_else(|| missing(what()))?;
-                core.inbox().push_request(m);
-            }
-            RejectedKind::ExplicitSchedule => {
-                let m = inputs
-                    .explicit
-                    .iter()
-                    .find(|m| exact(m.seq, m.stamp_ns))
-                    .ok_or_else(|| missing(what()))?;
-                core.inbox().push_explicit(m);
-            }
+        let key = (seq, stamp);
+        let found = match kind {
+            RejectedKind::PartStates => parts.get(&key).map(|m| core.inbox().push_parts(m)),
+            RejectedKind::ForceRequest => requests.get(&key).map(|m| core.inbox().push_request(m)),
+            RejectedKind::ExplicitSchedule => explicit.get(&key).map(|m| core.inbox().push_explicit(m)),
             RejectedKind::CoreCommand => continue,
-        }
+        };
+        found.ok_or_else(|| missing(what()))?;
         core.handle_at(now);
         let new_s = &core.published()[seen_s..];
         let new_r = &core.rejections()[seen_r..];
@@ -395,8 +400,9 @@ impl PlannerReplay {
     }
 }
 
-fn mean_residual(s: &[Schedule]) -> f64 {
-    s.iter().map(|s| s.residual).sum::<f64>() / s.len().max(1) as f64
+fn mean_residual<'a>(s: impl ExactSizeIterator<Item = &'a Schedule>) -> f64 {
+    let n = s.len().max(1) as f64;
+    s.map(|s| s.residual).sum::<f64>() / n
 }
 
 /// Feed the recorded part states to `planner` and a lock-step core; write
@@ -465,10 +471,10 @@ pub fn replay_with_planner(path: &Path, planner: &str, out: &Path) -> anyhow::Re
         schedules: schedules.len(),
         rejections: core.rejections().len(),
         saturated: schedules.iter().filter(|s| s.is_saturated()).count(),
-        mean_residual: mean_residual(schedules),
+        mean_residual: mean_residual(schedules.iter()),
         recorded_schedules: inputs.schedules.len(),
         recorded_saturated: inputs.schedules.iter().filter(|(_, s)| s.is_saturated()).count(),
-        recorded_mean_residual: mean_residual(&inputs.schedules.iter().map(|(_, s)| *s).collect::<Vec<_>>()),
+        recorded_mean_residual: mean_residual(inputs.schedules.iter().map(|(_, s)| s)),
     })
 }
 
