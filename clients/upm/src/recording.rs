@@ -46,7 +46,7 @@ pub struct RawMessage<'a> {
 #[derive(Debug)]
 pub struct Recording {
     pub shown: String,
-    bytes: Vec<u8>,
+    bytes: memmap2::Mmap,
     /// The run metadata (protocol version, prefix, scenario, seed, clocks).
     pub run: BTreeMap<String, String>,
     /// Received and lost per topic, as the recorder counted them.
@@ -62,7 +62,13 @@ pub struct Recording {
 impl Recording {
     pub fn open(path: &Path) -> Result<Self, RecordingError> {
         let shown = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| RecordingError::Read(shown.clone(), e))?;
+        let read = |e| RecordingError::Read(shown.clone(), e);
+        let file = std::fs::File::open(path).map_err(read)?;
+        // SAFETY: a recording is written once and never changed after the
+        // recorder closes it (it never opens an existing file); a file
+        // shortened under us would end the process with SIGBUS, as any
+        // mapped reader.
+        let bytes = unsafe { memmap2::Mmap::map(&file) }.map_err(read)?;
         if !bytes.starts_with(MAGIC) {
             return Err(RecordingError::NotMcap(shown));
         }
