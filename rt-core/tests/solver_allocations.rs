@@ -61,7 +61,7 @@ fn thousands_of_solves_allocate_nothing() {
             methods[match out.method {
                 SolveMethod::Exact => 0,
                 SolveMethod::BoundedLeastSquares => 1,
-                SolveMethod::Trivial => 2,
+                SolveMethod::Trivial | SolveMethod::Sparse => 2,
             }] += usize::from(result.is_ok());
             unconverged += usize::from(!out.converged);
             warm += usize::from(out.warm_started);
@@ -76,6 +76,50 @@ fn thousands_of_solves_allocate_nothing() {
     assert!(methods[0] > 100 && methods[1] > 100, "both paths must be exercised: {methods:?}");
     assert!(warm > 100, "the warm-started path must be exercised: {warm}");
     assert_eq!(methods.iter().sum::<usize>(), cases.len(), "every solve succeeded");
+}
+
+#[test]
+fn sparse_solves_allocate_nothing() {
+    // Up to full capacity: 64 parts, 16 curls, 192 candidates, 192 slots.
+    let cases: Vec<_> = (0..600u64)
+        .map(|seed| {
+            let parts = 1 + (seed as usize * 7) % 64;
+            let curls = (seed as usize) % 17;
+            let centers = (2 * parts + curls + (seed as usize % 40)).clamp(3, 192);
+            let gain = if seed % 2 == 0 { 400.0 } else { 0.002 };
+            let mut case = random_case(seed, parts, curls, centers, 0.05);
+            case.parts.iter_mut().for_each(|p| p.force = p.force.map(|f| [f[0] * gain, f[1] * gain]));
+            case
+        })
+        .collect();
+    let mut solvers: Vec<Solver> = [8, 24, 192]
+        .iter()
+        .map(|&cycle_slots| {
+            let mut s =
+                Solver::new(SolverCapacity::DEFAULT, SolverParams { cycle_slots, ..SolverParams::default() });
+            assert!(s.warm_up());
+            s
+        })
+        .collect();
+    let mut out = solvers[0].new_solution();
+    let mut sparse = 0;
+    let ((), allocations) = allocations_in(|| {
+        for (i, case) in cases.iter().enumerate() {
+            let problem = Problem {
+                mu_m_g: 0.1,
+                k_max: 0.9,
+                centers: &case.centers,
+                parts: &case.parts,
+                curls: &case.curls,
+            };
+            let solver = &mut solvers[i % 3];
+            if solver.solve(&problem, &mut out).is_ok() && out.method == SolveMethod::Sparse {
+                sparse += usize::from(out.slots() == solver.params().cycle_slots);
+            }
+        }
+    });
+    assert_eq!(allocations, 0, "sparse solves allocated {allocations} times");
+    assert_eq!(sparse, cases.len(), "every solve took the sparse path and filled its cycle");
 }
 
 #[test]

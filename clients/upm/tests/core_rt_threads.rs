@@ -32,9 +32,20 @@ fn counter_catches_an_allocation_on_a_marked_thread() {
 
 #[test]
 fn rt_threads_make_no_allocations_over_a_thousand_cycles() {
+    rt_threads_allocate_nothing(0);
+}
+
+/// The same with sparse cycles: four slots given to the centers each
+/// request needs, a center repeated where it needs more than one.
+#[test]
+fn rt_threads_make_no_allocations_with_sparse_cycles() {
+    rt_threads_allocate_nothing(4);
+}
+
+fn rt_threads_allocate_nothing(cycle_slots: usize) {
     counter_catches_an_allocation_on_a_marked_thread();
     let prefix = common::unique_prefix("rtalloc");
-    let mut params = CoreParams::default();
+    let mut params = CoreParams { cycle_slots, ..CoreParams::default() };
     params.motion.slot_ticks = 20;
     let cycle_s = 4.0 * params.motion.slot_duration();
     let duration = Duration::from_secs_f64(1500.0 * cycle_s);

@@ -68,6 +68,10 @@ pub struct CoreParams {
     pub rig: RigParams,
     /// Rotation centers (plate coordinates, m); schedules index into these.
     pub centers: Vec<[f64; 2]>,
+    /// 0: a cycle plays every center once (the paper). N > 0: the centers
+    /// are candidates and a cycle is N slots, allocated sparsely to the
+    /// centers each request needs (`solver::sparse`).
+    pub cycle_slots: usize,
     /// μ·m·g of the parts (N): the scale of every requested force.
     pub mu_m_g: f64,
     /// PartStates older than this (by their stamp) put the core in hold.
@@ -96,6 +100,7 @@ impl Default for CoreParams {
             motion: MotionParams::default(),
             rig: RigParams::default(),
             centers: vec![[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]],
+            cycle_slots: 0,
             mu_m_g: 0.1,
             parts_max_age_ns: 200_000_000,
             request_max_age_ns: 200_000_000,
@@ -123,6 +128,10 @@ pub enum CoreParamsError {
         index: usize,
     },
     MuMg,
+    CycleSlots {
+        given: usize,
+        capacity: usize,
+    },
     MaxAge,
     SolverPoll,
     TelemetryPeriod,
@@ -143,6 +152,12 @@ impl fmt::Display for CoreParamsError {
             }
             Self::NonFiniteCenter { index } => write!(f, "plate.centers[{index}] is not finite"),
             Self::MuMg => f.write_str("plate.mu_m_g must be finite and positive"),
+            Self::CycleSlots { given, capacity } => {
+                write!(
+                    f,
+                    "motion.cycle_slots: {given} slots, capacity is {capacity} (0: one slot per center)"
+                )
+            }
             Self::MaxAge => f.write_str("safety: max ages must be positive"),
             Self::SolverPoll => f.write_str("rt.solver_poll_us must be positive"),
             Self::TelemetryPeriod => f.write_str("telemetry.period_ms must be positive"),
@@ -178,6 +193,9 @@ impl CoreParams {
         }
         if !(self.mu_m_g.is_finite() && self.mu_m_g > 0.0) {
             return Err(CoreParamsError::MuMg);
+        }
+        if self.cycle_slots > capacity {
+            return Err(CoreParamsError::CycleSlots { given: self.cycle_slots, capacity });
         }
         if self.parts_max_age_ns == 0 || self.request_max_age_ns == 0 {
             return Err(CoreParamsError::MaxAge);
@@ -233,5 +251,14 @@ mod tests {
         assert_eq!(with_receiver_priority(79), Ok(()));
         assert_eq!(with_receiver_priority(80), Err(CoreParamsError::ReceiverPriority));
         assert_eq!(with_receiver_priority(100), Err(CoreParamsError::ReceiverPriority));
+    }
+
+    #[test]
+    fn cycle_slots_fit_a_schedule() {
+        let with = |cycle_slots| CoreParams { cycle_slots, ..CoreParams::default() }.validate();
+        assert_eq!(with(0), Ok(()));
+        assert_eq!(with(crate::motion::MAX_SLOTS), Ok(()));
+        let e = with(crate::motion::MAX_SLOTS + 1).expect_err("too many");
+        assert!(e.to_string().starts_with("motion.cycle_slots: 193 slots"), "{e}");
     }
 }

@@ -220,7 +220,8 @@ impl SolveStage {
         params.validate()?;
         let k_max = playable_k_max(params, &rig)?;
         let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
-        let mut solver = Solver::new(cap, SolverParams::default());
+        let mut solver =
+            Solver::new(cap, SolverParams { cycle_slots: params.cycle_slots, ..SolverParams::default() });
         // First gemm on this thread allocates a thread-local buffer; the
         // stage is built on the thread that will use it.
         solver.warm_up();
@@ -426,10 +427,18 @@ impl SolveStage {
             curls: &self.curls[..nc],
         };
         self.solver.solve(&problem, &mut self.solution).map_err(RequestError::Solve)?;
-        let n = self.solution.order().len();
-        for (slot, &j) in self.solution.order().iter().enumerate() {
-            self.entries[slot] =
-                ScheduleEntry { center: self.centers[j as usize], k: self.solution.k()[j as usize] };
+        // A center fills counts[j] consecutive slots (1 each in the paper's
+        // cycle); the solver keeps the total within the entries' capacity.
+        let mut n = 0;
+        for &j in self.solution.order() {
+            let j = usize::from(j);
+            let entry = ScheduleEntry { center: self.centers[j], k: self.solution.k()[j] };
+            for _ in 0..self.solution.counts()[j] {
+                if let Some(e) = self.entries.get_mut(n) {
+                    *e = entry;
+                    n += 1;
+                }
+            }
         }
         self.stage_motion(n, msg.seq, self.parts.stamp_ns)?;
         let solve_ns = clock_ns().saturating_sub(started).max(1);
@@ -448,9 +457,11 @@ impl SolveStage {
         m.rank = s.rank as u32;
         m.saturated = u32::from(s.saturated);
         for &j in s.order() {
-            let j = j as usize;
-            // Capacity equals MAX_SLOTS and n ≤ centers ≤ MAX_SLOTS.
-            let _ = m.push(ScheduleSlot::new(j as u32, self.centers[j], s.k()[j]));
+            let j = usize::from(j);
+            for _ in 0..s.counts()[j] {
+                // Capacity equals MAX_SLOTS, as the entries'.
+                let _ = m.push(ScheduleSlot::new(j as u32, self.centers[j], s.k()[j]));
+            }
         }
         let _ = self.out.samples.push(SolverSample { solve_ns, ipc_ns: 0, pickup_ns: 0 });
         Ok(())

@@ -46,6 +46,7 @@ mod params;
 mod pivoted_qr;
 mod problem;
 mod solution;
+mod sparse;
 mod system;
 mod validate;
 
@@ -57,6 +58,7 @@ pub use system::LeastSquaresSystem;
 
 use bounded::{BoundedBuffers, BoundedInput};
 use min_norm::QrBuffers;
+use sparse::SparseBuffers;
 
 /// The allocation-free force-synthesis solver.
 pub struct Solver {
@@ -75,6 +77,11 @@ pub struct Solver {
     center_x: Vec<f64>,
     center_y: Vec<f64>,
     cond_diag: Vec<f64>,
+    sparse: SparseBuffers,
+    remainder: Vec<f64>,
+    /// The played centers' scaled columns for the sparse path's polish.
+    compact: Vec<f64>,
+    played: Vec<u16>,
     warm: WarmStart,
     /// Shape of the last assembled system (for [`Solver::last_system`]).
     last_shape: (usize, usize),
@@ -126,6 +133,10 @@ impl Solver {
             center_x: vec![0.0; n],
             center_y: vec![0.0; n],
             cond_diag: vec![0.0; m.min(n)],
+            sparse: SparseBuffers::new(m, n),
+            remainder: vec![0.0; n],
+            compact: vec![0.0; m * n],
+            played: Vec::with_capacity(n),
             warm: WarmStart { valid: false, rows: 0, force_rows: 0, centers: Vec::with_capacity(n) },
             last_shape: (0, 0),
         }
@@ -189,6 +200,7 @@ impl Solver {
     /// The next solve starts cold (benchmarks; a new scene).
     pub fn forget_warm_start(&mut self) {
         self.warm.valid = false;
+        self.sparse.forget();
     }
 
     /// A [`Solution`] with enough room for any problem this solver accepts.
@@ -304,6 +316,66 @@ impl Solver {
         }
     }
 
+    /// The sparse path (`sparse.rs`): weights over the candidate centers,
+    /// then `slots` slots apportioned to them.
+    fn sparse_solve(&mut self, problem: &Problem<'_>, m: usize, n: usize, slots: usize, out: &mut Solution) {
+        // The assembled b is scaled by n/μmg; the weights answer 1/μmg.
+        for b in &mut self.b[..m] {
+            *b /= n as f64;
+        }
+        let input = sparse::SparseInput {
+            rows: &self.rows,
+            b: &self.b,
+            m,
+            n,
+            k_max: problem.k_max,
+            max_iterations: self.params.sparse_iterations,
+            min_dist: &self.min_dist,
+            keep_out: self.params.sparse_keep_out,
+            shrink: self.params.sparse_shrink,
+        };
+        let report = sparse::sparse_solve(&input, &mut self.sparse);
+        for b in &mut self.b[..m] {
+            *b *= n as f64;
+        }
+        let w = sparse::weights(&self.sparse, n);
+        sparse::apportion(w, slots, problem.k_max, &mut out.counts, &mut out.k, &mut self.remainder);
+        // The counts fixed, the k of the played centers by bounded least
+        // squares on their columns, each scaled by its share c_j·n/N of the
+        // cycle (the assembled b is in units of n/μmg).
+        self.played.clear();
+        self.played.extend((0..n).filter(|&j| out.counts[j] > 0).map(|j| j as u16));
+        let s = self.played.len();
+        for (t, &j) in self.played.iter().enumerate() {
+            let j = usize::from(j);
+            let scale = f64::from(out.counts[j]) * n as f64 / slots as f64;
+            for i in 0..m {
+                self.compact[i * s + t] = self.rows[i * n + j] * scale;
+            }
+        }
+        self.bounded.state[..s].fill(0);
+        let bounded_input = BoundedInput {
+            rows: &self.compact,
+            b: &self.b,
+            m,
+            n: s,
+            k_max: problem.k_max,
+            tikhonov: self.params.tikhonov,
+            max_iterations: self.params.bounded_max_iterations,
+        };
+        let polish = bounded::bounded_solve(&bounded_input, &mut self.bounded, &mut self.exact_k);
+        for (&j, &k) in self.played.iter().zip(&self.exact_k[..s]) {
+            out.k[usize::from(j)] = k;
+        }
+        out.method = SolveMethod::Sparse;
+        out.rank = 0;
+        out.condition = 0.0;
+        out.iterations = report.iterations + polish.iterations;
+        out.converged = polish.converged;
+        out.saturated = report.budget_active;
+        self.warm.valid = false;
+    }
+
     /// Solve one problem into `out` (which must come from
     /// [`Solver::new_solution`] or have at least the same capacity).
     pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
@@ -321,10 +393,16 @@ impl Solver {
 
         out.k.clear();
         out.k.resize(n, 0.0);
+        out.counts.clear();
+        out.counts.resize(n, 1);
         out.iterations = 0;
         out.converged = true;
         out.warm_started = false;
-        if m == 0 {
+        out.saturated = false;
+        let slots = self.params.cycle_slots;
+        if slots > 0 {
+            self.sparse_solve(problem, m, n, slots, out);
+        } else if m == 0 {
             out.method = SolveMethod::Trivial;
             out.rank = 0;
             out.condition = 1.0;
@@ -335,14 +413,24 @@ impl Solver {
             self.cold_solve(problem, m, n, out);
         }
         // A bound counts as active within a relative 1e-9 of k_max.
-        out.saturated = out.k.iter().any(|k| k.abs() >= problem.k_max * (1.0 - 1e-9));
+        out.saturated |= out.k.iter().any(|k| k.abs() >= problem.k_max * (1.0 - 1e-9));
 
-        bounded::mat_vec(&self.rows, m, n, &out.k, &mut self.residual);
+        // The cycle's weights w_j = c_j·k_j / N times n, in the units of the
+        // assembled b (N/μmg per unit force with N = n): the paper's k itself.
+        if slots > 0 {
+            let cycle = slots as f64;
+            for (j, w) in self.exact_k[..n].iter_mut().enumerate() {
+                *w = f64::from(out.counts[j]) * out.k[j] * n as f64 / cycle;
+            }
+        } else {
+            self.exact_k[..n].copy_from_slice(&out.k);
+        }
+        bounded::mat_vec(&self.rows, m, n, &self.exact_k[..n], &mut self.residual);
         let r2: f64 = self.residual[..m].iter().zip(&self.b[..m]).map(|(ak, b)| (ak - b) * (ak - b)).sum();
         out.residual = r2.sqrt() * problem.mu_m_g / n as f64;
 
-        // Achieved forces and curls: the model's A·k (already in `residual`,
-        // in units scaled by N/μmg) for constrained rows; the field sum for
+        // Achieved forces and curls: the model's A·w (already in `residual`,
+        // in units scaled by n/μmg) for constrained rows; the field sum for
         // parts whose force is free (they have no row).
         let unscale = problem.mu_m_g / n as f64;
         let mf = problem.force_rows();
@@ -354,7 +442,7 @@ impl Solver {
                 i += 1;
             } else {
                 out.achieved_forces.push(field::cycle_force(
-                    &out.k,
+                    &self.exact_k[..n],
                     problem.centers,
                     problem.mu_m_g,
                     p.position,
@@ -364,6 +452,8 @@ impl Solver {
         out.achieved_curls.clear();
         out.achieved_curls.extend(self.residual[2 * mf..m].iter().map(|r| r * unscale));
         order::play_order(&out.k, &self.min_dist, &mut out.priority, &mut out.order);
+        let counts = &out.counts;
+        out.order.retain(|&j| counts[usize::from(j)] > 0);
         Ok(())
     }
 }

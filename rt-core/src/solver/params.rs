@@ -48,6 +48,17 @@ pub struct SolverParams {
     /// Start a saturated frame's bounded solve from the last frame's active
     /// set when centers and rows match (module doc of `solver`).
     pub warm_start: bool,
+    /// 0: the paper's cycle, one slot per center. N > 0: the centers are
+    /// candidates and a cycle is N slots, allocated sparsely (`sparse.rs`).
+    pub cycle_slots: usize,
+    /// Cap on the sparse allocation's gradient iterations.
+    pub sparse_iterations: usize,
+    /// The sparse allocation plays no center closer than this to a
+    /// constrained point (m): there the field turns around within a
+    /// position error, so a part would be pushed every which way.
+    pub sparse_keep_out: f64,
+    /// The sparse allocation's ℓ1 weight, relative to ‖Aᵀb‖∞.
+    pub sparse_shrink: f64,
 }
 
 impl Default for SolverParams {
@@ -61,6 +72,10 @@ impl Default for SolverParams {
             bounded_max_iterations: 400,
             tikhonov: 1e-9,
             warm_start: true,
+            cycle_slots: 0,
+            sparse_iterations: 300,
+            sparse_keep_out: 0.1,
+            sparse_shrink: 0.003,
         }
     }
 }

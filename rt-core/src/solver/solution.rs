@@ -12,6 +12,9 @@ pub enum SolveMethod {
     BoundedLeastSquares,
     /// No constraint rows: K = 0.
     Trivial,
+    /// Sparse allocation of a fixed number of slots to candidate centers
+    /// (`SolverParams::cycle_slots`).
+    Sparse,
 }
 
 /// Output of one solve. Vectors never grow past their construction capacity,
@@ -19,6 +22,7 @@ pub enum SolveMethod {
 #[derive(Debug, Clone)]
 pub struct Solution {
     pub(crate) k: Vec<f64>,
+    pub(crate) counts: Vec<u16>,
     pub(crate) order: Vec<u16>,
     pub(crate) priority: Vec<f64>,
     pub(crate) achieved_forces: Vec<[f64; 2]>,
@@ -48,6 +52,7 @@ impl Solution {
     pub fn with_capacity(cap: SolverCapacity) -> Self {
         Self {
             k: Vec::with_capacity(cap.centers),
+            counts: Vec::with_capacity(cap.centers),
             order: Vec::with_capacity(cap.centers),
             priority: Vec::with_capacity(cap.centers),
             achieved_forces: Vec::with_capacity(cap.parts),
@@ -67,7 +72,18 @@ impl Solution {
     pub fn k(&self) -> &[f64] {
         &self.k
     }
-    /// Center indices in play order (descending priority).
+    /// Slots each center fills in the cycle, in input order: 1 for every
+    /// center in the paper's cycle; 0 for a candidate the sparse allocation
+    /// does not play.
+    pub fn counts(&self) -> &[u16] {
+        &self.counts
+    }
+    /// Slots of the cycle (Σ counts).
+    pub fn slots(&self) -> usize {
+        self.counts.iter().map(|&c| usize::from(c)).sum()
+    }
+    /// Indices of the played centers in play order (descending priority);
+    /// center j fills `counts()[j]` consecutive slots.
     pub fn order(&self) -> &[u16] {
         &self.order
     }

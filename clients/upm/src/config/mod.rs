@@ -66,6 +66,7 @@ impl Config {
             motion: self.motion.params(&self.plate),
             rig: RigParams::default(),
             centers: self.plate.centers.clone(),
+            cycle_slots: self.motion.cycle_slots,
             mu_m_g: self.plate.mu_m_g,
             parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
             request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,

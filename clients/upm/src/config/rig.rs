@@ -20,6 +20,9 @@ pub struct MotionSection {
     pub slot_ticks: u32,
     pub displacement_mm: f64,
     pub k_max: f64,
+    /// 0: one slot per center (the paper); N: centers are candidates, N
+    /// slots per cycle.
+    pub cycle_slots: usize,
     pub max_angle: f64,
     pub max_angular_velocity: f64,
     pub max_angular_acceleration: f64,
@@ -42,6 +45,7 @@ impl Default for MotionSection {
             slot_ticks: m.slot_ticks,
             displacement_mm: m.displacement * 1e3,
             k_max: m.k_max,
+            cycle_slots: 0,
             max_angle: m.limits.max_angle,
             max_angular_velocity: m.limits.max_angular_velocity,
             max_angular_acceleration: m.limits.max_angular_acceleration,
