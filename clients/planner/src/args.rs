@@ -7,12 +7,12 @@ use crate::PlannerConfig;
 use crate::run::run_planner;
 
 #[derive(Debug, Parser)]
-#[command(name = "upm-planner", version, about = "UPM planner client (track, sort, spin, local)")]
+#[command(name = "upm-planner", version, about = "UPM planner client (track, sort, sort_paper, spin, local)")]
 pub struct PlannerArgs {
     /// `--config` is read for [service] and [planner] (name and parameters) only.
     #[command(flatten)]
     pub process: ProcessArgs,
-    /// track, sort, spin or local, with its default parameters when the
+    /// track, sort, sort_paper, spin or local, with its default parameters when the
     /// config has no [planner]; must agree with planner.name when it has.
     #[arg(long)]
     pub planner: Option<String>,

@@ -15,6 +15,7 @@ pub mod local;
 pub mod registry;
 pub mod run;
 pub mod sort;
+pub mod sort_paper;
 pub mod spin;
 pub mod track;
 

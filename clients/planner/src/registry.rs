@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::Planner;
 use crate::local::{LocalParams, LocalPlanner};
 use crate::sort::{SortParams, SortPlanner};
+use crate::sort_paper::{PaperSortParams, PaperSortPlanner};
 use crate::spin::{SpinParams, SpinPlanner};
 use crate::track::{TrackParams, TrackPlanner};
 
@@ -16,6 +17,7 @@ use crate::track::{TrackParams, TrackPlanner};
 pub enum PlannerConfig {
     Track(TrackParams),
     Sort(SortParams),
+    SortPaper(PaperSortParams),
     Spin(SpinParams),
     Local(LocalParams),
 }
@@ -28,13 +30,14 @@ impl Default for PlannerConfig {
 
 impl PlannerConfig {
     /// The names `name` may take.
-    pub const NAMES: [&str; 4] = ["track", "sort", "spin", "local"];
+    pub const NAMES: [&str; 5] = ["track", "sort", "sort_paper", "spin", "local"];
 
     /// `name`'s planner with its default parameters.
     pub fn by_name(name: &str) -> Result<Self, String> {
         match name {
             "track" => Ok(Self::Track(TrackParams::default())),
             "sort" => Ok(Self::Sort(SortParams::default())),
+            "sort_paper" => Ok(Self::SortPaper(PaperSortParams::default())),
             "spin" => Ok(Self::Spin(SpinParams::default())),
             "local" => Ok(Self::Local(LocalParams::default())),
             other => Err(format!("planner.name {other:?}: expected one of {:?}", Self::NAMES)),
@@ -45,6 +48,7 @@ impl PlannerConfig {
         match self {
             Self::Track(_) => "track",
             Self::Sort(_) => "sort",
+            Self::SortPaper(_) => "sort_paper",
             Self::Spin(_) => "spin",
             Self::Local(_) => "local",
         }
@@ -55,6 +59,7 @@ impl PlannerConfig {
         match self {
             Self::Track(p) => &mut p.drive,
             Self::Sort(p) => &mut p.drive,
+            Self::SortPaper(p) => &mut p.drive,
             Self::Spin(p) => &mut p.drive,
             Self::Local(p) => &mut p.drive,
         }
@@ -65,6 +70,7 @@ impl PlannerConfig {
         Ok(match self.clone() {
             Self::Track(p) => Box::new(TrackPlanner::new(p)?),
             Self::Sort(p) => Box::new(SortPlanner::new(p)?),
+            Self::SortPaper(p) => Box::new(PaperSortPlanner::new(p)?),
             Self::Spin(p) => Box::new(SpinPlanner::new(p)?),
             Self::Local(p) => Box::new(LocalPlanner::new(p)?),
         })

@@ -1,16 +1,18 @@
-//! `sort` (paper §4.2): every part goes to the side of its class, class 0
-//! to the left, the others to the right.
+//! `sort_paper` (paper §4.2, the baseline of `upm bench sort`): every part
+//! goes to the side of its class, class 0 to the left, the others to the
+//! right; a part leaves the request once it is on its side.
 
 use ipc_types::{ForceEntry, ForceRequest, PartState, PartStates};
 use serde::{Deserialize, Serialize};
 
 use crate::Planner;
 use crate::drive::{DriveParams, PartPoints};
+use crate::sort::{dodge, sort_side};
 
-/// `[planner]` with `name = "sort"`.
+/// `[planner]` with `name = "sort_paper"`.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
-pub struct SortParams {
+pub struct PaperSortParams {
     pub drive: DriveParams,
     /// |x| a part must pass on its side.
     pub sorted_x: f64,
@@ -28,7 +30,7 @@ pub struct SortParams {
     pub dodge_width: f64,
 }
 
-impl Default for SortParams {
+impl Default for PaperSortParams {
     fn default() -> Self {
         Self {
             drive: DriveParams::default(),
@@ -42,54 +44,27 @@ impl Default for SortParams {
 }
 
 #[derive(Debug)]
-pub struct SortPlanner {
-    p: SortParams,
+pub struct PaperSortPlanner {
+    p: PaperSortParams,
     /// Where each held part is held: set while it is driven, else where it
     /// was first seen.
     anchors: PartPoints,
 }
 
-impl SortPlanner {
-    pub fn new(p: SortParams) -> Result<Self, String> {
+impl PaperSortPlanner {
+    pub fn new(p: PaperSortParams) -> Result<Self, String> {
         p.drive.validate()?;
-        let pos = |x: f64| x.is_finite() && x > 0.0;
-        if !(p.dodge_distance.is_finite() && p.dodge_distance >= 0.0 && pos(p.dodge_width)) {
-            return Err(format!(
-                "planner.dodge_distance must be >= 0 (0: no dodging) and planner.dodge_width > 0, got {} and {}",
-                p.dodge_distance, p.dodge_width
-            ));
-        }
+        crate::sort::check_dodge(p.dodge_distance, p.dodge_width)?;
         if !p.sorted_x.is_finite() {
             return Err(format!("planner.sorted_x must be finite, got {}", p.sorted_x));
         }
         Ok(Self { p, anchors: PartPoints::default() })
     }
-
-    /// Sideways speed that takes `part` around the parts of the other class
-    /// ahead of it in its lane: two parts heading for opposite sides
-    /// otherwise meet head-on and push against each other for good.
-    fn dodge(&self, part: &PartState, parts: &PartStates) -> f64 {
-        let (reach, width) = (self.p.dodge_distance, self.p.dodge_width);
-        let heading = sort_side(part.class);
-        let mut vy = 0.0;
-        for other in parts.parts().iter().filter(|o| o.class != part.class) {
-            let ahead = (other.x - part.x) * heading;
-            let dy = part.y - other.y;
-            if ahead <= 0.0 || ahead >= reach || dy.abs() >= width {
-                continue;
-            }
-            // Head-on: the classes pick opposite ways, so the two parts
-            // never both dodge the same way.
-            let away = if dy.abs() > 1e-3 { dy.signum() } else { -heading };
-            vy += away * self.p.drive.max_speed * (1.0 - dy.abs() / width) * (1.0 - ahead / reach);
-        }
-        vy.clamp(-self.p.drive.max_speed, self.p.drive.max_speed)
-    }
 }
 
-impl Planner for SortPlanner {
+impl Planner for PaperSortPlanner {
     fn name(&self) -> &'static str {
-        "sort"
+        "sort_paper"
     }
 
     /// Drive the `batch` unsorted parts nearest to their side (all of
@@ -118,7 +93,8 @@ impl Planner for SortPlanner {
             // No pull back to a start row: a part keeps the row a dodge took
             // it to, so it does not steer back into the part it passed.
             let goal = [side(part) * (x_goal + 0.05), part.y];
-            let vff = [0.0, self.dodge(part, parts)];
+            let vff =
+                [0.0, dodge(part, parts, self.p.dodge_distance, self.p.dodge_width, self.p.drive.max_speed)];
             if out.push(ForceEntry::force(part.id, self.p.drive.force_to(part, goal, vff))).is_err() {
                 return true;
             }
@@ -150,11 +126,6 @@ impl Planner for SortPlanner {
     }
 }
 
-/// sort: the side a part of `class` goes to, −1 (left, class 0) or +1.
-pub fn sort_side(class: u32) -> f64 {
-    if class == 0 { -1.0 } else { 1.0 }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -167,48 +138,17 @@ mod tests {
         s
     }
 
-    fn sort_planner() -> SortPlanner {
-        SortPlanner::new(SortParams::default()).expect("params")
-    }
-
-    #[test]
-    fn head_on_parts_dodge_opposite_ways() {
-        let p = sort_planner();
-        // Black (heading left) just right of grey (heading right), same row.
-        let s = states(&[(1, 0, [0.05, 0.1]), (2, 1, [0.0, 0.1])]);
-        let (black, grey) = (p.dodge(&s.parts()[0], &s), p.dodge(&s.parts()[1], &s));
-        assert!(black != 0.0 && grey != 0.0, "{black} {grey}");
-        assert!(black.signum() != grey.signum(), "{black} {grey}");
-        // Slightly offset rows: each moves away from the other.
-        let s = states(&[(1, 0, [0.05, 0.11]), (2, 1, [0.0, 0.09])]);
-        assert!(p.dodge(&s.parts()[0], &s) > 0.0 && p.dodge(&s.parts()[1], &s) < 0.0);
-    }
-
-    #[test]
-    fn no_dodge_for_parts_behind_beside_or_of_the_same_class() {
-        let p = sort_planner();
-        // Grey behind black (black heads left, grey is to its right).
-        let s = states(&[(1, 0, [0.0, 0.1]), (2, 1, [0.05, 0.1])]);
-        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
-        // Far outside the lane, or beyond the look-ahead.
-        let s = states(&[(1, 0, [0.05, 0.3]), (2, 1, [0.0, 0.1]), (3, 1, [-0.5, 0.3])]);
-        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
-        // Same class ahead.
-        let s = states(&[(1, 0, [0.05, 0.1]), (2, 0, [0.0, 0.1])]);
-        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
+    fn sort_planner() -> PaperSortPlanner {
+        PaperSortPlanner::new(PaperSortParams::default()).expect("params")
     }
 
     #[test]
     fn bad_dodge_parameters_are_refused() {
         for (distance, width) in [(-0.1, 0.06), (f64::NAN, 0.06), (0.15, 0.0), (0.15, f64::INFINITY)] {
-            let p = SortParams { dodge_distance: distance, dodge_width: width, ..Default::default() };
-            let e = SortPlanner::new(p).expect_err("refused");
+            let p = PaperSortParams { dodge_distance: distance, dodge_width: width, ..Default::default() };
+            let e = PaperSortPlanner::new(p).expect_err("refused");
             assert!(e.contains("planner.dodge_"), "{e}");
         }
-        let off = SortParams { dodge_distance: 0.0, ..Default::default() };
-        let p = SortPlanner::new(off).expect("0 turns dodging off");
-        let s = states(&[(1, 0, [0.05, 0.1]), (2, 1, [0.0, 0.1])]);
-        assert_eq!(p.dodge(&s.parts()[0], &s), 0.0);
     }
 
     #[test]
@@ -219,5 +159,16 @@ mod tests {
         assert!(p.plan(&s, 0.0, &mut out));
         assert_eq!(out.entries().len(), 2);
         assert!(out.entries().iter().all(|e| e.requested_force() == Some([0.0; 2])));
+    }
+
+    #[test]
+    fn only_unsorted_parts_are_driven() {
+        let mut p = sort_planner();
+        let s = states(&[(1, 0, [-0.8, 0.0]), (2, 1, [0.1, 0.1])]);
+        let mut out = ForceRequest::new();
+        assert!(p.plan(&s, 0.0, &mut out));
+        assert_eq!(out.entries().len(), 1);
+        assert_eq!(out.entries()[0].part_id, 2);
+        assert!(out.entries()[0].requested_force().expect("force")[0] > 0.0);
     }
 }

@@ -1,7 +1,8 @@
-//! `upm bench sort`: how long the sort scenario takes to put every part on
+//! `upm bench sort`: how long a sort scenario takes to put every part on
 //! its side, over many seeds, in lock-step (the real core, simulator and
 //! planner on a hand-stepped clock; noise-free camera), so a figure is
-//! bit-reproducible and independent of the host's load.
+//! bit-reproducible and independent of the host's load. The baseline (the
+//! paper's way, `sort_paper`) runs on the same seeds in the same run.
 
 use serde_json::{Value, json};
 
@@ -10,8 +11,10 @@ use crate::scenario::{Scenario, resolve};
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct SortBench {
-    /// A scenario whose planner is `sort` (name or path).
+    /// A scenario whose planner is `sort` or `sort_paper` (name or path).
     pub scenario: String,
+    /// The reference run on the same seeds (name or path); None: none.
+    pub baseline: Option<String>,
     pub seeds: u64,
     pub first_seed: u64,
     /// Simulated seconds per seed (the scenario's `duration_s` if None).
@@ -54,21 +57,33 @@ pub(crate) fn percentile(v: &[f64], q: f64) -> Option<f64> {
     v.get(i).copied()
 }
 
-/// Run every seed (two at a time: the runs are independent and
-/// deterministic) and summarise. A seed that is not sorted in time counts
-/// as not sorted; its time is left out of the percentiles but the maximum
-/// is then null, so an unsorted seed can never pass for a fast one.
+/// Run every seed of both scenarios and summarise: the scenario's figures
+/// at the top level, the baseline's under `baseline` and as
+/// `baseline_median_s`.
 pub fn run(b: &SortBench) -> anyhow::Result<Value> {
-    let sc = Scenario::load(&resolve(&b.scenario))?;
-    if sc.planner.name() != "sort" {
-        anyhow::bail!(
-            "{}: upm bench sort needs a scenario whose planner is sort, not {}",
-            b.scenario,
-            sc.planner.name()
-        );
-    }
     if b.seeds == 0 {
         anyhow::bail!("--seeds must be at least 1");
+    }
+    let mut v = run_one(b, &b.scenario)?;
+    if let Some(baseline) = &b.baseline {
+        let base = run_one(b, baseline)?;
+        v["baseline_median_s"] = base["median_s"].clone();
+        v["baseline"] = base;
+    }
+    Ok(v)
+}
+
+/// Every seed of one scenario (two at a time: the runs are independent and
+/// deterministic). A seed that is not sorted in time counts as not sorted;
+/// its time is left out of the percentiles but the maximum is then null,
+/// so an unsorted seed can never pass for a fast one.
+fn run_one(b: &SortBench, scenario: &str) -> anyhow::Result<Value> {
+    let sc = Scenario::load(&resolve(scenario))?;
+    if !matches!(sc.planner.name(), "sort" | "sort_paper") {
+        anyhow::bail!(
+            "{scenario}: upm bench sort needs a scenario whose planner is sort or sort_paper, not {}",
+            sc.planner.name()
+        );
     }
     let seconds = b.seconds.unwrap_or(sc.duration_s);
     let seeds: Vec<u64> = (0..b.seeds).map(|i| b.first_seed.wrapping_add(i)).collect();
@@ -109,6 +124,15 @@ pub fn run(b: &SortBench) -> anyhow::Result<Value> {
 }
 
 pub fn to_text(v: &Value) -> String {
+    let mut out = summary_text(v);
+    if !v["baseline"].is_null() {
+        out += "baseline: ";
+        out += &summary_text(&v["baseline"]);
+    }
+    out
+}
+
+fn summary_text(v: &Value) -> String {
     let s = |x: &Value| x.as_f64().map_or("—".into(), |t| format!("{t:.1} s"));
     let mut out = format!(
         "{} ({} planner), {} seeds from {}, {} s each, lock-step\n\

@@ -161,9 +161,13 @@ pub enum Command {
         /// sort: the first seed.
         #[arg(long, default_value_t = 1)]
         first_seed: u64,
-        /// sort: the scenario (its planner must be sort).
+        /// sort: the scenario (its planner must be sort or sort_paper).
         #[arg(long, default_value = "sort")]
         scenario: String,
+        /// sort: the reference scenario run on the same seeds ("none":
+        /// none).
+        #[arg(long, default_value = "sort_paper")]
+        baseline: String,
         /// sort: what the planner sees (`rendered`: rendered frames through
         /// vision's pipeline, in the same process).
         #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
@@ -420,6 +424,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             seeds,
             first_seed,
             scenario,
+            baseline,
             camera,
             driver,
         } => {
@@ -449,6 +454,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     // --quick: 30 simulated seconds per seed.
                     let b = crate::bench_sort::SortBench {
                         scenario,
+                        baseline: (baseline != "none").then_some(baseline),
                         seeds,
                         first_seed,
                         seconds: quick.then_some(30.0),

@@ -161,6 +161,11 @@ impl Scenario {
     /// Goal metrics from the recorded trails (ARCHITECTURE.md §7).
     pub fn evaluate(&self, config: &Config, trails: &Trails) -> Value {
         let p = &self.planner;
+        let sorted_x = match p {
+            PlannerConfig::Sort(s) => s.sorted_x,
+            PlannerConfig::SortPaper(s) => s.sorted_x,
+            _ => f64::NAN,
+        };
         let mut parts = Vec::new();
         let mut sorted = 0usize;
         // sort: when the last part reached its side for good (None: one never did).
@@ -170,8 +175,8 @@ impl Scenario {
         for (id, trail) in &trails.parts {
             let (Some(first), Some(last)) = (trail.points.first(), trail.points.last()) else { continue };
             let goal_met = match p {
-                PlannerConfig::Sort(p) => {
-                    let on_side = |q: &[f64; 4]| sort_side(trail.class) * q[1] >= p.sorted_x;
+                PlannerConfig::Sort(_) | PlannerConfig::SortPaper(_) => {
+                    let on_side = |q: &[f64; 4]| sort_side(trail.class) * q[1] >= sorted_x;
                     let ok = on_side(last);
                     sorted += usize::from(ok);
                     let from = match trail.points.iter().rposition(|q| !on_side(q)) {
@@ -210,7 +215,7 @@ impl Scenario {
         let n = parts.len().max(1);
         let mut v = json!({ "parts": parts, "collisions": contacts_in_trails(config, trails), "centers": config.plate.centers.len() });
         match p {
-            PlannerConfig::Sort(_) => {
+            PlannerConfig::Sort(_) | PlannerConfig::SortPaper(_) => {
                 v["sorted_fraction"] = json!(sorted as f64 / n as f64);
                 // Seconds since the trails began; null if not every part is sorted.
                 v["time_to_sort_s"] = json!(time_to_sort.filter(|_| !trails.parts.is_empty()));

@@ -54,6 +54,16 @@ fn bench_sort_reports_time_to_sort_per_seed_and_refuses_other_planners() {
         assert!(r["time_to_sort_s"].as_f64().is_none_or(|t| (0.0..=30.0).contains(&t)), "{r}");
         assert!(r["collisions"].as_u64().is_some(), "{r}");
     }
+    // The paper's planner on the same seeds, in the same run.
+    let base = &v["baseline"];
+    assert_eq!((v["planner"].as_str(), base["planner"].as_str()), (Some("sort"), Some("sort_paper")), "{v}");
+    let base_seeds: Vec<u64> =
+        base["runs"].as_array().expect("runs").iter().filter_map(|r| r["seed"].as_u64()).collect();
+    assert_eq!(base_seeds, [5, 6, 7]);
+    assert_eq!(v["baseline_median_s"], base["median_s"], "{v}");
+    for key in ["median_s", "p90_s", "max_s", "sorted_fraction", "collisions_median", "baseline_median_s"] {
+        assert!(v.get(key).is_some(), "{key} missing: {v}");
+    }
     let out = upm()
         .args(["bench", "sort", "--scenario", "track", "--seeds", "1", "--quick"])
         .output()
