@@ -60,12 +60,14 @@ pub struct Schedule {
     pub residual: f64,
     /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient,
     /// 0 when not estimated (a saturated frame warm-started from the last
-    /// frame's active set does not factor A).
+    /// frame's active set, and a sparse cycle, do not factor A).
     pub condition: f64,
     /// Numerical rank of A; 0 when not estimated (as `condition`).
     pub rank: u32,
     /// 1 when a bound |k| = k_max was active (request not fully met), else 0.
     pub saturated: u32,
+    /// The slots in play order. With sparse cycles (`motion.cycle_slots`)
+    /// a center may fill several consecutive slots.
     pub slots: [ScheduleSlot; MAX_SLOTS],
 }
 

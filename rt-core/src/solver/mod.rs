@@ -18,6 +18,13 @@
 //!    `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
 //!
+//! **Sparse cycles** (`SolverParams::cycle_slots` = N > 0) replace steps
+//! 2–4: the centers are candidates, and a cycle of N slots goes to the few
+//! the request needs, a center filling as many slots as its share
+//! (`sparse.rs`: ℓ1-budgeted least squares, then the bounded solver above
+//! on the played columns). `Solution::counts` says how many slots each
+//! center fills; the paper's cycle is N = 0, one slot per center.
+//!
 //! **Warm start.** Consecutive camera frames ask nearly the same question,
 //! and in a saturated frame the bounded path is the whole cost. When the
 //! last solve was bounded, converged with some bound active, and this one
