@@ -73,10 +73,10 @@ fn sort_runs_deterministically() {
 
 #[test]
 fn sort_puts_every_part_on_its_side() {
-    // Seed 11 is the slowest of the 32 seeds measured (all ten sorted at
-    // 270 s of the scenario's 300 s); see BENCHMARKS.md.
+    // Seed 18 is the slowest of seeds 1–32 (all ten sorted at 87 s of the
+    // scenario's 300 s); see BENCHMARKS.md.
     let secs = Scenario::load(&resolve("sort")).expect("scenario").duration_s;
-    for seed in [1, 11, 24] {
+    for seed in [1, 18, 24] {
         let (m, r) = lockstep("sort", seed, secs);
         let f = m["sorted_fraction"].as_f64().expect("fraction");
         eprintln!("sort seed {seed} after {secs} s: sorted_fraction {f}, collisions {}", m["collisions"]);
