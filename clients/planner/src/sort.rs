@@ -166,10 +166,11 @@ pub fn dodge(part: &PartState, parts: &PartStates, reach: f64, width: f64, max_s
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn states(parts: &[(u32, u32, [f64; 2])]) -> PartStates {
+    /// Part states of (id, class, position), at rest.
+    pub(crate) fn states(parts: &[(u32, u32, [f64; 2])]) -> PartStates {
         let mut s = PartStates::new();
         for &(id, class, [x, y]) in parts {
             s.push(PartState::new(id, class, 0, [x, y, 0.0], [0.0; 3])).expect("capacity");

@@ -129,14 +129,7 @@ impl Planner for PaperSortPlanner {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn states(parts: &[(u32, u32, [f64; 2])]) -> PartStates {
-        let mut s = PartStates::new();
-        for &(id, class, [x, y]) in parts {
-            s.push(PartState::new(id, class, 0, [x, y, 0.0], [0.0; 3])).expect("capacity");
-        }
-        s
-    }
+    use crate::sort::tests::states;
 
     fn sort_planner() -> PaperSortPlanner {
         PaperSortPlanner::new(PaperSortParams::default()).expect("params")

@@ -423,16 +423,18 @@ impl Solver {
         out.saturated |= out.k.iter().any(|k| k.abs() >= problem.k_max * (1.0 - 1e-9));
 
         // The cycle's weights w_j = c_j·k_j / N times n, in the units of the
-        // assembled b (N/μmg per unit force with N = n): the paper's k itself.
-        if slots > 0 {
+        // assembled b (N/μmg per unit force with N = n): in the paper's
+        // cycle, k itself.
+        let weights: &[f64] = if slots > 0 {
             let cycle = slots as f64;
             for (j, w) in self.exact_k[..n].iter_mut().enumerate() {
                 *w = f64::from(out.counts[j]) * out.k[j] * n as f64 / cycle;
             }
+            &self.exact_k[..n]
         } else {
-            self.exact_k[..n].copy_from_slice(&out.k);
-        }
-        bounded::mat_vec(&self.rows, m, n, &self.exact_k[..n], &mut self.residual);
+            &out.k
+        };
+        bounded::mat_vec(&self.rows, m, n, weights, &mut self.residual);
         let r2: f64 = self.residual[..m].iter().zip(&self.b[..m]).map(|(ak, b)| (ak - b) * (ak - b)).sum();
         out.residual = r2.sqrt() * problem.mu_m_g / n as f64;
 
@@ -449,7 +451,7 @@ impl Solver {
                 i += 1;
             } else {
                 out.achieved_forces.push(field::cycle_force(
-                    &self.exact_k[..n],
+                    weights,
                     problem.centers,
                     problem.mu_m_g,
                     p.position,

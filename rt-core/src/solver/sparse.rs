@@ -313,7 +313,6 @@ mod tests {
     #[test]
     fn a_consistent_small_request_is_met() {
         // Two columns, one row: b = 0.2 is reachable with ‖w‖₁ ≤ 0.8.
-        let rows = [1.0, 0.5];
         let input = |b: &'static [f64], min_dist: &'static [f64]| SparseInput {
             rows: &[1.0, 0.5],
             b,
@@ -325,7 +324,6 @@ mod tests {
             keep_out: 0.1,
             shrink: 0.0,
         };
-        let _ = rows;
         let mut buf = SparseBuffers::new(1, 2);
         let r = sparse_solve(&input(&[0.2], &[1.0, 1.0]), &mut buf);
         let w = weights(&buf, 2);
