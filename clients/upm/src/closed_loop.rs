@@ -1,9 +1,10 @@
 //! The closed loop in one process on a hand-stepped clock: the same core
-//! (`Lockstep`), simulator, planner and message types as `upm run`, with a
-//! noise-free camera reading the simulator's truth at the frame rate (or
-//! the rendered camera and vision's image pipeline, [`RenderedSight`]).
-//! Much faster than real time and bit-identical for a seed: used by the
-//! tests.
+//! (`Lockstep`), simulator, planner and message types as `upm run`, with
+//! the camera `upm run` has: vision's ground-truth test double (seeded
+//! noise, dropped frames and latency from `[vision]`, then the tracker,
+//! [`TruthSight`]), or the rendered camera and vision's image pipeline
+//! ([`RenderedSight`]). Much faster than real time and bit-identical for a
+//! seed: used by the tests and `upm bench sort`.
 
 use ipc_types::{ForceRequest, PartStates};
 use rt_core::runtime::lockstep::Lockstep;
@@ -12,6 +13,7 @@ use crate::config::{Config, DriverChoice, SimParts};
 use crate::launcher::{CameraChoice, PartTrail, Trails};
 use crate::plate_driver::SimulatedPlant;
 use crate::rendered_sight::RenderedSight;
+use crate::truth_sight::TruthSight;
 use upm_planner::Planner;
 
 /// What a lock-step run leaves behind.
@@ -32,7 +34,8 @@ pub struct LoopResult {
     pub sight: Option<(u64, u64, u64)>,
 }
 
-/// Run `seconds` of simulated time, the planner seeing the simulator's truth.
+/// Run `seconds` of simulated time, the planner seeing the simulator's
+/// truth through vision's test double.
 pub fn run(config: &Config, planner: &mut dyn Planner, seconds: f64) -> anyhow::Result<LoopResult> {
     run_seeing(config, planner, seconds, CameraChoice::Truth)
 }
@@ -78,45 +81,56 @@ fn run_on<D: SimulatedPlant>(
     let frame_ticks = (tick_hz / config.vision.frame_hz).round().max(1.0) as u64;
     let total = (seconds * tick_hz) as u64;
     let mut sight = match camera {
-        CameraChoice::Truth => None,
-        CameraChoice::Rendered => Some(RenderedSight::new(config)?),
+        CameraChoice::Truth => Sight::Truth(Box::new(TruthSight::new(config)?)),
+        CameraChoice::Rendered => Sight::Rendered(Box::new(RenderedSight::new(config)?)),
     };
     let mut seen = PartStates::new();
     let mut states = PartStates::new();
-    let mut request = ForceRequest::new();
     let mut trails = Trails::default();
     let start_ns = core.now_ns();
+    let tick_ns = 1e9 / tick_hz;
     let mut seq = 0;
     let mut t = 0;
+    let mut next_frame = 0;
     while t < total {
         let now = core.now_ns();
-        fill(core.motor().driver(), &mut states);
-        seq += 1;
-        states.seq = seq;
-        states.stamp_ns = now;
-        let time = (now - start_ns) as f64 / 1e9;
-        for p in states.parts() {
-            let trail =
-                trails.parts.entry(p.id).or_insert_with(|| PartTrail { class: p.class, points: Vec::new() });
-            trail.points.push([time, p.x, p.y, p.theta]);
-        }
-        let seen = match &mut sight {
-            None => &states,
-            Some(s) => {
-                s.see(&states, frame_ticks as f64 / tick_hz, &mut seen);
-                &seen
+        if t == next_frame {
+            next_frame += frame_ticks;
+            fill(core.motor().driver(), &mut states);
+            seq += 1;
+            states.seq = seq;
+            states.stamp_ns = now;
+            let time = (now - start_ns) as f64 / 1e9;
+            for p in states.parts() {
+                let trail = trails
+                    .parts
+                    .entry(p.id)
+                    .or_insert_with(|| PartTrail { class: p.class, points: Vec::new() });
+                trail.points.push([time, p.x, p.y, p.theta]);
             }
-        };
-        core.inbox().push_parts(seen);
-        if planner.plan(seen, time, &mut request) {
-            request.seq = seq;
-            request.stamp_ns = now;
-            request.deadline_ns = now + upm_planner::run::REQUEST_LIFETIME_NS;
-            core.inbox().push_request(&request);
+            match &mut sight {
+                Sight::Truth(s) => s.capture(&states),
+                Sight::Rendered(s) => {
+                    s.see(&states, frame_ticks as f64 / tick_hz, &mut seen);
+                    deliver(&mut core, planner, &seen, start_ns);
+                }
+            }
         }
-        let n = frame_ticks.min(total - t);
-        core.run_ticks(n, |_| {});
-        t += n;
+        if let Sight::Truth(s) = &mut sight {
+            while s.next(now, &mut seen) {
+                deliver(&mut core, planner, &seen, start_ns);
+            }
+        }
+        // Step to the next frame, or to the next delivery if sooner.
+        let mut until = next_frame.min(total);
+        if let Sight::Truth(s) = &sight
+            && let Some(ready) = s.next_ready_ns()
+        {
+            let ticks = ((ready.saturating_sub(now)) as f64 / tick_ns).ceil().max(1.0) as u64;
+            until = until.min(t + ticks);
+        }
+        core.run_ticks(until - t, |_| {});
+        t = until;
     }
     let sh = core.shared();
     Ok(LoopResult {
@@ -129,6 +143,35 @@ fn run_on<D: SimulatedPlant>(
         first_rank_condition: core.published().first().map_or((0, 0.0), |s| (s.rank, s.condition)),
         mean_residual: core.published().iter().map(|s| s.residual).sum::<f64>()
             / core.published().len().max(1) as f64,
-        sight: sight.map(|s| (s.counts().detected, s.counts().merged, s.bad_frames)),
+        sight: match sight {
+            Sight::Truth(_) => None,
+            Sight::Rendered(s) => Some((s.counts().detected, s.counts().merged, s.bad_frames)),
+        },
     })
+}
+
+/// What the planner sees in lock-step.
+enum Sight {
+    Truth(Box<TruthSight>),
+    Rendered(Box<RenderedSight>),
+}
+
+/// Hand a frame to the core and the planner, as vision's publish does;
+/// the planner's request follows at once, as the planner process sends it.
+fn deliver<D: SimulatedPlant>(
+    core: &mut Lockstep<D>,
+    planner: &mut dyn Planner,
+    seen: &PartStates,
+    start_ns: u64,
+) {
+    core.inbox().push_parts(seen);
+    let now = core.now_ns();
+    let time = seen.stamp_ns.saturating_sub(start_ns) as f64 / 1e9;
+    let mut request = ForceRequest::new();
+    if planner.plan(seen, time, &mut request) {
+        request.seq = seen.seq;
+        request.stamp_ns = now;
+        request.deadline_ns = now + upm_planner::run::REQUEST_LIFETIME_NS;
+        core.inbox().push_request(&request);
+    }
 }

@@ -31,4 +31,5 @@ pub mod scenario;
 pub mod soak;
 pub mod solve_json;
 pub mod status;
+pub mod truth_sight;
 pub mod validate;

@@ -48,8 +48,10 @@ fn bench_sort_reports_time_to_sort_per_seed_and_refuses_other_planners() {
     assert_eq!(seeds, [5, 6, 7]);
     let sorted = runs.iter().filter(|r| r["time_to_sort_s"].is_number()).count();
     assert_eq!(v["sorted_fraction"].as_f64(), Some(sorted as f64 / 3.0), "{v}");
-    // A seed not sorted in time leaves the percentiles null, never a number.
+    // A seed not sorted in time ranks last: the maximum is then null, and
+    // the median (the second of three) once two are unsorted.
     assert_eq!(v["max_s"].is_null(), sorted < 3, "{v}");
+    assert_eq!(v["median_s"].is_null(), sorted < 2, "{v}");
     for r in runs {
         assert!(r["time_to_sort_s"].as_f64().is_none_or(|t| (0.0..=30.0).contains(&t)), "{r}");
         assert!(r["collisions"].as_u64().is_some(), "{r}");

@@ -73,7 +73,7 @@ fn sort_runs_deterministically() {
 
 #[test]
 fn sort_puts_every_part_on_its_side() {
-    // Seed 18 is the slowest of seeds 1–32 (all ten sorted at 87 s of the
+    // Seed 18 is the slowest of seeds 1–32 (all ten sorted at 72 s of the
     // scenario's 300 s); see BENCHMARKS.md.
     let secs = Scenario::load(&resolve("sort")).expect("scenario").duration_s;
     for seed in [1, 18, 24] {

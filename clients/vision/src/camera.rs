@@ -111,11 +111,12 @@ impl Camera {
 
     /// The oldest frame whose latency has passed at `now_ns`.
     pub fn ready(&mut self, now_ns: u64) -> Option<Frame> {
+        if self.next_ready_ns().is_some_and(|t| t <= now_ns) { self.queue.pop_front() } else { None }
+    }
+
+    /// When the oldest captured frame's latency passes (None: none waits).
+    pub fn next_ready_ns(&self) -> Option<u64> {
         let latency_ns = (self.params.latency_s * 1e9) as u64;
-        if self.queue.front().is_some_and(|f| f.stamp_ns.saturating_add(latency_ns) <= now_ns) {
-            self.queue.pop_front()
-        } else {
-            None
-        }
+        self.queue.front().map(|f| f.stamp_ns.saturating_add(latency_ns))
     }
 }
