@@ -64,7 +64,8 @@ pub struct Schedule {
     pub condition: f64,
     /// Numerical rank of A; 0 when not estimated (as `condition`).
     pub rank: u32,
-    /// 1 when a bound |k| = k_max was active (request not fully met), else 0.
+    /// 1 when a bound on |k| (k_max, or the center's playable bound) was
+    /// active (request not fully met), else 0.
     pub saturated: u32,
     /// The slots in play order. With sparse cycles (`motion.cycle_slots`)
     /// a center may fill several consecutive slots.

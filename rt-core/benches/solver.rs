@@ -55,7 +55,14 @@ fn bench(c: &mut Criterion) {
             Solver::new(SolverCapacity { parts: rows / 2, curls: 0, centers: n }, SolverParams::default());
         solver.warm_up();
         let mut out = solver.new_solution();
-        let problem = Problem { mu_m_g: MU_M_G, k_max: 0.95, centers: &centers, parts: &parts, curls: &[] };
+        let problem = Problem {
+            mu_m_g: MU_M_G,
+            k_max: 0.95,
+            centers: &centers,
+            parts: &parts,
+            curls: &[],
+            k_bounds: &[],
+        };
         let id = format!("{rows}x{n}");
         g.bench_function(BenchmarkId::new("upm", &id), |bch| {
             bch.iter(|| solver.solve(std::hint::black_box(&problem), &mut out).is_ok())

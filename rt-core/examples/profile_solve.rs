@@ -30,7 +30,7 @@ fn main() {
     );
     s.warm_up();
     let mut sol = s.new_solution();
-    let p = Problem { mu_m_g: 0.1, k_max: 0.95, centers: &centers, parts: &parts, curls: &[] };
+    let p = Problem { mu_m_g: 0.1, k_max: 0.95, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
     // Median of 41 batches: this VM's noise swamps a single long timing.
     let n_batches: usize =
         std::env::var("UPM_PROFILE_BATCHES").ok().and_then(|s| s.parse().ok()).unwrap_or(41).max(1);

@@ -14,7 +14,8 @@ fn section_3_1_four_corners_two_parts() {
         ForceConstraint { position: [0.5, 0.0], force: Some([0.01, 0.01]) },
         ForceConstraint { position: [-0.75, 0.25], force: Some([-0.01, 0.0]) },
     ];
-    let problem = Problem { mu_m_g: 0.1, k_max: 1.0, centers: &centers, parts: &parts, curls: &[] };
+    let problem =
+        Problem { mu_m_g: 0.1, k_max: 1.0, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
     let mut s = solver();
     let mut out = s.new_solution();
     s.solve(&problem, &mut out).expect("solve");
@@ -44,7 +45,8 @@ fn section_3_3_zero_force_with_curl() {
     let centers = [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5]];
     let parts = [ForceConstraint { position: [0.5, 0.0], force: Some([0.0, 0.0]) }];
     let curls = [CurlConstraint { position: [0.5, 0.0], curl: -0.05 }];
-    let problem = Problem { mu_m_g: 0.1, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls };
+    let problem =
+        Problem { mu_m_g: 0.1, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls, k_bounds: &[] };
     let mut s = solver();
     let mut out = s.new_solution();
     s.solve(&problem, &mut out).expect("solve");

@@ -56,6 +56,7 @@ fn thousands_of_solves_allocate_nothing() {
                 centers: &case.centers,
                 parts: &case.parts,
                 curls: &case.curls,
+                k_bounds: &[],
             };
             let result = solver.solve(&problem, &mut out);
             methods[match out.method {
@@ -111,6 +112,7 @@ fn sparse_solves_allocate_nothing() {
                 centers: &case.centers,
                 parts: &case.parts,
                 curls: &case.curls,
+                k_bounds: &[],
             };
             let solver = &mut solvers[i % 3];
             if solver.solve(&problem, &mut out).is_ok() && out.method == SolveMethod::Sparse {

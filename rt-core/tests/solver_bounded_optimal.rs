@@ -80,7 +80,7 @@ fn kkt_violation(sys: &LeastSquaresSystem<'_>, k: &[f64], k_max: f64) -> f64 {
 }
 
 fn problem<'a>(c: &'a common::RandomCase, k_max: f64) -> Problem<'a> {
-    Problem { mu_m_g: MU_M_G, k_max, centers: &c.centers, parts: &c.parts, curls: &c.curls }
+    Problem { mu_m_g: MU_M_G, k_max, centers: &c.centers, parts: &c.parts, curls: &c.curls, k_bounds: &[] }
 }
 
 proptest! {

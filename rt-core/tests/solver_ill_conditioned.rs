@@ -43,7 +43,7 @@ fn two_close_parts() -> ([[f64; 2]; 9], [ForceConstraint; 2]) {
 fn two_parts_one_millimetre_apart_with_opposite_forces() {
     let (centers, parts) = two_close_parts();
     let k_max = 0.9;
-    let problem = Problem { mu_m_g: 0.1, k_max, centers: &centers, parts: &parts, curls: &[] };
+    let problem = Problem { mu_m_g: 0.1, k_max, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut out = solver.new_solution();
     solver.solve(&problem, &mut out).expect("solve");
@@ -80,7 +80,8 @@ fn bounded_answer_is_as_good_as_a_converged_projected_gradient() {
             .map(|p| ForceConstraint { force: p.force.map(|f| [f[0] * 160.0, f[1] * 160.0]), ..*p })
             .collect();
         let k_max = 0.5;
-        let problem = Problem { mu_m_g: 0.1, k_max, centers: &case.centers, parts: &parts, curls: &[] };
+        let problem =
+            Problem { mu_m_g: 0.1, k_max, centers: &case.centers, parts: &parts, curls: &[], k_bounds: &[] };
         solver.solve(&problem, &mut out).expect("solve");
         let (a, b) = reference_system(&case.centers, &parts, &[], 0.1);
         let k_ref = projected_gradient(&a, &b, k_max);
@@ -109,7 +110,8 @@ fn coincident_parts_report_a_short_rank() {
         ForceConstraint { position: [0.2, 0.1], force: Some([0.01, 0.005]) },
         ForceConstraint { position: [-0.3, 0.2], force: Some([0.0, 0.01]) },
     ];
-    let problem = Problem { mu_m_g: 0.1, k_max: 0.9, centers: &centers, parts: &parts, curls: &[] };
+    let problem =
+        Problem { mu_m_g: 0.1, k_max: 0.9, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut out = solver.new_solution();
     solver.solve(&problem, &mut out).expect("solve");

@@ -33,8 +33,14 @@ fn grid() -> Vec<[f64; 2]> {
 fn a_cycle_is_exactly_n_slots_within_k_max_and_plays_what_it_reports() {
     for seed in 0..40u64 {
         let case = random_case(seed, 1 + seed as usize % 12, 0, 48, 0.08);
-        let problem =
-            Problem { mu_m_g: 0.1, k_max: 0.6, centers: &case.centers, parts: &case.parts, curls: &[] };
+        let problem = Problem {
+            mu_m_g: 0.1,
+            k_max: 0.6,
+            centers: &case.centers,
+            parts: &case.parts,
+            curls: &[],
+            k_bounds: &[],
+        };
         let mut s = solver(24);
         let mut out = s.new_solution();
         s.solve(&problem, &mut out).expect("solves");
@@ -62,8 +68,14 @@ fn a_modest_request_is_met() {
         for p in &mut case.parts {
             p.force = p.force.map(|f| [f[0] * 4.0, f[1] * 4.0]);
         }
-        let problem =
-            Problem { mu_m_g: 0.1, k_max: 0.6, centers: &case.centers, parts: &case.parts, curls: &[] };
+        let problem = Problem {
+            mu_m_g: 0.1,
+            k_max: 0.6,
+            centers: &case.centers,
+            parts: &case.parts,
+            curls: &[],
+            k_bounds: &[],
+        };
         let mut s = solver(24);
         let mut out = s.new_solution();
         s.solve(&problem, &mut out).expect("solves");
@@ -90,7 +102,8 @@ fn opposite_neighbours_get_far_more_than_from_the_papers_cycle() {
         })
         .collect();
     let centers = grid();
-    let problem = Problem { mu_m_g: 0.1, k_max: 0.6, centers: &centers, parts: &parts, curls: &[] };
+    let problem =
+        Problem { mu_m_g: 0.1, k_max: 0.6, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
     let along = |s: &mut Solver| {
         let mut out = s.new_solution();
         s.solve(&problem, &mut out).expect("solves");
@@ -117,7 +130,8 @@ fn no_center_plays_within_the_keep_out_of_a_part() {
         .iter()
         .map(|&p| ForceConstraint { position: [p[0] + 0.01, p[1]], force: Some([0.02, -0.01]) })
         .collect();
-    let problem = Problem { mu_m_g: 0.1, k_max: 0.6, centers: &centers, parts: &parts, curls: &[] };
+    let problem =
+        Problem { mu_m_g: 0.1, k_max: 0.6, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
     let mut s = solver(24);
     let mut out = s.new_solution();
     s.solve(&problem, &mut out).expect("solves");
@@ -143,6 +157,7 @@ fn the_same_frames_give_the_same_cycles() {
                 centers: &case.centers,
                 parts: &case.parts,
                 curls: &case.curls,
+                k_bounds: &[],
             };
             s.solve(&problem, &mut out).expect("solves");
             all.push((out.k().iter().map(|k| k.to_bits()).collect::<Vec<_>>(), out.counts().to_vec()));

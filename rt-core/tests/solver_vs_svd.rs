@@ -36,6 +36,7 @@ fn random_underdetermined_systems_match_svd_min_norm() {
             centers: &case.centers,
             parts: &case.parts,
             curls: &case.curls,
+            k_bounds: &[],
         };
         solver.solve(&problem, &mut out).expect("solve");
         if k_ref.amax() > 1.0 {
@@ -70,8 +71,14 @@ fn overdetermined_systems_give_the_least_squares_solution() {
         let case = random_case(1000 + seed, 6, 0, 8, 0.3);
         let (a, b) = reference_system(&case.centers, &case.parts, &case.curls, 0.1);
         let k_ref = svd_min_norm(&a, &b);
-        let problem =
-            Problem { mu_m_g: 0.1, k_max: 1.0, centers: &case.centers, parts: &case.parts, curls: &[] };
+        let problem = Problem {
+            mu_m_g: 0.1,
+            k_max: 1.0,
+            centers: &case.centers,
+            parts: &case.parts,
+            curls: &[],
+            k_bounds: &[],
+        };
         solver.solve(&problem, &mut out).expect("solve");
         if k_ref.amax() > 1.0 || svd_condition(&a) > 1e4 {
             continue;
@@ -87,8 +94,14 @@ fn overdetermined_systems_give_the_least_squares_solution() {
 #[test]
 fn same_input_gives_bit_identical_output() {
     let case = random_case(7, 8, 2, 30, 0.2);
-    let problem =
-        Problem { mu_m_g: 0.1, k_max: 0.9, centers: &case.centers, parts: &case.parts, curls: &case.curls };
+    let problem = Problem {
+        mu_m_g: 0.1,
+        k_max: 0.9,
+        centers: &case.centers,
+        parts: &case.parts,
+        curls: &case.curls,
+        k_bounds: &[],
+    };
     let mut s1 = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut s2 = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let (mut a, mut b) = (s1.new_solution(), s2.new_solution());
@@ -101,6 +114,7 @@ fn same_input_gives_bit_identical_output() {
         centers: &other.centers,
         parts: &other.parts,
         curls: &other.curls,
+        k_bounds: &[],
     };
     s2.solve(&p2, &mut b).expect("solve");
     s2.solve(&problem, &mut b).expect("solve");

@@ -74,8 +74,14 @@ fn all_finite(i: &Input) -> bool {
 /// Solve on an RT-marked thread and check every promise of the answer.
 /// Ok(true) when the solve succeeded and its answer kept every promise.
 fn check(solver: &mut Solver, out: &mut rt_core::Solution, i: &Input) -> Result<bool, TestCaseError> {
-    let problem =
-        Problem { mu_m_g: i.mu_m_g, k_max: i.k_max, centers: &i.centers, parts: &i.parts, curls: &i.curls };
+    let problem = Problem {
+        mu_m_g: i.mu_m_g,
+        k_max: i.k_max,
+        centers: &i.centers,
+        parts: &i.parts,
+        curls: &i.curls,
+        k_bounds: &[],
+    };
     let (verdict, allocated) = alloc_count::allocations_in(|| solver.solve(&problem, out));
     prop_assert_eq!(allocated, 0, "the solve allocated");
     if let Err(e) = verdict {

@@ -123,7 +123,14 @@ fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
         })
         .collect();
     fn problem(c: &BenchCase) -> Problem<'_> {
-        Problem { mu_m_g: MU_M_G, k_max: 0.95, centers: &c.centers, parts: &c.parts, curls: &[] }
+        Problem {
+            mu_m_g: MU_M_G,
+            k_max: 0.95,
+            centers: &c.centers,
+            parts: &c.parts,
+            curls: &[],
+            k_bounds: &[],
+        }
     }
     // Accuracy (exact path only) and the method used.
     let mut max_rel = 0.0f64;
@@ -224,6 +231,7 @@ impl BoundedCase {
             centers: &self.centers,
             parts: &self.parts,
             curls: &self.curls,
+            k_bounds: &[],
         }
     }
 }

@@ -24,7 +24,7 @@ pub struct LoopResult {
     pub rejected_requests: u64,
     pub saturated_schedules: usize,
     pub schedules: usize,
-    /// The |k| bound the core's solver used.
+    /// The largest of the per-center |k| bounds the core's solver used.
     pub k_max: f64,
     /// Mean residual ‖A·K − b‖ (N) over the schedules.
     pub mean_residual: f64,

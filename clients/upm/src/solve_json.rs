@@ -1,6 +1,13 @@
 //! `upm solve` JSON contract (ARCHITECTURE.md §7): parse, solve, serialize.
+//! Each center's bound on |k| is the smaller of `k_max` and what it can
+//! play on the rig `upm validate` plays on (its motion and actuator
+//! limits), as the core bounds it; the output names the centers whose
+//! bound that lowered.
 
+use rt_core::motion::{PlateMotion, Rig, playable_k};
 use rt_core::{CurlConstraint, ForceConstraint, Problem, Solution, Solver, SolverCapacity, SolverParams};
+
+use crate::validate::ValidateSetup;
 use serde::{Deserialize, Serialize};
 
 /// Default bound on |k_j| when the input does not give `k_max`.
@@ -55,6 +62,11 @@ pub struct SolveOutput {
     pub solve_time_us: f64,
     /// Free-block solves of the bounded path (0 on the exact path).
     pub iterations: usize,
+    /// Per center, the bound on |k| it was solved under: `k_max`, or less
+    /// where the rig cannot play that much about it.
+    pub k_bounds: Vec<f64>,
+    /// The centers whose bound the rig lowered below `k_max`.
+    pub k_lowered: Vec<usize>,
 }
 
 /// Input errors, each naming the JSON field, one line each.
@@ -65,6 +77,10 @@ pub enum InputError {
     Json { path: String, message: String },
     #[error("{0}")]
     Solve(rt_core::SolveError),
+    #[error("centers[{center}]: the rig cannot play any k about it within its motion and actuator limits")]
+    Unplayable { center: usize },
+    #[error("the validation rig: {0}")]
+    Rig(String),
 }
 
 /// Parse the JSON text. Numbers that overflow f64 (e.g. 1e999), `null`
@@ -100,8 +116,32 @@ impl SolveInput {
     }
 }
 
-/// Solve one input with the default capacity and parameters.
+/// Per center, the largest |k| ≤ `k_max` it can play on `setup`'s rig
+/// (`rt_core::motion::playable_k`). A center that is not a finite point is
+/// left at `k_max`: the solver refuses it by name.
+pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<f64>, InputError> {
+    let mut probe = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
+    let rig = Rig::new(setup.sim.rig).map_err(|e| InputError::Rig(e.to_string()))?;
+    let k_max = input.k_max();
+    let mut bounds = Vec::with_capacity(input.centers.len());
+    for (center, &c) in input.centers.iter().enumerate() {
+        if !(c[0].is_finite() && c[1].is_finite() && k_max.is_finite() && k_max > 0.0) {
+            bounds.push(k_max);
+            continue;
+        }
+        let u = playable_k(&mut probe, &rig, c, k_max);
+        if !(u > 0.0) {
+            return Err(InputError::Unplayable { center });
+        }
+        bounds.push(u);
+    }
+    Ok(bounds)
+}
+
+/// Solve one input with the default capacity and parameters, each center
+/// bounded by what it can play on the validation rig.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
+    let k_bounds = playable_bounds(input, &ValidateSetup::default())?;
     let parts = input.force_constraints();
     let curls = input.curl_constraints();
     let problem = Problem {
@@ -110,6 +150,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
         centers: &input.centers,
         parts: &parts,
         curls: &curls,
+        k_bounds: &k_bounds,
     };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut solution = solver.new_solution();
@@ -117,7 +158,10 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let result = solver.solve(&problem, &mut solution);
     let solve_time_us = started.elapsed().as_secs_f64() * 1e6;
     result.map_err(InputError::Solve)?;
-    Ok(to_output(&solution, solve_time_us))
+    let mut out = to_output(&solution, solve_time_us);
+    out.k_lowered = (0..k_bounds.len()).filter(|&j| k_bounds[j] < input.k_max()).collect();
+    out.k_bounds = k_bounds;
+    Ok(out)
 }
 
 pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
@@ -132,5 +176,7 @@ pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
         saturated: s.saturated,
         solve_time_us,
         iterations: s.iterations,
+        k_bounds: Vec::new(),
+        k_lowered: Vec::new(),
     }
 }

@@ -48,6 +48,31 @@ fn paper_3_1_from_a_file() {
     assert_eq!(v["saturated"], false);
     assert_eq!(v["iterations"], 0, "the exact path iterates not");
     assert!(v["solve_time_us"].as_f64().is_some_and(|t| t > 0.0), "solve_time_us: {}", v["solve_time_us"]);
+    // The plate's four corners, alike by symmetry, play less than the
+    // default k_max 0.95 on the validation rig (measured 0.75), and more
+    // than this answer needs.
+    let bounds: Vec<f64> =
+        v["k_bounds"].as_array().expect("k_bounds").iter().filter_map(|x| x.as_f64()).collect();
+    assert_eq!(bounds.len(), 4);
+    assert!(bounds.iter().all(|&u| u == bounds[0] && u > 0.6 && u < 0.95), "{bounds:?}");
+    assert_eq!(v["k_lowered"], serde_json::json!([0, 1, 2, 3]));
+}
+
+#[test]
+fn a_bound_the_rig_cannot_play_is_lowered_and_named() {
+    // k_max 1 is beyond the motion's 0.95 everywhere; a center 5 m out
+    // swings the plate's far corner beyond the actuators' reach sooner.
+    let input = r#"{"mu_m_g": 0.1, "k_max": 1.0, "centers": [[-1, -0.5], [1, 0.5], [5, 0]],
+        "parts": [{"position": [0, 0], "force": [0.05, 0.02]}]}"#;
+    let v = json(&upm(&["solve", "-"], Some(input)));
+    assert_eq!(v["k_lowered"], serde_json::json!([0, 1, 2]), "{v}");
+    let bounds: Vec<f64> =
+        v["k_bounds"].as_array().expect("k_bounds").iter().filter_map(|x| x.as_f64()).collect();
+    assert_eq!(bounds.len(), 3);
+    assert!(bounds.iter().all(|&u| u > 0.0 && u < 1.0), "{bounds:?}");
+    for (k, u) in v["k"].as_array().expect("k").iter().zip(&bounds) {
+        assert!(k.as_f64().is_some_and(|k| k.abs() <= *u), "{k} beyond {u}");
+    }
 }
 
 #[test]

@@ -247,3 +247,50 @@ fn explicit_schedule_bypasses_the_solver() {
     let slots: Vec<_> = s.slots().iter().map(|s| (s.center_index, s.k)).collect();
     assert_eq!(slots, vec![(2, 0.3), (0, -0.2)]);
 }
+
+/// Each center is bounded by what it can play on the rig, not all by the
+/// weakest: an explicit slot between two centers' bounds plays about the
+/// stronger and is refused, by name and counted, about the weaker; solved
+/// schedules keep every slot within its own center's bound.
+#[test]
+fn each_center_is_bounded_by_what_it_can_play() {
+    use core::sync::atomic::Ordering::Relaxed;
+    let mut params = CoreParams::default();
+    params.centers.push([2.5, 0.0]);
+    let far = params.centers.len() - 1;
+    let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
+    let mut c = Lockstep::new(&params, sim, START_NS).expect("core");
+    let bounds = c.stage().k_bounds().to_vec();
+    assert_eq!(bounds.len(), params.centers.len());
+    assert!(bounds[far] < bounds[0], "bounds {bounds:?}");
+    assert_eq!(c.stage().k_max(), bounds.iter().fold(0.0, |a: f64, &u| a.max(u)));
+    let k = 0.5 * (bounds[far] + bounds[0]);
+    let now = c.now_ns();
+    c.inbox().push_parts(&part_states(1, now, &PAPER_PARTS));
+    let explicit = |seq: u64, center: u32| {
+        let mut e = ExplicitSchedule::new();
+        e.seq = seq;
+        e.stamp_ns = now + seq;
+        e.push(ExplicitSlot::new(center, k)).expect("capacity");
+        e
+    };
+    c.inbox().push_explicit(&explicit(1, 0));
+    c.run_ticks(200, |_| {});
+    let s = c.published().last().expect("published");
+    assert_eq!((s.seq, s.slots()[0].k), (1, k));
+    c.inbox().push_explicit(&explicit(2, far as u32));
+    c.run_ticks(200, |_| {});
+    assert_eq!(c.shared().rejected_requests.load(Relaxed), 1);
+    let r = c.rejections().last().expect("rejection");
+    assert_eq!(r.reason, ipc_types::RejectReason::KOutOfRange as u32, "{r:?}");
+    // A request far beyond what a cycle gives: every slot within its bound.
+    run_fed(&mut c, 3000, 100, |_| true, |_, _| {});
+    let solved: Vec<_> = c.published().iter().filter(|s| s.parts_seq != 0).collect();
+    assert!(!solved.is_empty());
+    for s in solved {
+        for slot in s.slots() {
+            let u = bounds[slot.center_index as usize];
+            assert!(slot.k.abs() <= u, "slot k {} beyond center {}'s {u}", slot.k, slot.center_index);
+        }
+    }
+}

@@ -22,7 +22,7 @@ proptest! {
         let rows = 2 * parts;
         let n = rows + extra;
         let case = bench_case(rows, n, seed, scale);
-        let problem = Problem { mu_m_g: 0.1, k_max, centers: &case.centers, parts: &case.parts, curls: &[] };
+        let problem = Problem { mu_m_g: 0.1, k_max, centers: &case.centers, parts: &case.parts, curls: &[], k_bounds: &[] };
         let mut solver = Solver::new(SolverCapacity { parts, curls: 0, centers: n }, SolverParams::default());
         let mut out = solver.new_solution();
         solver.solve(&problem, &mut out).expect("solve");

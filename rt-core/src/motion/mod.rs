@@ -20,6 +20,7 @@
 
 mod params;
 mod plan;
+mod playable;
 mod pose;
 mod profile;
 mod rig;
@@ -27,6 +28,7 @@ mod setpoint;
 
 pub use params::{MotionLimits, MotionParams, ParamsError};
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
+pub use playable::playable_k;
 pub use pose::{PlateSample, Pose, Twist, sin_cos};
 pub use profile::{MAX_KNOTS, Profile, ProfilePoint};
 pub use rig::{Actuator, MAX_ACTUATORS, Rig, RigError, RigParams};

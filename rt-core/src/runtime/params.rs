@@ -137,8 +137,10 @@ pub enum CoreParamsError {
     TelemetryPeriod,
     Priority,
     ReceiverPriority,
-    /// No center can play any k within the motion and actuator limits.
-    Unplayable,
+    /// A center cannot play any k within the motion and actuator limits.
+    Unplayable {
+        center: usize,
+    },
 }
 
 impl fmt::Display for CoreParamsError {
@@ -161,9 +163,10 @@ impl fmt::Display for CoreParamsError {
             Self::MaxAge => f.write_str("safety: max ages must be positive"),
             Self::SolverPoll => f.write_str("rt.solver_poll_us must be positive"),
             Self::TelemetryPeriod => f.write_str("telemetry.period_ms must be positive"),
-            Self::Unplayable => f.write_str(
-                "motion: no rotation center can play any k within the motion and actuator limits \
-                 (raise motion.slot_ticks or the limits, or lower motion.displacement_mm)",
+            Self::Unplayable { center } => write!(
+                f,
+                "centers[{center}]: cannot play any k within the motion and actuator limits \
+                 (raise motion.slot_ticks or the limits, or lower motion.displacement_mm)"
             ),
             Self::Priority => {
                 f.write_str("rt: priorities must be in 1..=99 and the motor's above the solver's")
@@ -220,12 +223,12 @@ impl CoreParams {
     }
 
     /// Everything [`Self::validate`] checks, plus that every center can play
-    /// some k within the motion and actuator limits. Returns that bound on
-    /// |k|: the k_max the core will actually use.
-    pub fn playable_k_max(&self) -> Result<f64, CoreParamsError> {
+    /// some k within the motion and actuator limits. Returns, per center,
+    /// the bound on |k| the core will actually use.
+    pub fn playable_k_bounds(&self) -> Result<Vec<f64>, CoreParamsError> {
         self.validate()?;
         let rig = crate::motion::Rig::new(self.rig).map_err(CoreParamsError::Rig)?;
-        super::solve_stage::playable_k_max(self, &rig)
+        super::solve_stage::playable_k_bounds(self, &rig)
     }
 
     /// Motor tick period (ns).

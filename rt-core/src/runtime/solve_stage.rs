@@ -20,7 +20,7 @@ use super::inbox::{Inbox, InboxBuffers, drain};
 use super::params::CoreParams;
 use super::samples::{SolverSample, StageOutputs};
 use super::shared::CoreShared;
-use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry};
+use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry, playable_k};
 use crate::solver::{
     CurlConstraint, ForceConstraint, Problem, Solution, SolveError, Solver, SolverCapacity, SolverParams,
 };
@@ -169,6 +169,9 @@ pub struct SolveStage {
     solution: Solution,
     centers: Vec<[f64; 2]>,
     mu_m_g: f64,
+    /// Per center, the |k| it can play on this rig.
+    k_bounds: Vec<f64>,
+    /// The largest of them.
     k_max: f64,
     rig: Rig,
     writer: MotionWriter,
@@ -207,9 +210,10 @@ impl SolveStage {
         }
     }
 
-    /// Build with every buffer the stage will ever use. `k_max` becomes the
-    /// smaller of the configured bound and what every center can play within
-    /// the motion and actuator limits, so a solved schedule is always playable.
+    /// Build with every buffer the stage will ever use. Each center's bound
+    /// on |k| is the smaller of the configured `k_max` and what it can play
+    /// within the motion and actuator limits, so a solved schedule is always
+    /// playable.
     pub fn new(
         params: &CoreParams,
         rig: Rig,
@@ -218,7 +222,8 @@ impl SolveStage {
         out: StageOutputs,
     ) -> Result<Self, super::params::CoreParamsError> {
         params.validate()?;
-        let k_max = playable_k_max(params, &rig)?;
+        let k_bounds = playable_k_bounds(params, &rig)?;
+        let k_max = k_bounds.iter().fold(0.0, |a: f64, &k| a.max(k));
         let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
         let mut solver =
             Solver::new(cap, SolverParams { cycle_slots: params.cycle_slots, ..SolverParams::default() });
@@ -235,6 +240,7 @@ impl SolveStage {
             solution,
             centers: params.centers.clone(),
             mu_m_g: params.mu_m_g,
+            k_bounds,
             k_max,
             rig,
             writer,
@@ -254,9 +260,15 @@ impl SolveStage {
         })
     }
 
-    /// The |k| bound schedules are solved under.
+    /// The largest |k| any center can play (schedules are solved under
+    /// [`Self::k_bounds`]).
     pub fn k_max(&self) -> f64 {
         self.k_max
+    }
+
+    /// Per center, the |k| it can play on this rig.
+    pub fn k_bounds(&self) -> &[f64] {
+        &self.k_bounds
     }
 
     /// Validate and keep the newest part states. `received_ns` is when the
@@ -425,6 +437,7 @@ impl SolveStage {
             centers: &self.centers,
             parts: &self.forces[..np],
             curls: &self.curls[..nc],
+            k_bounds: &self.k_bounds,
         };
         self.solver.solve(&problem, &mut self.solution).map_err(RequestError::Solve)?;
         // A center fills counts[j] consecutive slots (1 each in the paper's
@@ -480,6 +493,11 @@ impl SolveStage {
             let center = *self.centers.get(e.center_index as usize).ok_or(RequestError::InvalidExplicit(
                 ExplicitScheduleError::UnknownCenter { index, center_index: e.center_index },
             ))?;
+            // Beyond what this center can play: refused here, by name,
+            // rather than by the motion or actuator check below.
+            if self.k_bounds.get(e.center_index as usize).is_none_or(|&u| e.k.abs() > u) {
+                return Err(RequestError::InvalidExplicit(ExplicitScheduleError::KOutOfRange { index }));
+            }
             *entry = ScheduleEntry { center, k: e.k };
         }
         self.stage_motion(n, msg.seq, 0)?;
@@ -515,37 +533,20 @@ impl SolveStage {
     }
 }
 
-/// Largest |k| every center can play within the motion limits and the
-/// actuators' stroke, velocity and force limits. Slots are independent
-/// (each tick belongs to one slot), so a schedule whose every |k_j| is below
-/// this passes [`Rig::check_motion`]. Bisection at start-up only.
-pub(crate) fn playable_k_max(params: &CoreParams, rig: &Rig) -> Result<f64, super::params::CoreParamsError> {
+/// Per center, the largest |k| ≤ `motion.k_max` it can play within the
+/// motion limits and the actuators' stroke, velocity and force limits
+/// ([`playable_k`]). Slots are independent (each tick belongs to one slot),
+/// so a schedule whose every |k_j| is within its center's bound passes
+/// [`Rig::check_motion`]. Bisection, at start-up only.
+pub(crate) fn playable_k_bounds(
+    params: &CoreParams,
+    rig: &Rig,
+) -> Result<Vec<f64>, super::params::CoreParamsError> {
     let mut probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
-    let mut k_max = params.motion.k_max;
-    for &center in &params.centers {
-        k_max = k_max.min(probe.max_playable_k(center));
+    let bounds: Vec<f64> =
+        params.centers.iter().map(|&c| playable_k(&mut probe, rig, c, params.motion.k_max)).collect();
+    if let Some(center) = bounds.iter().position(|&k| !(k > 0.0)) {
+        return Err(super::params::CoreParamsError::Unplayable { center });
     }
-    let playable = |k: f64, probe: &mut PlateMotion| {
-        params.centers.iter().all(|&center| {
-            [k, -k].iter().all(|&k| {
-                probe.set_schedule(&[ScheduleEntry { center, k }]).is_ok() && rig.check_motion(probe).is_ok()
-            })
-        })
-    };
-    if !playable(k_max, &mut probe) {
-        let (mut lo, mut hi) = (0.0, k_max);
-        for _ in 0..30 {
-            let mid = 0.5 * (lo + hi);
-            if playable(mid, &mut probe) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        k_max = lo;
-    }
-    if k_max <= 0.0 {
-        return Err(super::params::CoreParamsError::Unplayable);
-    }
-    Ok(k_max)
+    Ok(bounds)
 }

@@ -22,6 +22,15 @@ pub enum SolveError {
     InvalidMuMg,
     /// `k_max` is not in (0, 1].
     InvalidKMax,
+    /// `k_bounds` is neither empty nor one per center.
+    KBoundsLength {
+        given: usize,
+        centers: usize,
+    },
+    /// `k_bounds[center]` is not in (0, 1].
+    InvalidKBound {
+        center: usize,
+    },
     NonFiniteCenter {
         center: usize,
     },
@@ -87,6 +96,12 @@ impl fmt::Display for SolveError {
             }
             Self::InvalidMuMg => write!(f, "mu_m_g: must be a finite number > 0"),
             Self::InvalidKMax => write!(f, "k_max: must be a finite number in (0, 1]"),
+            Self::KBoundsLength { given, centers } => {
+                write!(f, "k_bounds: {given} given, need none or one per center ({centers})")
+            }
+            Self::InvalidKBound { center } => {
+                write!(f, "k_bounds[{center}]: must be a finite number in (0, 1]")
+            }
             Self::NonFiniteCenter { center } => {
                 write!(f, "centers[{center}]: coordinates must be finite numbers")
             }

@@ -18,6 +18,13 @@
 //!    `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
 //!
+//! **Per-center bounds** (`Problem::k_bounds`, what each rotation can play
+//! on the rig): by a change of variable. Column j of A is scaled by s_j =
+//! u_j / u_max (u_j its bound), every path above solves for k'_j = k_j / s_j
+//! under the one bound u_max, and k_j = s_j·k'_j. The exact path's minimum
+//! norm is then Σ (k_j / s_j)²: a weak center is used less. With every
+//! bound equal, s_j = 1 and nothing is scaled.
+//!
 //! **Sparse cycles** (`SolverParams::cycle_slots` = N > 0) replace steps
 //! 2–4: the centers are candidates, and a cycle of N slots goes to the few
 //! the request needs, a center filling as many slots as its share
@@ -86,6 +93,8 @@ pub struct Solver {
     cond_diag: Vec<f64>,
     sparse: SparseBuffers,
     remainder: Vec<f64>,
+    /// s_j = u_j / u_max of the per-center bounds (module doc).
+    column_scale: Vec<f64>,
     /// The played centers' scaled columns for the sparse path's polish.
     compact: Vec<f64>,
     played: Vec<u16>,
@@ -142,6 +151,7 @@ impl Solver {
             cond_diag: vec![0.0; m.min(n)],
             sparse: SparseBuffers::new(m, n),
             remainder: vec![0.0; n],
+            column_scale: vec![1.0; n],
             compact: vec![0.0; m * n],
             played: Vec::with_capacity(n),
             warm: WarmStart { valid: false, rows: 0, force_rows: 0, centers: Vec::with_capacity(n) },
@@ -183,8 +193,15 @@ impl Solver {
             let curls: Vec<_> = (0..cap.curls)
                 .map(|i| CurlConstraint { position: [0.05 * i as f64, 0.9], curl: force })
                 .collect();
-            let problem =
-                Problem { mu_m_g: 1.0, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls };
+            let bounds: Vec<f64> = (0..cap.centers).map(|j| if j % 2 == 0 { 1.0 } else { 0.5 }).collect();
+            let problem = Problem {
+                mu_m_g: 1.0,
+                k_max: 1.0,
+                centers: &centers,
+                parts: &parts,
+                curls: &curls,
+                k_bounds: &bounds,
+            };
             ok &= self.solve(&problem, &mut out).is_ok();
         }
         self.forget_warm_start();
@@ -192,7 +209,8 @@ impl Solver {
     }
 
     /// The system of the last successful assembly (the last solve, unless
-    /// its input was rejected first).
+    /// its input was rejected first), its columns scaled by per-center
+    /// bounds if the problem had unequal ones (module doc).
     pub fn last_system(&self) -> LeastSquaresSystem<'_> {
         let (m, n) = self.last_shape;
         LeastSquaresSystem {
@@ -383,6 +401,24 @@ impl Solver {
         self.warm.valid = false;
     }
 
+    /// Fill `column_scale` with s_j = u_j / u_max and scale A's columns by
+    /// it where it is not 1; returns u_max.
+    fn scale_columns(&mut self, problem: &Problem<'_>, m: usize, n: usize) -> f64 {
+        let bound = |j: usize| problem.k_bounds.get(j).map_or(problem.k_max, |&u| u.min(problem.k_max));
+        let top = (0..n).map(bound).fold(0.0, f64::max);
+        for j in 0..n {
+            self.column_scale[j] = bound(j) / top;
+        }
+        if self.column_scale[..n].iter().any(|&s| s != 1.0) {
+            for row in self.rows[..m * n].chunks_exact_mut(n) {
+                for (a, s) in row.iter_mut().zip(&self.column_scale[..n]) {
+                    *a *= s;
+                }
+            }
+        }
+        top
+    }
+
     /// Solve one problem into `out` (which must come from
     /// [`Solver::new_solution`] or have at least the same capacity).
     pub fn solve(&mut self, problem: &Problem<'_>, out: &mut Solution) -> Result<(), SolveError> {
@@ -397,6 +433,10 @@ impl Solver {
             &mut self.center_y,
         )?;
         self.last_shape = (m, n);
+        let k_top = self.scale_columns(problem, m, n);
+        let scaled = self.column_scale[..n].iter().any(|&s| s != 1.0);
+        // Every path below solves in the scaled variables under one bound.
+        let problem = &Problem { k_max: k_top, ..*problem };
 
         out.k.clear();
         out.k.resize(n, 0.0);
@@ -437,6 +477,13 @@ impl Solver {
         bounded::mat_vec(&self.rows, m, n, weights, &mut self.residual);
         let r2: f64 = self.residual[..m].iter().zip(&self.b[..m]).map(|(ak, b)| (ak - b) * (ak - b)).sum();
         out.residual = r2.sqrt() * problem.mu_m_g / n as f64;
+        if scaled {
+            for j in 0..n {
+                out.k[j] *= self.column_scale[j];
+                self.exact_k[j] *= self.column_scale[j];
+            }
+        }
+        let weights: &[f64] = if slots > 0 { &self.exact_k[..n] } else { &out.k };
 
         // Achieved forces and curls: the model's A·w (already in `residual`,
         // in units scaled by n/μmg) for constrained rows; the field sum for

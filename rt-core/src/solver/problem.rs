@@ -24,6 +24,10 @@ pub struct Problem<'a> {
     /// Bound on |k_j|, in (0, 1]: a slot cannot push harder than μmg.
     pub k_max: f64,
     pub centers: &'a [[f64; 2]],
+    /// Per-center bounds on |k_j| (what each rotation can play within the
+    /// rig's limits), each in (0, 1], one per center; the bound of center j
+    /// is the smaller of `k_bounds[j]` and `k_max`. Empty: `k_max` for all.
+    pub k_bounds: &'a [f64],
     pub parts: &'a [ForceConstraint],
     pub curls: &'a [CurlConstraint],
 }

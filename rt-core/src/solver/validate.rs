@@ -41,6 +41,15 @@ pub(crate) fn validate_problem(
     if problem.curls.len() > cap.curls {
         return Err(SolveError::TooManyCurls { given: problem.curls.len(), capacity: cap.curls });
     }
+    if !(problem.k_bounds.is_empty() || problem.k_bounds.len() == problem.centers.len()) {
+        return Err(SolveError::KBoundsLength {
+            given: problem.k_bounds.len(),
+            centers: problem.centers.len(),
+        });
+    }
+    if let Some(center) = problem.k_bounds.iter().position(|&k| !(k.is_finite() && k > 0.0 && k <= 1.0)) {
+        return Err(SolveError::InvalidKBound { center });
+    }
     for (center, &c) in problem.centers.iter().enumerate() {
         if !finite2(c) {
             return Err(SolveError::NonFiniteCenter { center });

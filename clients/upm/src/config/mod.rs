@@ -78,7 +78,7 @@ impl Config {
             rt: self.rt.params()?,
         };
         // Complete validation: the core would refuse an unplayable rig at start.
-        params.playable_k_max().map_err(|e| e.to_string())?;
+        params.playable_k_bounds().map_err(|e| e.to_string())?;
         Ok(params)
     }
 
