@@ -13,6 +13,28 @@ use rt_core::{ForceConstraint, Problem, SolveMethod, Solver, SolverCapacity, Sol
 #[global_allocator]
 static GLOBAL: RtAllocCounter = RtAllocCounter;
 
+/// Per-center bounds for every other case (the scaled columns' path).
+static BOUNDS: [f64; 192] = {
+    let mut b = [0.0; 192];
+    let mut j = 0;
+    while j < 192 {
+        b[j] = 0.3 + 0.1 * (j % 7) as f64;
+        j += 1;
+    }
+    b
+};
+
+fn problem(case: &common::RandomCase, i: usize) -> Problem<'_> {
+    Problem {
+        mu_m_g: 0.1,
+        k_max: 0.9,
+        centers: &case.centers,
+        parts: &case.parts,
+        curls: &case.curls,
+        k_bounds: if i % 2 == 0 { &[] } else { &BOUNDS[..case.centers.len()] },
+    }
+}
+
 #[test]
 fn thousands_of_solves_allocate_nothing() {
     // Build every input first: only the solves are counted.
@@ -49,15 +71,8 @@ fn thousands_of_solves_allocate_nothing() {
     let (mut unconverged, mut warm) = (0, 0);
 
     let ((), allocations) = allocations_in(|| {
-        for case in &cases {
-            let problem = Problem {
-                mu_m_g: 0.1,
-                k_max: 0.9,
-                centers: &case.centers,
-                parts: &case.parts,
-                curls: &case.curls,
-                k_bounds: &[],
-            };
+        for (i, case) in cases.iter().enumerate() {
+            let problem = problem(case, i);
             let result = solver.solve(&problem, &mut out);
             methods[match out.method {
                 SolveMethod::Exact => 0,
@@ -106,14 +121,7 @@ fn sparse_solves_allocate_nothing() {
     let mut sparse = 0;
     let ((), allocations) = allocations_in(|| {
         for (i, case) in cases.iter().enumerate() {
-            let problem = Problem {
-                mu_m_g: 0.1,
-                k_max: 0.9,
-                centers: &case.centers,
-                parts: &case.parts,
-                curls: &case.curls,
-                k_bounds: &[],
-            };
+            let problem = problem(case, i);
             let solver = &mut solvers[i % 3];
             if solver.solve(&problem, &mut out).is_ok() && out.method == SolveMethod::Sparse {
                 sparse += usize::from(out.slots() == solver.params().cycle_slots);
