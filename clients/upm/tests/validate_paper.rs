@@ -139,7 +139,8 @@ fn random_geometries_meet_targets() {
         }
     }
     println!("random: {tried} cases, {skipped} not playable, {} failed: {failed:?}", failed.len());
-    assert!(skipped <= tried / 3, "too many unplayable cases: {skipped}");
+    // Each center is bounded by what it can play: nothing solved is refused.
+    assert_eq!(skipped, 0, "unplayable cases: {skipped}");
     assert!(failed.is_empty(), "cases missing the targets: {failed:?}");
 }
 
