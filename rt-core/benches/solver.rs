@@ -42,7 +42,11 @@ fn case(rows: usize, n: usize) -> (Vec<[f64; 2]>, Vec<ForceConstraint>, DMatrix<
     let parts = pts
         .iter()
         .enumerate()
-        .map(|(i, &position)| ForceConstraint { position, force: Some([b[i], b[parts_n + i]]) })
+        .map(|(i, &position)| ForceConstraint {
+            position,
+            force: Some([b[i], b[parts_n + i]]),
+            shape: rt_core::PartShape::Point,
+        })
         .collect();
     (centers, parts, a, b)
 }

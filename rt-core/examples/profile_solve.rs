@@ -21,8 +21,14 @@ fn main() {
             centers.push(c);
         }
     }
-    let parts: Vec<ForceConstraint> =
-        pts.iter().map(|&p| ForceConstraint { position: p, force: Some([1e-6, -1e-6]) }).collect();
+    let parts: Vec<ForceConstraint> = pts
+        .iter()
+        .map(|&p| ForceConstraint {
+            position: p,
+            force: Some([1e-6, -1e-6]),
+            shape: rt_core::PartShape::Point,
+        })
+        .collect();
     let ci: usize = std::env::args().nth(3).and_then(|s| s.parse().ok()).unwrap_or(12);
     let mut s = Solver::new(
         SolverCapacity { parts: rows / 2, curls: 0, centers: n },

@@ -7,8 +7,8 @@
 pub mod solver;
 
 pub use solver::{
-    CurlConstraint, ForceConstraint, LeastSquaresSystem, Problem, Solution, SolveError, SolveMethod, Solver,
-    SolverCapacity, SolverParams,
+    CurlConstraint, ForceConstraint, LeastSquaresSystem, PartShape, Problem, Solution, SolveError,
+    SolveMethod, Solver, SolverCapacity, SolverParams,
 };
 
 /// The driver boundary (read → update → write) every plate driver implements.

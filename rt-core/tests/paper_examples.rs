@@ -11,8 +11,12 @@ fn solver() -> Solver {
 fn section_3_1_four_corners_two_parts() {
     let centers = [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]];
     let parts = [
-        ForceConstraint { position: [0.5, 0.0], force: Some([0.01, 0.01]) },
-        ForceConstraint { position: [-0.75, 0.25], force: Some([-0.01, 0.0]) },
+        ForceConstraint { position: [0.5, 0.0], force: Some([0.01, 0.01]), shape: rt_core::PartShape::Point },
+        ForceConstraint {
+            position: [-0.75, 0.25],
+            force: Some([-0.01, 0.0]),
+            shape: rt_core::PartShape::Point,
+        },
     ];
     let problem =
         Problem { mu_m_g: 0.1, k_max: 1.0, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };
@@ -43,8 +47,9 @@ fn section_3_1_four_corners_two_parts() {
 #[test]
 fn section_3_3_zero_force_with_curl() {
     let centers = [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5]];
-    let parts = [ForceConstraint { position: [0.5, 0.0], force: Some([0.0, 0.0]) }];
-    let curls = [CurlConstraint { position: [0.5, 0.0], curl: -0.05 }];
+    let parts =
+        [ForceConstraint { position: [0.5, 0.0], force: Some([0.0, 0.0]), shape: rt_core::PartShape::Point }];
+    let curls = [CurlConstraint { position: [0.5, 0.0], curl: -0.05, shape: rt_core::PartShape::Point }];
     let problem =
         Problem { mu_m_g: 0.1, k_max: 1.0, centers: &centers, parts: &parts, curls: &curls, k_bounds: &[] };
     let mut s = solver();

@@ -33,8 +33,12 @@ fn two_close_parts() -> ([[f64; 2]; 9], [ForceConstraint; 2]) {
     }
     // 1 mm apart, asking for opposite forces.
     let parts = [
-        ForceConstraint { position: [0.2, 0.1], force: Some([0.02, 0.0]) },
-        ForceConstraint { position: [0.201, 0.1], force: Some([-0.02, 0.0]) },
+        ForceConstraint { position: [0.2, 0.1], force: Some([0.02, 0.0]), shape: rt_core::PartShape::Point },
+        ForceConstraint {
+            position: [0.201, 0.1],
+            force: Some([-0.02, 0.0]),
+            shape: rt_core::PartShape::Point,
+        },
     ];
     (centers, parts)
 }
@@ -106,9 +110,13 @@ fn bounded_answer_is_as_good_as_a_converged_projected_gradient() {
 fn coincident_parts_report_a_short_rank() {
     let (centers, _) = two_close_parts();
     let parts = [
-        ForceConstraint { position: [0.2, 0.1], force: Some([0.02, 0.0]) },
-        ForceConstraint { position: [0.2, 0.1], force: Some([0.01, 0.005]) },
-        ForceConstraint { position: [-0.3, 0.2], force: Some([0.0, 0.01]) },
+        ForceConstraint { position: [0.2, 0.1], force: Some([0.02, 0.0]), shape: rt_core::PartShape::Point },
+        ForceConstraint {
+            position: [0.2, 0.1],
+            force: Some([0.01, 0.005]),
+            shape: rt_core::PartShape::Point,
+        },
+        ForceConstraint { position: [-0.3, 0.2], force: Some([0.0, 0.01]), shape: rt_core::PartShape::Point },
     ];
     let problem =
         Problem { mu_m_g: 0.1, k_max: 0.9, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };

@@ -146,7 +146,11 @@ fn a_weak_center_is_held_at_its_own_bound() {
     // One part asking far more than the cycle gives: the center nearest it
     // is the strongest lever, and its bound (not k_max) is what binds.
     let centers = [[-0.3, 0.0], [0.3, 0.0], [0.0, 0.4], [0.0, -0.4]];
-    let parts = [rt_core::ForceConstraint { position: [0.0, 0.05], force: Some([0.5, 0.0]) }];
+    let parts = [rt_core::ForceConstraint {
+        position: [0.0, 0.05],
+        force: Some([0.5, 0.0]),
+        shape: rt_core::PartShape::Point,
+    }];
     let bounds = [0.9, 0.9, 0.3, 0.9];
     let problem = Problem {
         mu_m_g: MU_M_G,

@@ -98,7 +98,11 @@ fn opposite_neighbours_get_far_more_than_from_the_papers_cycle() {
         .map(|i| {
             let x = -0.36 + 0.08 * i as f64;
             let dir = if i % 2 == 0 { -1.0 } else { 1.0 };
-            ForceConstraint { position: [x, 0.03 * (i % 3) as f64], force: Some([0.01 * dir, 0.0]) }
+            ForceConstraint {
+                position: [x, 0.03 * (i % 3) as f64],
+                force: Some([0.01 * dir, 0.0]),
+                shape: rt_core::PartShape::Point,
+            }
         })
         .collect();
     let centers = grid();
@@ -128,7 +132,11 @@ fn no_center_plays_within_the_keep_out_of_a_part() {
     // Parts right next to grid points.
     let parts: Vec<ForceConstraint> = [[-0.27, -0.07], [0.45, 0.2], [0.8, -0.33]]
         .iter()
-        .map(|&p| ForceConstraint { position: [p[0] + 0.01, p[1]], force: Some([0.02, -0.01]) })
+        .map(|&p| ForceConstraint {
+            position: [p[0] + 0.01, p[1]],
+            force: Some([0.02, -0.01]),
+            shape: rt_core::PartShape::Point,
+        })
         .collect();
     let problem =
         Problem { mu_m_g: 0.1, k_max: 0.6, centers: &centers, parts: &parts, curls: &[], k_bounds: &[] };

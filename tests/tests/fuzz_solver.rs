@@ -41,8 +41,12 @@ fn input(max_parts: usize, max_curls: usize, max_centers: usize) -> impl Strateg
     // ≈ one hostile number per problem on average.
     let plain = (10 * (2 * max_parts + 3 * max_curls + 2 * max_centers)) as u32;
     let part = (point(plain), prop::option::weighted(0.9, point(plain)))
-        .prop_map(|(position, force)| ForceConstraint { position, force });
-    let curl = (point(plain), number(plain)).prop_map(|(position, curl)| CurlConstraint { position, curl });
+        .prop_map(|(position, force)| ForceConstraint { position, force, shape: rt_core::PartShape::Point });
+    let curl = (point(plain), number(plain)).prop_map(|(position, curl)| CurlConstraint {
+        position,
+        curl,
+        shape: rt_core::PartShape::Point,
+    });
     (
         prop_oneof![20 => 0.01..10.0f64, 1 => number(1)],
         prop_oneof![20 => 0.05..=1.0f64, 1 => number(1)],

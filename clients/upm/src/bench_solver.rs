@@ -56,8 +56,14 @@ pub fn bench_case(rows: usize, n: usize, seed: u64, k_scale: f64) -> BenchCase {
             centers.push(c);
         }
     }
-    let mut parts: Vec<ForceConstraint> =
-        pts.iter().map(|&position| ForceConstraint { position, force: Some([0.0; 2]) }).collect();
+    let mut parts: Vec<ForceConstraint> = pts
+        .iter()
+        .map(|&position| ForceConstraint {
+            position,
+            force: Some([0.0; 2]),
+            shape: rt_core::PartShape::Point,
+        })
+        .collect();
     let a = field_matrix(&centers, &parts);
     let k0 = DVector::from_fn(n, |_, _| rng.random_range(-k_scale..k_scale));
     let f = &a * k0;
@@ -374,13 +380,15 @@ pub fn load_problems(path: &Path) -> anyhow::Result<(Vec<BoundedCase>, usize)> {
         if line.trim().is_empty() {
             continue;
         }
-        match crate::solve_json::parse(line) {
-            Ok(input) => cases.push(BoundedCase {
+        let parsed = crate::solve_json::parse(line)
+            .and_then(|input| Ok((input.force_constraints()?, input.curl_constraints()?, input)));
+        match parsed {
+            Ok((parts, curls, input)) => cases.push(BoundedCase {
                 name: format!("line {}", i + 1),
                 mu_m_g: input.mu_m_g,
                 k_max: input.k_max(),
-                parts: input.force_constraints(),
-                curls: input.curl_constraints(),
+                parts,
+                curls,
                 centers: input.centers,
             }),
             Err(e) => {

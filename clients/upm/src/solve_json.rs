@@ -5,7 +5,9 @@
 //! bound that lowered.
 
 use rt_core::motion::{PlateMotion, Rig, playable_k};
-use rt_core::{CurlConstraint, ForceConstraint, Problem, Solution, Solver, SolverCapacity, SolverParams};
+use rt_core::{
+    CurlConstraint, ForceConstraint, PartShape, Problem, Solution, Solver, SolverCapacity, SolverParams,
+};
 
 use crate::validate::ValidateSetup;
 use serde::{Deserialize, Serialize};
@@ -19,6 +21,40 @@ pub struct PartInput {
     pub position: [f64; 2],
     #[serde(default)]
     pub force: Option<[f64; 2]>,
+    /// The part's contact patch; a point (the paper's model) if absent.
+    #[serde(default)]
+    pub shape: ShapeInput,
+    /// The curl whose torque on this part's patch it should feel.
+    #[serde(default)]
+    pub curl: Option<f64>,
+}
+
+/// `"point"`, `{"disc": {"radius": R}}` or `{"polygon": {"vertices":
+/// [[x, y], …]}}`, vertices relative to the part's position.
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum ShapeInput {
+    #[default]
+    Point,
+    Disc {
+        radius: f64,
+    },
+    Polygon {
+        vertices: Vec<[f64; 2]>,
+    },
+}
+
+impl ShapeInput {
+    /// The solver's shape; the error names the problem, not the field.
+    pub fn to_shape(&self) -> Result<PartShape, rt_core::solver::ShapeError> {
+        let s = match self {
+            Self::Point => PartShape::Point,
+            Self::Disc { radius } => PartShape::Disc { radius: *radius },
+            Self::Polygon { vertices } => PartShape::polygon(vertices)?,
+        };
+        s.check()?;
+        Ok(s)
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -107,13 +143,35 @@ impl SolveInput {
         self.k_max.unwrap_or(DEFAULT_K_MAX)
     }
 
-    pub fn force_constraints(&self) -> Vec<ForceConstraint> {
-        self.parts.iter().map(|p| ForceConstraint { position: p.position, force: p.force }).collect()
+    /// Every part, with its shape.
+    pub fn force_constraints(&self) -> Result<Vec<ForceConstraint>, InputError> {
+        self.parts
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                Ok(ForceConstraint { position: p.position, force: p.force, shape: part_shape(p, i)? })
+            })
+            .collect()
     }
 
-    pub fn curl_constraints(&self) -> Vec<CurlConstraint> {
-        self.curls.iter().map(|q| CurlConstraint { position: q.position, curl: q.curl }).collect()
+    /// The top-level curls (at points), then each part's own curl on its
+    /// patch, in part order.
+    pub fn curl_constraints(&self) -> Result<Vec<CurlConstraint>, InputError> {
+        let top = self
+            .curls
+            .iter()
+            .map(|q| Ok(CurlConstraint { position: q.position, curl: q.curl, shape: PartShape::Point }));
+        let own = self.parts.iter().enumerate().filter_map(|(i, p)| {
+            p.curl.map(|curl| Ok(CurlConstraint { position: p.position, curl, shape: part_shape(p, i)? }))
+        });
+        top.chain(own).collect()
     }
+}
+
+fn part_shape(p: &PartInput, i: usize) -> Result<PartShape, InputError> {
+    p.shape
+        .to_shape()
+        .map_err(|e| InputError::Json { path: format!("parts[{i}].shape"), message: e.to_string() })
 }
 
 /// Per center, the largest |k| ≤ `k_max` it can play on `setup`'s rig
@@ -142,8 +200,8 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
 /// bounded by what it can play on the validation rig.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let k_bounds = playable_bounds(input, &ValidateSetup::default())?;
-    let parts = input.force_constraints();
-    let curls = input.curl_constraints();
+    let parts = input.force_constraints()?;
+    let curls = input.curl_constraints()?;
     let problem = Problem {
         mu_m_g: input.mu_m_g,
         k_max: input.k_max(),

@@ -144,3 +144,48 @@ fn status_without_a_core_says_so() {
     assert!(err.contains("no upm-core is running"), "{err}");
     ipc_types::rig_node::remove_prefix_segment(&prefix);
 }
+
+#[test]
+fn bad_shapes_and_part_curls_are_one_line_naming_the_field() {
+    let with =
+        |extra: &str| GOOD.replace("\"force\":[0.01,0.01]}", &format!("\"force\":[0.01,0.01],{extra}}}"));
+    json(&upm(&["solve", "-"], Some(&with(r#""shape":{"disc":{"radius":0.02}},"curl":0.001"#))));
+    json(&upm(&["solve", "-"], Some(&with(r#""shape":"point""#))));
+    json(&upm(&["solve", "-"], Some(&with(r#""shape":{"polygon":{"vertices":[[0,0],[0.02,0],[0,0.02]]}}"#))));
+    for (bad, field) in [
+        (r#""shape":{"disc":{"radius":0}}"#, "parts[0].shape"),
+        (r#""shape":{"disc":{"radius":-1}}"#, "parts[0].shape"),
+        (r#""shape":{"disc":{}}"#, "parts[0].shape"),
+        (r#""shape":{"circle":{"radius":0.1}}"#, "parts[0].shape"),
+        (r#""shape":"square""#, "parts[0].shape"),
+        (r#""shape":{"polygon":{"vertices":[[0,0],[1,0]]}}"#, "parts[0].shape"),
+        (r#""shape":{"polygon":{"vertices":[[0,0],[2,0],[1,0.5],[2,2],[0,2]]}}"#, "parts[0].shape"),
+        (r#""shape":{"polygon":{"vertices":[[0,0],[1,1],[1,0],[0,1]]}}"#, "parts[0].shape"),
+        (r#""shape":{"polygon":{"vertices":[[0,0],[1,0],[2,0]]}}"#, "parts[0].shape"),
+        (
+            r#""shape":{"polygon":{"vertices":[[0,0],[1,0],[2,1],[2,2],[1,3],[0,3],[-1,2],[-1,1],[-0.5,0.2]]}}"#,
+            "parts[0].shape",
+        ),
+        (r#""curl":"x""#, "parts[0].curl"),
+        (r#""curl":null,"shape":{"disc":{"radius":1e999}}"#, "parts[0].shape"),
+    ] {
+        rejects(&with(bad), field);
+    }
+}
+
+/// A part asked for force and curl together on its disc: `validate` plays
+/// it and reports the per-part curl after the top-level ones.
+#[test]
+fn validate_reports_a_shaped_parts_curl_after_the_top_level_ones() {
+    let input = r#"{"mu_m_g": 0.1, "k_max": 0.75,
+        "centers": [[-1,-0.5],[-0.3,-0.55],[0.4,-0.55],[1,-0.5],[1.05,0],[1,0.5],[0.3,0.55],[-0.4,0.55],[-1,0.5],[-1.05,0]],
+        "curls": [{"position": [-0.5, 0.1], "curl": 0.002}],
+        "parts": [{"position": [0.1, 0.05], "force": [0.004, 0.002], "shape": {"disc": {"radius": 0.03}}, "curl": -0.003}]}"#;
+    let v = json(&upm(&["validate", "-"], Some(input)));
+    let s = &v["simulated"];
+    let curls: Vec<f64> = s["curls"].as_array().expect("curls").iter().filter_map(|x| x.as_f64()).collect();
+    assert_eq!(curls.len(), 2, "{s}");
+    // Signs as asked, in that order.
+    assert!(curls[0] > 0.0 && curls[1] < 0.0, "{curls:?}");
+    assert_eq!(s["forces"].as_array().map(Vec::len), Some(1));
+}

@@ -2,7 +2,7 @@
 //! geometries: simulated average force within 5 % of the request
 //! (+ 0.01·μmg), simulated curl of the right sign and within 15 %.
 
-use upm_cli::solve_json::{CurlInput, PartInput, SolveInput, parse};
+use upm_cli::solve_json::{CurlInput, PartInput, ShapeInput, SolveInput, parse};
 use upm_cli::{solve_json, validate};
 
 fn paper_31() -> SolveInput {
@@ -93,6 +93,8 @@ fn random_case(s: &mut u64) -> SolveInput {
         .map(|_| PartInput {
             position: [1.2 * lcg(s) - 0.6, 0.6 * lcg(s) - 0.3],
             force: Some([0.024 * lcg(s) - 0.012, 0.024 * lcg(s) - 0.012]),
+            shape: ShapeInput::Point,
+            curl: None,
         })
         .collect();
     let curls = if m == 1 && lcg(s) < 0.5 {
@@ -217,6 +219,8 @@ fn every_solution_plays_on_the_rig() {
             .map(|_| PartInput {
                 position: [1.6 * lcg(&mut s) - 0.8, 0.8 * lcg(&mut s) - 0.4],
                 force: Some([gain * (2.0 * lcg(&mut s) - 1.0), gain * (2.0 * lcg(&mut s) - 1.0)]),
+                shape: ShapeInput::Point,
+                curl: None,
             })
             .collect();
         let input = SolveInput { mu_m_g: 0.1, centers, parts, curls: vec![], k_max: Some(0.75) };

@@ -252,8 +252,13 @@ impl SolveStage {
             newest_request: Newest::default(),
             parts: Box::new(PartStates::new()),
             have_parts: false,
-            forces: [ForceConstraint { position: [0.0; 2], force: None }; MAX_PARTS],
-            curls: [CurlConstraint { position: [0.0; 2], curl: 0.0 }; MAX_CURLS],
+            forces: [ForceConstraint {
+                position: [0.0; 2],
+                force: None,
+                shape: crate::solver::PartShape::Point,
+            }; MAX_PARTS],
+            curls: [CurlConstraint { position: [0.0; 2], curl: 0.0, shape: crate::solver::PartShape::Point };
+                MAX_CURLS],
             entries: [ScheduleEntry::default(); MAX_SLOTS],
             schedule: Box::new(Schedule::new()),
             out,
@@ -423,11 +428,15 @@ impl SolveStage {
                 return Err(RequestError::UnknownPart { id: e.part_id });
             };
             let position = [p.x, p.y];
-            self.forces[np] = ForceConstraint { position, force: e.requested_force() };
+            self.forces[np] = ForceConstraint {
+                position,
+                force: e.requested_force(),
+                shape: crate::solver::PartShape::Point,
+            };
             np += 1;
             if let Some(curl) = e.requested_curl() {
                 // validate() caps curl entries at MAX_CURLS.
-                self.curls[nc] = CurlConstraint { position, curl };
+                self.curls[nc] = CurlConstraint { position, curl, shape: crate::solver::PartShape::Point };
                 nc += 1;
             }
         }

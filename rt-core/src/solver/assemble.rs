@@ -3,7 +3,9 @@
 //! Row order (ARCHITECTURE.md §2): x rows of every force-constrained part, then
 //! their y rows, then one curl row per curl point. A is stored row-major
 //! (m rows × n centers), which is Aᵀ column-major: what the QR wants.
+//! A shaped part's entries are its patch averages (`shape.rs`).
 
+use super::shape::{PartShape, wrench_row};
 use super::{Problem, SolveError};
 
 /// Fills `rows[..m*n]` and `b[..m]`; returns m. `b` is scaled by N/μmg.
@@ -47,6 +49,13 @@ pub(crate) fn assemble(
             y_row[j] = dx * inv;
             min_dist[j] = min_dist[j].min(r);
         }
+        if part.shape != PartShape::Point {
+            for (j, c) in problem.centers.iter().enumerate() {
+                let (t, _) = wrench_row(&part.shape, part.position, *c);
+                x_row[j] = t[0];
+                y_row[j] = t[1];
+            }
+        }
         b[i] = scale * f[0];
         b[mf + i] = scale * f[1];
         i += 1;
@@ -60,6 +69,11 @@ pub(crate) fn assemble(
             let r = (dx * dx + dy * dy).sqrt();
             row[j] = 1.0 / r;
             min_dist[j] = min_dist[j].min(r);
+        }
+        if q.shape != PartShape::Point {
+            for (j, c) in problem.centers.iter().enumerate() {
+                row[j] = wrench_row(&q.shape, q.position, *c).1;
+            }
         }
         b[i] = scale * q.curl;
         i += 1;

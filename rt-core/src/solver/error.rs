@@ -57,6 +57,16 @@ pub enum SolveError {
     },
     /// Distances or scaled targets overflowed f64 (absurdly large inputs).
     Overflow,
+    /// A part's shape cannot be integrated.
+    PartShape {
+        part: usize,
+        error: super::ShapeError,
+    },
+    /// A curl point's shape cannot be integrated.
+    CurlShape {
+        curl: usize,
+        error: super::ShapeError,
+    },
     /// A finite input beyond [`MAX_INPUT_MAGNITUDE`] (positions in m, forces
     /// and curls relative to μmg, μmg itself), where sums could overflow.
     OutOfRange {
@@ -122,6 +132,8 @@ impl fmt::Display for SolveError {
                 write!(f, "curls[{curl}].position: sits on centers[{center}] (the field is singular there)")
             }
             Self::Overflow => write!(f, "input: numbers too large, the system overflows f64"),
+            Self::PartShape { part, error } => write!(f, "parts[{part}].shape: {error}"),
+            Self::CurlShape { curl, error } => write!(f, "curls[{curl}].shape: {error}"),
             Self::OutOfRange { field, index } => {
                 let limit = MAX_INPUT_MAGNITUDE;
                 match field {

@@ -18,6 +18,11 @@
 //!    `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
 //!
+//! **Shaped parts** (`ForceConstraint::shape`, `CurlConstraint::shape`):
+//! their rows are the rotation's friction averaged over the part's contact
+//! patch, at rest (`shape.rs`), not the field at the centre; a point keeps
+//! the paper's rows bit for bit.
+//!
 //! **Per-center bounds** (`Problem::k_bounds`, what each rotation can play
 //! on the rig): by a change of variable. Column j of A is scaled by s_j =
 //! u_j / u_max (u_j its bound), every path above solves for k'_j = k_j / s_j
@@ -59,6 +64,7 @@ mod order;
 mod params;
 mod pivoted_qr;
 mod problem;
+mod shape;
 mod solution;
 mod sparse;
 mod system;
@@ -67,6 +73,7 @@ mod validate;
 pub use error::{InputField, MAX_INPUT_MAGNITUDE, SolveError};
 pub use params::{SolverCapacity, SolverParams};
 pub use problem::{CurlConstraint, ForceConstraint, Problem};
+pub use shape::{MAX_SHAPE_VERTICES, PartShape, ShapeError, wrench_row};
 pub use solution::{Solution, SolveMethod};
 pub use system::LeastSquaresSystem;
 
@@ -187,11 +194,22 @@ impl Solver {
                 .map(|i| {
                     let a = i as f64 * 2.399_963;
                     let r = 0.8 * ((i as f64 + 0.5) / cap.parts as f64).sqrt();
-                    ForceConstraint { position: [r * a.cos(), r * a.sin()], force: Some([force, -force]) }
+                    // Every other part a disc: the disc table is built here,
+                    // not on the first real frame.
+                    let shape = if i % 2 == 0 { PartShape::Point } else { PartShape::Disc { radius: 0.01 } };
+                    ForceConstraint {
+                        position: [r * a.cos(), r * a.sin()],
+                        force: Some([force, -force]),
+                        shape,
+                    }
                 })
                 .collect();
             let curls: Vec<_> = (0..cap.curls)
-                .map(|i| CurlConstraint { position: [0.05 * i as f64, 0.9], curl: force })
+                .map(|i| CurlConstraint {
+                    position: [0.05 * i as f64, 0.9],
+                    curl: force,
+                    shape: PartShape::Point,
+                })
                 .collect();
             let bounds: Vec<f64> = (0..cap.centers).map(|j| if j % 2 == 0 { 1.0 } else { 0.5 }).collect();
             let problem = Problem {
@@ -496,13 +514,21 @@ impl Solver {
             if p.force.is_some() {
                 out.achieved_forces.push([self.residual[i] * unscale, self.residual[mf + i] * unscale]);
                 i += 1;
-            } else {
+            } else if p.shape == PartShape::Point {
                 out.achieved_forces.push(field::cycle_force(
                     weights,
                     problem.centers,
                     problem.mu_m_g,
                     p.position,
                 ));
+            } else {
+                let mut f = [0.0; 2];
+                for (w, c) in weights.iter().zip(problem.centers) {
+                    let (t, _) = shape::wrench_row(&p.shape, p.position, *c);
+                    f[0] += w * t[0];
+                    f[1] += w * t[1];
+                }
+                out.achieved_forces.push([f[0] * unscale, f[1] * unscale]);
             }
         }
         out.achieved_curls.clear();

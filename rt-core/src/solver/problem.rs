@@ -1,5 +1,7 @@
 //! What the caller asks for: centers, per-part forces, curl points.
 
+use super::PartShape;
+
 /// One part: where it is and, optionally, the average force it should feel.
 /// A part with `force: None` is only observed (its achieved force is still
 /// reported); its spin can be asked for with a [`CurlConstraint`].
@@ -7,13 +9,17 @@
 pub struct ForceConstraint {
     pub position: [f64; 2],
     pub force: Option<[f64; 2]>,
+    /// The part's contact patch (`shape.rs`); `Point` is the paper's model.
+    pub shape: PartShape,
 }
 
-/// A desired curl of the average field at a point (Eq. 12).
+/// A desired curl of the average field at a point (Eq. 12); for a shaped
+/// part there, the curl whose torque on that patch the part should feel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CurlConstraint {
     pub position: [f64; 2],
     pub curl: f64,
+    pub shape: PartShape,
 }
 
 /// One force-synthesis request. Borrowed, so building it allocates nothing.

@@ -2,7 +2,7 @@
 //! NaN, infinities or a singular field.
 
 use super::error::{InputField, MAX_INPUT_MAGNITUDE};
-use super::{Problem, SolveError, SolverCapacity, SolverParams};
+use super::{PartShape, Problem, SolveError, SolverCapacity, SolverParams};
 
 fn finite2(p: [f64; 2]) -> bool {
     p[0].is_finite() && p[1].is_finite()
@@ -69,7 +69,11 @@ pub(crate) fn validate_problem(
         if let Some(f) = p.force {
             in_range(f, problem.mu_m_g, InputField::PartForce, part)?;
         }
-        if let Some(center) = nearest_too_close(p.position, problem.centers, params)? {
+        p.shape.check().map_err(|error| SolveError::PartShape { part, error })?;
+        // Only a point is singular on a center; a patch averages over it.
+        if let Some(center) = nearest_too_close(p.position, problem.centers, params)?
+            && p.shape == PartShape::Point
+        {
             return Err(SolveError::PartOnCenter { part, center });
         }
     }
@@ -82,7 +86,10 @@ pub(crate) fn validate_problem(
             return Err(SolveError::NonFiniteCurl { curl });
         }
         in_range([q.curl; 2], problem.mu_m_g, InputField::Curl, curl)?;
-        if let Some(center) = nearest_too_close(q.position, problem.centers, params)? {
+        q.shape.check().map_err(|error| SolveError::CurlShape { curl, error })?;
+        if let Some(center) = nearest_too_close(q.position, problem.centers, params)?
+            && q.shape == PartShape::Point
+        {
             return Err(SolveError::CurlOnCenter { curl, center });
         }
     }

@@ -38,11 +38,16 @@ pub fn random_case(seed: u64, n_parts: usize, n_curls: usize, n_centers: usize, 
         .map(|&p| ForceConstraint {
             position: p,
             force: Some([rng.random_range(-0.0005..0.0005), rng.random_range(-0.0005..0.0005)]),
+            shape: rt_core::PartShape::Point,
         })
         .collect();
     let curls = pts[n_parts..]
         .iter()
-        .map(|&p| CurlConstraint { position: p, curl: rng.random_range(-0.002..0.002) })
+        .map(|&p| CurlConstraint {
+            position: p,
+            curl: rng.random_range(-0.002..0.002),
+            shape: rt_core::PartShape::Point,
+        })
         .collect();
     RandomCase { centers, parts, curls }
 }

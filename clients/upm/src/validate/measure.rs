@@ -8,6 +8,10 @@ use rt_core::driver::PlateState;
 use rt_core::motion::{MotionParams, PlateMotion, Rig};
 
 use crate::solve_json::SolveInput;
+use rt_core::PartShape;
+
+// Every shape the solver accepts, the simulator can hold.
+const _: () = assert!(rt_core::solver::MAX_SHAPE_VERTICES <= drivers::sim::MAX_POLYGON_VERTICES);
 
 /// Radius of the disc used where a curl is measured (m).
 pub const DISC_RADIUS: f64 = 0.05;
@@ -46,7 +50,42 @@ pub struct Measured {
 /// Which body measures what.
 struct Probe {
     position: [f64; 2],
+    /// A point-model point where a curl is asked: a disc of DISC_RADIUS.
     disc: bool,
+    /// A shaped part's own patch.
+    patch: Option<PartShape>,
+}
+
+impl Probe {
+    /// The simulator's body: a polygon as the simulator wants it (counter-
+    /// clockwise about its centroid, placed at the centroid).
+    fn spec(&self, mass: f64) -> PartSpec {
+        let (shape, position) = match self.patch {
+            Some(PartShape::Disc { radius }) => (Shape::Disc { radius }, self.position),
+            Some(PartShape::Polygon { vertices, count }) => {
+                let v = &vertices[..count];
+                let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+                for i in 0..count {
+                    let (p, q) = (v[i], v[(i + 1) % count]);
+                    let cross = p[0] * q[1] - q[0] * p[1];
+                    a2 += cross;
+                    cx += (p[0] + q[0]) * cross;
+                    cy += (p[1] + q[1]) * cross;
+                }
+                let g = [cx / (3.0 * a2), cy / (3.0 * a2)];
+                let mut out = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
+                for (i, o) in out.iter_mut().take(count).enumerate() {
+                    // Clockwise input is walked backwards.
+                    let src = if a2 > 0.0 { v[i] } else { v[count - 1 - i] };
+                    *o = [src[0] - g[0], src[1] - g[1]];
+                }
+                (Shape::Polygon { vertices: out, count }, [self.position[0] + g[0], self.position[1] + g[1]])
+            }
+            _ if self.disc => (Shape::Disc { radius: DISC_RADIUS }, self.position),
+            _ => (Shape::Point { radius: 0.0 }, self.position),
+        };
+        PartSpec { shape, mass, position, angle: 0.0 }
+    }
 }
 
 /// Simulate `cycles` cycles of the schedule (k per center, `order` play
@@ -67,42 +106,48 @@ pub fn measure(
     let rig = Rig::new(setup.sim.rig).map_err(|e| anyhow!("{e}"))?;
     rig.check_motion(&motion).map_err(|e| anyhow!("schedule beyond the actuators: {e}"))?;
 
-    // One body per distinct constrained point; a curl at a part's position
-    // turns that part into a disc.
+    // One body per distinct point-model point (a curl there makes it a
+    // disc of DISC_RADIUS); a shaped part is a body of its own shape.
     let mut probes: Vec<Probe> = Vec::new();
-    let find = |probes: &[Probe], p: [f64; 2]| probes.iter().position(|q| q.position == p);
+    let find =
+        |probes: &[Probe], p: [f64; 2]| probes.iter().position(|q| q.position == p && q.patch.is_none());
     let mut part_body = Vec::new();
-    for p in &input.parts {
-        let i = find(&probes, p.position).unwrap_or_else(|| {
-            probes.push(Probe { position: p.position, disc: false });
+    for (n, p) in input.parts.iter().enumerate() {
+        let shape = p.shape.to_shape().map_err(|e| anyhow!("parts[{n}].shape: {e}"))?;
+        let i = if shape == PartShape::Point {
+            find(&probes, p.position).unwrap_or_else(|| {
+                probes.push(Probe { position: p.position, disc: false, patch: None });
+                probes.len() - 1
+            })
+        } else {
+            probes.push(Probe { position: p.position, disc: false, patch: Some(shape) });
             probes.len() - 1
-        });
+        };
         part_body.push(i);
     }
+    // Top-level curls, then each part's own (the order of `curl_constraints`).
+    let curl_points = input.curls.iter().map(|c| (c.position, None)).chain(
+        input.parts.iter().enumerate().filter(|(_, p)| p.curl.is_some()).map(|(n, p)| (p.position, Some(n))),
+    );
     let mut curl_body = Vec::new();
-    for c in &input.curls {
-        let i = match find(&probes, c.position) {
-            Some(i) => {
-                probes[i].disc = true;
-                i
-            }
-            None => {
-                probes.push(Probe { position: c.position, disc: true });
-                probes.len() - 1
-            }
+    for (position, part) in curl_points {
+        let i = match part.map(|n| part_body[n]).filter(|&i| probes[i].patch.is_some()) {
+            Some(i) => i,
+            None => match find(&probes, position) {
+                Some(i) => {
+                    probes[i].disc = true;
+                    i
+                }
+                None => {
+                    probes.push(Probe { position, disc: true, patch: None });
+                    probes.len() - 1
+                }
+            },
         };
         curl_body.push(i);
     }
     let mass = input.mu_m_g / (setup.sim.mu_kinetic * setup.sim.gravity);
-    let specs: Vec<PartSpec> = probes
-        .iter()
-        .map(|p| PartSpec {
-            shape: if p.disc { Shape::Disc { radius: DISC_RADIUS } } else { Shape::Point { radius: 0.0 } },
-            mass,
-            position: p.position,
-            angle: 0.0,
-        })
-        .collect();
+    let specs: Vec<PartSpec> = probes.iter().map(|p| p.spec(mass)).collect();
     let cfg = SimConfig { tick_hz: setup.motion.tick_hz, seed, ..setup.sim };
     let mut sim = Simulator::new(cfg, &specs).map_err(|e| anyhow!("simulator: {e}"))?;
     let mut rng = SplitMix64::new(seed ^ 0x005e_ed0f_u64);
@@ -138,7 +183,12 @@ pub fn measure(
     Ok(Measured {
         forces: part_body.iter().map(|&i| mean(i)).collect(),
         force_std: part_body.iter().map(|&i| std(i)).collect(),
-        curls: curl_body.iter().map(|&i| 4.0 * (sum_tau[i] / nc) / (DISC_RADIUS * DISC_RADIUS)).collect(),
+        // The curl whose torque this is: 2τ̄/ρ² with ρ² = I/m (4τ̄/a² for a
+        // disc of radius a).
+        curls: curl_body
+            .iter()
+            .map(|&i| 2.0 * (sum_tau[i] / nc) * mass / sim.part_inertia(i).unwrap_or(f64::NAN))
+            .collect(),
         cycle_seconds: t,
         force_saturated: counters.force_saturated,
         clamped: counters.clamped,

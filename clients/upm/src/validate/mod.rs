@@ -51,18 +51,16 @@ pub fn run(
         .zip(&force_err)
         .map(|(p, e)| p.force.zip(*e).map(|(f, e)| e <= 0.05 * f[0].hypot(f[1]) + 0.01 * mu_m_g))
         .collect();
-    let curl_rel: Vec<f64> = input
-        .curls
-        .iter()
-        .zip(&m.curls)
-        .map(|(c, s)| ((s - c.curl) / c.curl.abs().max(1e-300)).abs())
-        .collect();
-    let curl_ok: Vec<bool> = input
-        .curls
+    // Top-level curls, then each part's own, as `simulated.curls`.
+    let asked: Vec<f64> =
+        input.curls.iter().map(|c| c.curl).chain(input.parts.iter().filter_map(|p| p.curl)).collect();
+    let curl_rel: Vec<f64> =
+        asked.iter().zip(&m.curls).map(|(c, s)| ((s - c) / c.abs().max(1e-300)).abs()).collect();
+    let curl_ok: Vec<bool> = asked
         .iter()
         .zip(&m.curls)
         .zip(&curl_rel)
-        .map(|((c, s), r)| s.signum() == c.curl.signum() && *r <= 0.15)
+        .map(|((c, s), r)| s.signum() == c.signum() && *r <= 0.15)
         .collect();
     let mut v = serde_json::to_value(&out)?;
     v["simulated"] = json!({

@@ -1,0 +1,380 @@
+//! Extended parts: what one rotation does to a part's whole contact patch.
+//!
+//! A slot about c drags every point q of a part at rest along the unit
+//! tangent t(q) = R90(q − c)/|q − c| (the plate slips under it everywhere,
+//! the paper's assumption), so with uniform pressure the part feels μmg
+//! times the patch average of t(q) — not t at its centre, the paper's point
+//! model — and about its centroid g the torque μmg·m times the average of
+//! (q − g) × t(q). A shaped part's rows are that average force and the
+//! curl a uniform field would need to give that torque, 2τ̄/ρ² (ρ² = I/m):
+//! for a point far from c both reduce to the paper's t(p) and 1/r, so a
+//! curl request means the same for every shape.
+//!
+//! **Discs** (radius R, d = |p − c|/R): by symmetry the average is
+//! g(d)·t(p) and the torque R·h(d). In polar coordinates about c only the
+//! arc of each circle inside the disc matters, so g and h are 1-D
+//! integrals; they are tabulated once per process (`TABLE_NODES` nodes,
+//! uniform in d/(1 + d), linear between), and beyond d = `FAR` the far
+//! field g = 1 − 1/(8d²), h = 1/(4d) is used. **Convex polygons** (up to
+//! [`MAX_SHAPE_VERTICES`]): the pressure model of the simulator, a fan of
+//! triangles from the centroid, each pressed at its three edge midpoints
+//! with a third of its area (exact for quadratics, so a far center's
+//! torque is exact; 3 points per vertex).
+//!
+//! **Limits:** the part is taken at rest; a sliding part's own velocity
+//! (which makes the drag anisotropic) is not in the model. A disc is
+//! pressed uniformly; a polygon at its fan's edge midpoints.
+
+use std::sync::OnceLock;
+
+/// Most vertices a polygon may have (as the simulator's parts).
+pub const MAX_SHAPE_VERTICES: usize = 8;
+
+/// The contact patch of a part, relative to its position.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum PartShape {
+    /// The paper's model: the field at the part's position.
+    #[default]
+    Point,
+    Disc {
+        radius: f64,
+    },
+    /// A convex polygon, vertices relative to the part's position, in
+    /// order (either winding); `count` of them are used.
+    Polygon {
+        vertices: [[f64; 2]; MAX_SHAPE_VERTICES],
+        count: usize,
+    },
+}
+
+/// Why a shape is refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShapeError {
+    /// A disc's radius is not a finite number > 0.
+    Radius,
+    /// Fewer than 3 or more than [`MAX_SHAPE_VERTICES`] vertices.
+    VertexCount,
+    /// A vertex is not finite.
+    NonFinite,
+    /// The polygon turns both ways, crosses itself or has no area.
+    NotConvex,
+}
+
+impl core::fmt::Display for ShapeError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::Radius => write!(f, "radius must be a finite number > 0"),
+            Self::VertexCount => write!(f, "a polygon needs 3 to {MAX_SHAPE_VERTICES} vertices"),
+            Self::NonFinite => write!(f, "vertices must be finite numbers"),
+            Self::NotConvex => write!(f, "the polygon must be convex, simple and of non-zero area"),
+        }
+    }
+}
+
+impl core::error::Error for ShapeError {}
+
+impl PartShape {
+    /// A polygon from its vertices (relative to the part's position).
+    pub fn polygon(vertices: &[[f64; 2]]) -> Result<Self, ShapeError> {
+        if !(3..=MAX_SHAPE_VERTICES).contains(&vertices.len()) {
+            return Err(ShapeError::VertexCount);
+        }
+        let mut v = [[0.0; 2]; MAX_SHAPE_VERTICES];
+        v[..vertices.len()].copy_from_slice(vertices);
+        let s = Self::Polygon { vertices: v, count: vertices.len() };
+        s.check()?;
+        Ok(s)
+    }
+
+    /// Whether the shape is one the model can integrate.
+    pub fn check(&self) -> Result<(), ShapeError> {
+        match *self {
+            Self::Point => Ok(()),
+            Self::Disc { radius } => {
+                if radius.is_finite() && radius > 0.0 {
+                    Ok(())
+                } else {
+                    Err(ShapeError::Radius)
+                }
+            }
+            Self::Polygon { vertices, count } => {
+                if !(3..=MAX_SHAPE_VERTICES).contains(&count) {
+                    return Err(ShapeError::VertexCount);
+                }
+                let v = &vertices[..count];
+                if v.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+                    return Err(ShapeError::NonFinite);
+                }
+                // Every turn the same way and the turns adding to one full
+                // circle: convex and simple (a star turns one way too, but
+                // twice round).
+                let (mut sign, mut turned) = (0.0f64, 0.0f64);
+                for i in 0..count {
+                    let (a, b, c) = (v[i], v[(i + 1) % count], v[(i + 2) % count]);
+                    let e1 = [b[0] - a[0], b[1] - a[1]];
+                    let e2 = [c[0] - b[0], c[1] - b[1]];
+                    let cross = e1[0] * e2[1] - e1[1] * e2[0];
+                    if cross == 0.0 || (sign != 0.0 && cross.signum() != sign) {
+                        return Err(ShapeError::NotConvex);
+                    }
+                    sign = cross.signum();
+                    turned += cross.atan2(e1[0] * e2[0] + e1[1] * e2[1]);
+                }
+                if (turned.abs() - core::f64::consts::TAU).abs() > 1e-6 || area_and_centroid(v).0 <= 0.0 {
+                    return Err(ShapeError::NotConvex);
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// A checked shape's rows for a rotation about `c`, the part at `p`: the
+/// patch-average unit tangent (x, y) and the curl-equivalent of its torque
+/// (module doc). For a point: t(p) and 1/|p − c|.
+pub fn wrench_row(shape: &PartShape, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
+    match *shape {
+        PartShape::Point => {
+            let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+            let r = (dx * dx + dy * dy).sqrt();
+            ([-dy / r, dx / r], 1.0 / r)
+        }
+        PartShape::Disc { radius } => {
+            let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+            let r = (dx * dx + dy * dy).sqrt();
+            let (g, h) = disc_gh(r / radius);
+            // At the centre (r = 0) no direction is preferred: g(0) = 0.
+            let t = if r > 0.0 { [-dy / r, dx / r] } else { [0.0, 0.0] };
+            ([g * t[0], g * t[1]], 4.0 * h / radius)
+        }
+        PartShape::Polygon { vertices, count } => polygon_row(&vertices[..count], p, c),
+    }
+}
+
+fn area_and_centroid(v: &[[f64; 2]]) -> (f64, [f64; 2]) {
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..v.len() {
+        let (p, q) = (v[i], v[(i + 1) % v.len()]);
+        let cross = p[0] * q[1] - q[0] * p[1];
+        a2 += cross;
+        cx += (p[0] + q[0]) * cross;
+        cy += (p[1] + q[1]) * cross;
+    }
+    (0.5 * a2.abs(), [cx / (3.0 * a2), cy / (3.0 * a2)])
+}
+
+fn polygon_row(v: &[[f64; 2]], p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
+    let (area, g) = area_and_centroid(v);
+    let g = [p[0] + g[0], p[1] + g[1]];
+    let (mut f, mut tau, mut rho2) = ([0.0; 2], 0.0, 0.0);
+    let mut add = |q: [f64; 2], w: f64| {
+        let (dx, dy) = (g[0] + q[0] - c[0], g[1] + q[1] - c[1]);
+        let r = (dx * dx + dy * dy).sqrt();
+        if r > 0.0 {
+            let t = [-dy / r, dx / r];
+            f[0] += w * t[0];
+            f[1] += w * t[1];
+            tau += w * (q[0] * t[1] - q[1] * t[0]);
+        }
+    };
+    for i in 0..v.len() {
+        let a = [p[0] + v[i][0] - g[0], p[1] + v[i][1] - g[1]];
+        let j = (i + 1) % v.len();
+        let b = [p[0] + v[j][0] - g[0], p[1] + v[j][1] - g[1]];
+        let tri = 0.5 * (a[0] * b[1] - a[1] * b[0]).abs();
+        // I/m of the triangle (g, a, b) about g, exactly.
+        rho2 +=
+            tri * (a[0] * a[0] + a[1] * a[1] + b[0] * b[0] + b[1] * b[1] + a[0] * b[0] + a[1] * b[1]) / 6.0;
+        for q in
+            [[a[0] / 2.0, a[1] / 2.0], [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0], [b[0] / 2.0, b[1] / 2.0]]
+        {
+            add(q, tri / 3.0);
+        }
+    }
+    let rho2 = rho2 / area;
+    ([f[0] / area, f[1] / area], 2.0 * (tau / area) / rho2)
+}
+
+/// Nodes of the disc table, uniform in x = d/(1 + d) on [0, x(FAR)].
+const TABLE_NODES: usize = 4096;
+/// Beyond this many radii the far-field series is used.
+const FAR: f64 = 64.0;
+/// Midpoint steps per segment of the 1-D integrals.
+const STEPS: usize = 400;
+
+/// g(d) and h(d) of a unit disc whose centre is d from the rotation's.
+fn disc_gh(d: f64) -> (f64, f64) {
+    if d >= FAR {
+        return (1.0 - 1.0 / (8.0 * d * d), 1.0 / (4.0 * d));
+    }
+    let table = disc_table();
+    let x = d / (1.0 + d) / (FAR / (1.0 + FAR)) * (TABLE_NODES - 1) as f64;
+    let i = (x.floor() as usize).min(TABLE_NODES - 2);
+    let t = x - i as f64;
+    let (a, b) = (table[i], table[i + 1]);
+    (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+}
+
+fn disc_table() -> &'static [(f64, f64)] {
+    static TABLE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let x_far = FAR / (1.0 + FAR);
+        (0..TABLE_NODES)
+            .map(|i| {
+                let x = x_far * i as f64 / (TABLE_NODES - 1) as f64;
+                disc_integrals(x / (1.0 - x))
+            })
+            .collect()
+    })
+}
+
+/// g(d) = (1/π)∫ 2 sin φ(s) s ds and h(d) = (1/π)∫ 2(s φ(s) − d sin φ(s)) s ds,
+/// φ(s) the half-angle of the arc of radius s about the rotation's centre
+/// inside the unit disc at distance d. Each segment is integrated in t with
+/// s = a + (b − a)(1 − cos t)/2, which smooths the square-root ends.
+pub(crate) fn disc_integrals(d: f64) -> (f64, f64) {
+    let half_angle = |s: f64| {
+        if s <= 1.0 - d {
+            core::f64::consts::PI
+        } else {
+            ((s * s + d * d - 1.0) / (2.0 * s * d)).clamp(-1.0, 1.0).acos()
+        }
+    };
+    let segment = |a: f64, b: f64, acc: &mut (f64, f64)| {
+        let dt = core::f64::consts::PI / STEPS as f64;
+        for k in 0..STEPS {
+            let t = (k as f64 + 0.5) * dt;
+            let s = a + (b - a) * (1.0 - t.cos()) / 2.0;
+            let ds = (b - a) * t.sin() / 2.0 * dt;
+            let phi = half_angle(s);
+            acc.0 += 2.0 * phi.sin() * s * ds;
+            acc.1 += 2.0 * (s * phi - d * phi.sin()) * s * ds;
+        }
+    };
+    let mut acc = (0.0, 0.0);
+    if d < 1.0 {
+        segment(0.0, 1.0 - d, &mut acc);
+        segment(1.0 - d, 1.0 + d, &mut acc);
+    } else {
+        segment(d - 1.0, d + 1.0, &mut acc);
+    }
+    let pi = core::f64::consts::PI;
+    (acc.0 / pi, acc.1 / pi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The patch average by brute force: a fine Cartesian grid over the
+    /// shape's bounding box, `inside` deciding membership.
+    fn brute(inside: impl Fn([f64; 2]) -> bool, half: f64, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
+        let n = 1200;
+        let h = 2.0 * half / n as f64;
+        let (mut cnt, mut f, mut tau, mut rho2, mut g) = (0.0, [0.0; 2], 0.0, 0.0, [0.0; 2]);
+        let mut pts = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let u = [-half + (i as f64 + 0.5) * h, -half + (j as f64 + 0.5) * h];
+                if inside(u) {
+                    pts.push(u);
+                    g[0] += u[0];
+                    g[1] += u[1];
+                    cnt += 1.0;
+                }
+            }
+        }
+        g = [g[0] / cnt, g[1] / cnt];
+        for u in pts {
+            let q = [p[0] + u[0], p[1] + u[1]];
+            let (dx, dy) = (q[0] - c[0], q[1] - c[1]);
+            let r = dx.hypot(dy);
+            let t = [-dy / r, dx / r];
+            let a = [u[0] - g[0], u[1] - g[1]];
+            f[0] += t[0];
+            f[1] += t[1];
+            tau += a[0] * t[1] - a[1] * t[0];
+            rho2 += a[0] * a[0] + a[1] * a[1];
+        }
+        ([f[0] / cnt, f[1] / cnt], 2.0 * tau / rho2)
+    }
+
+    fn close(a: ([f64; 2], f64), b: ([f64; 2], f64), tol: f64) -> bool {
+        let scale = a.0[0].hypot(a.0[1]).max(1e-3);
+        (a.0[0] - b.0[0]).abs() <= tol * scale
+            && (a.0[1] - b.0[1]).abs() <= tol * scale
+            && (a.1 - b.1).abs() <= tol * a.1.abs().max(b.1.abs())
+    }
+
+    #[test]
+    fn disc_rows_match_a_brute_force_average() {
+        let radius = 0.02;
+        let p = [0.1, -0.05];
+        for d in [0.0, 0.3, 0.9, 1.0, 1.1, 1.5, 3.0, 20.0, 70.0] {
+            let c = [p[0] - 0.6 * d * radius, p[1] + 0.8 * d * radius];
+            let got = wrench_row(&PartShape::Disc { radius }, p, c);
+            let want = brute(|u| u[0].hypot(u[1]) <= radius, radius, p, c);
+            assert!(close(got, want, 2e-3), "d {d}: {got:?} vs {want:?}");
+        }
+    }
+
+    #[test]
+    fn far_from_the_center_every_shape_is_a_point() {
+        let p = [0.3, 0.2];
+        let c = [-0.7, 0.9];
+        let point = wrench_row(&PartShape::Point, p, c);
+        let disc = wrench_row(&PartShape::Disc { radius: 0.01 }, p, c);
+        let square = PartShape::polygon(&[[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]])
+            .expect("square");
+        for got in [disc, wrench_row(&square, p, c)] {
+            assert!(close(got, point, 1e-3), "{got:?} vs {point:?}");
+        }
+    }
+
+    #[test]
+    fn polygon_rows_match_a_brute_force_average() {
+        let tri = [[-0.02, -0.015], [0.025, -0.01], [0.0, 0.02]];
+        let shape = PartShape::polygon(&tri).expect("triangle");
+        let inside = |u: [f64; 2]| {
+            (0..3).all(|i| {
+                let (a, b) = (tri[i], tri[(i + 1) % 3]);
+                (b[0] - a[0]) * (u[1] - a[1]) - (b[1] - a[1]) * (u[0] - a[0]) >= 0.0
+            })
+        };
+        let p = [0.2, 0.1];
+        // The edge-midpoint rule is exact for quadratics: close to uniform
+        // pressure once the center is a few part sizes away.
+        for (c, tol) in [([0.33, 0.1], 3e-2), ([0.2, 0.26], 3e-2), ([0.5, -0.3], 3e-3), ([2.0, 1.0], 3e-3)] {
+            let got = wrench_row(&shape, p, c);
+            let want = brute(inside, 0.03, p, c);
+            assert!(close(got, want, tol), "c {c:?}: {got:?} vs {want:?}");
+        }
+    }
+
+    #[test]
+    fn bad_shapes_are_refused() {
+        assert_eq!(PartShape::Disc { radius: 0.0 }.check(), Err(ShapeError::Radius));
+        assert_eq!(PartShape::Disc { radius: f64::NAN }.check(), Err(ShapeError::Radius));
+        assert_eq!(PartShape::polygon(&[[0.0, 0.0], [1.0, 0.0]]), Err(ShapeError::VertexCount));
+        assert_eq!(PartShape::polygon(&[[0.0, 0.0]; 9]), Err(ShapeError::VertexCount));
+        assert_eq!(
+            PartShape::polygon(&[[0.0, 0.0], [1.0, f64::NAN], [0.0, 1.0]]),
+            Err(ShapeError::NonFinite)
+        );
+        // A dent, a bow tie, collinear points, a pentagram.
+        let dent = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.5], [2.0, 2.0], [0.0, 2.0]];
+        let bow = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+        let flat = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]];
+        let star: Vec<[f64; 2]> = (0..5)
+            .map(|i| {
+                let a = core::f64::consts::TAU * (2 * i) as f64 / 5.0;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        for bad in [&dent[..], &bow, &flat, &star] {
+            assert_eq!(PartShape::polygon(bad), Err(ShapeError::NotConvex), "{bad:?}");
+        }
+        let cw = [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
+        assert!(PartShape::polygon(&cw).is_ok(), "either winding");
+    }
+}
