@@ -176,6 +176,12 @@ pub enum Command {
         /// (`ethercat-sim`: the EtherCAT driver over the simulated chain).
         #[arg(long, value_enum)]
         driver: Option<crate::config::DriverChoice>,
+        /// fidelity: how many random geometries.
+        #[arg(long, default_value_t = 50)]
+        cases: usize,
+        /// fidelity: the seed of the geometries.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
     },
     /// Calibrate the camera from its view of the calibration board
     /// (`[camera.board]`): rendered by the rig's `[camera]`, or PNG files.
@@ -271,6 +277,9 @@ pub enum BenchTarget {
     Ipc,
     /// Time to sort, lock-step, over many seeds.
     Sort,
+    /// Forces and curls on extended parts: the per-shape model vs the
+    /// paper's point model, played on the simulator.
+    Fidelity,
     /// The camera path: accuracy against the rendered truth, time per
     /// frame beside OpenCV on the same frames.
     Vision,
@@ -427,6 +436,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             baseline,
             camera,
             driver,
+            cases,
+            seed,
         } => {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
@@ -449,6 +460,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Ipc, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
+                }
+                (BenchTarget::Fidelity, None) => {
+                    let cases = if quick { cases.min(3) } else { cases };
+                    (crate::bench_fidelity::run(cases, seed)?, crate::bench_fidelity::to_text)
                 }
                 (BenchTarget::Sort, None) => {
                     // --quick: 30 simulated seconds per seed.

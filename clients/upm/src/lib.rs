@@ -5,6 +5,7 @@
 //! (`upm-vision`, `upm-planner`) with their own thin binaries.
 
 pub mod bench_ethercat;
+pub mod bench_fidelity;
 pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_record;

@@ -73,3 +73,33 @@ fn bench_sort_reports_time_to_sort_per_seed_and_refuses_other_planners() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("needs a scenario whose planner is sort"), "{err}");
 }
+
+#[test]
+fn bench_fidelity_reports_both_models_on_the_same_cases() {
+    let run = |seed: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_upm"))
+            .args(["bench", "fidelity", "--quick", "--seed", seed, "--json"])
+            .output()
+            .expect("upm bench fidelity");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).expect("json")
+    };
+    let v = run("7");
+    assert_eq!(v["cases"], 3, "{v}");
+    assert!(v["forces"].as_u64() >= Some(3), "{v}");
+    for model in ["", "baseline_"] {
+        let (median, worst) = (&v[format!("{model}force_err_median")], &v[format!("{model}force_err_worst")]);
+        assert!(median.as_f64().zip(worst.as_f64()).is_some_and(|(m, w)| 0.0 <= m && m <= w), "{v}");
+    }
+    // Curl keys exist; null when no case asked a curl.
+    for key in ["curl_err_median", "curl_err_worst", "baseline_curl_err_worst"] {
+        assert!(v[key].is_null() || v[key].as_f64().is_some_and(|e| e >= 0.0), "{key}: {v}");
+    }
+    assert_eq!(v, run("7"), "same seed, same figures");
+    let out = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(["bench", "fidelity", "--cases", "0", "--json"])
+        .output()
+        .expect("upm bench fidelity");
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--cases must be at least 1"));
+}
