@@ -31,7 +31,7 @@ fn problem(case: &common::RandomCase, i: usize) -> Problem<'_> {
         centers: &case.centers,
         parts: &case.parts,
         curls: &case.curls,
-        k_bounds: if i % 2 == 0 { &[] } else { &BOUNDS[..case.centers.len()] },
+        k_bounds: if i.is_multiple_of(2) { &[] } else { &BOUNDS[..case.centers.len()] },
     }
 }
 

@@ -83,7 +83,7 @@ fn bad_shapes_are_refused_by_name() {
     let c = centers();
     let good = ForceConstraint { position: [0.2, 0.1], force: Some([0.001, 0.0]), shape: PartShape::Point };
     let bad = ForceConstraint { shape: PartShape::Disc { radius: -1.0 }, ..good };
-    let e = solve(&[good, bad], &[], &c).err().expect("refused");
+    let e = solve(&[good, bad], &[], &c).expect_err("refused");
     assert_eq!(e, SolveError::PartShape { part: 1, error: ShapeError::Radius });
     assert_eq!(e.to_string(), "parts[1].shape: radius must be a finite number > 0");
     let star = PartShape::Polygon {
@@ -91,7 +91,7 @@ fn bad_shapes_are_refused_by_name() {
         count: 4,
     };
     let curl = CurlConstraint { position: [0.2, 0.1], curl: 0.001, shape: star };
-    let e = solve(&[good], &[curl], &c).err().expect("refused");
+    let e = solve(&[good], &[curl], &c).expect_err("refused");
     assert_eq!(e, SolveError::CurlShape { curl: 0, error: ShapeError::NotConvex });
 }
 

@@ -2,8 +2,10 @@
 //! arrive at extended parts. Random geometries (1–10 parts, points, discs
 //! and convex polygons 10–40 mm across, some asked for force and curl
 //! together, 9–24 centers on and just beyond the plate), each solved with
-//! the per-shape model and, as the baseline in the same run, with the
-//! paper's point model, and both played on the same shaped parts in the
+//! the per-shape model corrected for the velocity parts pick up through
+//! the cycle (`part_dynamics`), with the per-shape model alone (parts at
+//! rest, `static_*`) and, as the baseline, with the paper's point model,
+//! all in the same run and played on the same shaped parts in the
 //! simulator (`validate::measure`). Force error is relative to the request
 //! plus 0.005 μmg; curl error relative to the request. Requests the model
 //! cannot meet exactly (saturated) are drawn again and counted.
@@ -51,7 +53,7 @@ fn random_case(rng: &mut ChaCha8Rng) -> SolveInput {
         });
         parts.push(PartInput { position, force: Some([f * a.cos(), f * a.sin()]), shape, curl });
     }
-    SolveInput { mu_m_g: 0.1, centers, parts, curls: Vec::new(), k_max: Some(0.75) }
+    SolveInput { mu_m_g: 0.1, centers, parts, curls: Vec::new(), k_max: Some(0.75), part_dynamics: true }
 }
 
 /// Per-part force errors and per-curl errors of one case solved from
@@ -87,18 +89,25 @@ pub fn run(cases: usize, seed: u64) -> anyhow::Result<Value> {
         anyhow::bail!("--cases must be at least 1");
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let (mut shaped, mut point) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
+    let (mut shaped, mut at_rest, mut point) =
+        ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
     let (mut done, mut redrawn, mut met) = (0, 0, 0);
     while done < cases {
         let input = random_case(&mut rng);
-        let mut as_points = input.clone();
+        let static_model = SolveInput { part_dynamics: false, ..input.clone() };
+        let mut as_points = static_model.clone();
         as_points.parts.iter_mut().for_each(|p| p.shape = ShapeInput::Point);
         let case_seed = seed.wrapping_add(done as u64);
-        let (Some(a), Some(b)) = (errors(&input, &input, case_seed)?, errors(&input, &as_points, case_seed)?)
-        else {
+        let (Some(a), Some(s), Some(b)) = (
+            errors(&input, &input, case_seed)?,
+            errors(&input, &static_model, case_seed)?,
+            errors(&input, &as_points, case_seed)?,
+        ) else {
             redrawn += 1;
             continue;
         };
+        at_rest.0.extend(s.0);
+        at_rest.1.extend(s.1);
         // Targets: force within 2 % + 0.005 μmg, i.e. error/(|f| + 0.005 μmg)
         // within 2 % at |f| ≫ 0.005 μmg; curl within 10 %.
         met += usize::from(a.0.iter().all(|&e| e <= 0.02) && a.1.iter().all(|&e| e <= 0.10));
@@ -110,6 +119,8 @@ pub fn run(cases: usize, seed: u64) -> anyhow::Result<Value> {
     }
     let (fm, fw) = summary(&mut shaped.0);
     let (cm, cw) = summary(&mut shaped.1);
+    let (sfm, sfw) = summary(&mut at_rest.0);
+    let (scm, scw) = summary(&mut at_rest.1);
     let (bfm, bfw) = summary(&mut point.0);
     let (bcm, bcw) = summary(&mut point.1);
     Ok(json!({
@@ -123,6 +134,10 @@ pub fn run(cases: usize, seed: u64) -> anyhow::Result<Value> {
         "force_err_worst": fw,
         "curl_err_median": cm,
         "curl_err_worst": cw,
+        "static_force_err_median": sfm,
+        "static_force_err_worst": sfw,
+        "static_curl_err_median": scm,
+        "static_curl_err_worst": scw,
         "baseline_force_err_median": bfm,
         "baseline_force_err_worst": bfw,
         "baseline_curl_err_median": bcm,
@@ -135,8 +150,9 @@ pub fn to_text(v: &Value) -> String {
     let pct = |x: &Value| x.as_f64().map_or("—".into(), |x| format!("{:.2} %", 100.0 * x));
     format!(
         "{} cases ({} forces, {} curls; {} saturated draws skipped), {} within the targets\n\
-         per-shape model: force error median {}, worst {}; curl error median {}, worst {}\n\
-         point model:     force error median {}, worst {}; curl error median {}, worst {}\n",
+         per-shape model, part dynamics: force error median {}, worst {}; curl error median {}, worst {}\n\
+         per-shape model, parts at rest: force error median {}, worst {}; curl error median {}, worst {}\n\
+         point model (the paper's):      force error median {}, worst {}; curl error median {}, worst {}\n",
         v["cases"],
         v["forces"],
         v["curls"],
@@ -146,6 +162,10 @@ pub fn to_text(v: &Value) -> String {
         pct(&v["force_err_worst"]),
         pct(&v["curl_err_median"]),
         pct(&v["curl_err_worst"]),
+        pct(&v["static_force_err_median"]),
+        pct(&v["static_force_err_worst"]),
+        pct(&v["static_curl_err_median"]),
+        pct(&v["static_curl_err_worst"]),
         pct(&v["baseline_force_err_median"]),
         pct(&v["baseline_force_err_worst"]),
         pct(&v["baseline_curl_err_median"]),

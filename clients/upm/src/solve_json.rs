@@ -75,6 +75,11 @@ pub struct SolveInput {
     pub curls: Vec<CurlInput>,
     #[serde(default)]
     pub k_max: Option<f64>,
+    /// Correct the requested forces once for the velocity a part picks up
+    /// through the cycle (`rt_core::motion::cycle_mean_acceleration`), and
+    /// report what that model predicts (`predicted_forces`).
+    #[serde(default)]
+    pub part_dynamics: bool,
 }
 
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -103,6 +108,9 @@ pub struct SolveOutput {
     pub k_bounds: Vec<f64>,
     /// The centers whose bound the rig lowered below `k_max`.
     pub k_lowered: Vec<usize>,
+    /// With `part_dynamics`: per part, the cycle's average force the part
+    /// model predicts for this answer (empty otherwise).
+    pub predicted_forces: Vec<[f64; 2]>,
 }
 
 /// Input errors, each naming the JSON field, one line each.
@@ -188,7 +196,7 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
             continue;
         }
         let u = playable_k(&mut probe, &rig, c, k_max);
-        if !(u > 0.0) {
+        if u.is_nan() || u <= 0.0 {
             return Err(InputError::Unplayable { center });
         }
         bounds.push(u);
@@ -199,14 +207,58 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
 /// Solve one input with the default capacity and parameters, each center
 /// bounded by what it can play on the validation rig.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
-    let k_bounds = playable_bounds(input, &ValidateSetup::default())?;
-    let parts = input.force_constraints()?;
+    let setup = ValidateSetup::default();
+    let first = solve_for(input, &input.force_constraints()?, &setup)?;
+    if !input.part_dynamics {
+        return Ok(first);
+    }
+    // One correction: ask each part for what it lacked under the first
+    // answer (more steps wander as the play order changes with k).
+    let predicted = predict(input, &first, &setup)?;
+    let mut parts = input.force_constraints()?;
+    for (p, got) in parts.iter_mut().zip(&predicted) {
+        if let Some(f) = p.force.as_mut() {
+            *f = [2.0 * f[0] - got[0], 2.0 * f[1] - got[1]];
+        }
+    }
+    let mut out = solve_for(input, &parts, &setup)?;
+    out.predicted_forces = predict(input, &out, &setup)?;
+    Ok(out)
+}
+
+/// The cycle's average force on each part (starting at rest) under `out`.
+fn predict(
+    input: &SolveInput,
+    out: &SolveOutput,
+    setup: &ValidateSetup,
+) -> Result<Vec<[f64; 2]>, InputError> {
+    let mut motion = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
+    let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
+    motion.set_from_solution(&input.centers, &out.k, &order).map_err(|e| InputError::Rig(e.to_string()))?;
+    let mu_g = setup.sim.mu_kinetic * setup.sim.gravity;
+    Ok(input
+        .parts
+        .iter()
+        .map(|p| {
+            let a = rt_core::motion::cycle_mean_acceleration(&motion, p.position, [0.0; 2], mu_g);
+            [a[0] / mu_g * input.mu_m_g, a[1] / mu_g * input.mu_m_g]
+        })
+        .collect())
+}
+
+/// Solve `input` with `parts` in place of its own.
+fn solve_for(
+    input: &SolveInput,
+    parts: &[ForceConstraint],
+    setup: &ValidateSetup,
+) -> Result<SolveOutput, InputError> {
+    let k_bounds = playable_bounds(input, setup)?;
     let curls = input.curl_constraints()?;
     let problem = Problem {
         mu_m_g: input.mu_m_g,
         k_max: input.k_max(),
         centers: &input.centers,
-        parts: &parts,
+        parts,
         curls: &curls,
         k_bounds: &k_bounds,
     };
@@ -236,5 +288,6 @@ pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
         iterations: s.iterations,
         k_bounds: Vec::new(),
         k_lowered: Vec::new(),
+        predicted_forces: Vec::new(),
     }
 }

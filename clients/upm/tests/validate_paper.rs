@@ -102,7 +102,7 @@ fn random_case(s: &mut u64) -> SolveInput {
     } else {
         vec![]
     };
-    SolveInput { mu_m_g: 0.1, centers, parts, curls, k_max: None }
+    SolveInput { mu_m_g: 0.1, centers, parts, curls, k_max: None, part_dynamics: false }
 }
 
 #[test]
@@ -223,7 +223,14 @@ fn every_solution_plays_on_the_rig() {
                 curl: None,
             })
             .collect();
-        let input = SolveInput { mu_m_g: 0.1, centers, parts, curls: vec![], k_max: Some(0.75) };
+        let input = SolveInput {
+            mu_m_g: 0.1,
+            centers,
+            parts,
+            curls: vec![],
+            k_max: Some(0.75),
+            part_dynamics: false,
+        };
         let v = match validate::run(&input, 1, case, None) {
             Ok(v) => v,
             // A part within the solver's minimum distance of a center is
@@ -256,4 +263,27 @@ fn every_solution_plays_on_the_rig() {
     }
     assert!(played >= 30, "only {played} of 40 cases reached the simulator");
     assert!(lowered_cases > 0, "no case needed a lowered bound: the test shows nothing");
+}
+
+/// Ten centers, two point parts: the paper's model (parts at rest) loses
+/// about an eighth of the force to the velocity parts pick up through the
+/// cycle; `part_dynamics` corrects for it (BENCHMARKS.md, issue 25).
+#[test]
+fn part_dynamics_recover_what_the_velocity_through_the_cycle_costs() {
+    let text = r#"{"mu_m_g": 0.1, "k_max": 0.75,
+        "centers": [[-1,-0.5],[-0.3,-0.55],[0.4,-0.55],[1,-0.5],[1.05,0],[1,0.5],[0.3,0.55],[-0.4,0.55],[-1,0.5],[-1.05,0]],
+        "parts": [{"position": [0.1, 0.05], "force": [0.004, 0.0]}, {"position": [-0.3, -0.1], "force": [0.0, 0.004]}]}"#;
+    let worst = |dynamics: bool| {
+        let mut input = parse(text).expect("input");
+        input.part_dynamics = dynamics;
+        let v = validate::run(&input, 2, 1, None).expect("validate");
+        assert_eq!(v["predicted_forces"].as_array().map(Vec::len), Some(if dynamics { 2 } else { 0 }));
+        let errs =
+            v["simulated"]["force_error"].as_array().expect("errors").iter().filter_map(|e| e.as_f64());
+        errs.fold(0.0, f64::max) / 0.004
+    };
+    let (at_rest, corrected) = (worst(false), worst(true));
+    println!("worst force error: parts at rest {at_rest:.3}, part dynamics {corrected:.3} of the request");
+    assert!(at_rest > 0.08, "the loss this test is about is gone: {at_rest}");
+    assert!(corrected < 0.4 * at_rest, "{corrected} vs {at_rest}");
 }

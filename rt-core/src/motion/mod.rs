@@ -19,6 +19,7 @@
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 mod params;
+mod part_drift;
 mod plan;
 mod playable;
 mod pose;
@@ -27,6 +28,7 @@ mod rig;
 mod setpoint;
 
 pub use params::{MotionLimits, MotionParams, ParamsError};
+pub use part_drift::cycle_mean_acceleration;
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
 pub use playable::playable_k;
 pub use pose::{PlateSample, Pose, Twist, sin_cos};

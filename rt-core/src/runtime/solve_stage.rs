@@ -554,7 +554,7 @@ pub(crate) fn playable_k_bounds(
     let mut probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
     let bounds: Vec<f64> =
         params.centers.iter().map(|&c| playable_k(&mut probe, rig, c, params.motion.k_max)).collect();
-    if let Some(center) = bounds.iter().position(|&k| !(k > 0.0)) {
+    if let Some(center) = bounds.iter().position(|&k| k.is_nan() || k <= 0.0) {
         return Err(super::params::CoreParamsError::Unplayable { center });
     }
     Ok(bounds)
