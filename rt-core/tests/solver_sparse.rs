@@ -24,6 +24,11 @@ fn cycle_force(centers: &[[f64; 2]], k: &[f64], counts: &[u16], mu_m_g: f64, p: 
     [f[0] * mu_m_g / slots, f[1] * mu_m_g / slots]
 }
 
+/// The case's parts over its centers, k_max 0.6, no curls.
+fn problem(case: &common::RandomCase) -> Problem<'_> {
+    Problem { mu_m_g: 0.1, k_max: 0.6, centers: &case.centers, parts: &case.parts, curls: &[], k_bounds: &[] }
+}
+
 /// A 12 × 8 grid of candidates over the plate [-1, 1] × [-0.5, 0.5].
 fn grid() -> Vec<[f64; 2]> {
     (0..8).flat_map(|i| (0..12).map(move |j| [-0.99 + 0.18 * j as f64, -0.49 + 0.14 * i as f64])).collect()
@@ -33,14 +38,7 @@ fn grid() -> Vec<[f64; 2]> {
 fn a_cycle_is_exactly_n_slots_within_k_max_and_plays_what_it_reports() {
     for seed in 0..40u64 {
         let case = random_case(seed, 1 + seed as usize % 12, 0, 48, 0.08);
-        let problem = Problem {
-            mu_m_g: 0.1,
-            k_max: 0.6,
-            centers: &case.centers,
-            parts: &case.parts,
-            curls: &[],
-            k_bounds: &[],
-        };
+        let problem = problem(&case);
         let mut s = solver(24);
         let mut out = s.new_solution();
         s.solve(&problem, &mut out).expect("solves");
@@ -68,14 +66,7 @@ fn a_modest_request_is_met() {
         for p in &mut case.parts {
             p.force = p.force.map(|f| [f[0] * 4.0, f[1] * 4.0]);
         }
-        let problem = Problem {
-            mu_m_g: 0.1,
-            k_max: 0.6,
-            centers: &case.centers,
-            parts: &case.parts,
-            curls: &[],
-            k_bounds: &[],
-        };
+        let problem = problem(&case);
         let mut s = solver(24);
         let mut out = s.new_solution();
         s.solve(&problem, &mut out).expect("solves");
