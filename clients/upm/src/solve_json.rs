@@ -75,9 +75,10 @@ pub struct SolveInput {
     pub curls: Vec<CurlInput>,
     #[serde(default)]
     pub k_max: Option<f64>,
-    /// Correct the requested forces once for the velocity a part picks up
-    /// through the cycle (`rt_core::motion::cycle_mean_acceleration`), and
-    /// report what that model predicts (`predicted_forces`).
+    /// Correct each part's requested force and own curl once for the
+    /// velocity and spin it picks up through the cycle
+    /// (`rt_core::motion::cycle_mean_twist`), and report what that model
+    /// predicts (`predicted_forces`, `predicted_curls`).
     #[serde(default)]
     pub part_dynamics: bool,
 }
@@ -111,6 +112,9 @@ pub struct SolveOutput {
     /// With `part_dynamics`: per part, the cycle's average force the part
     /// model predicts for this answer (empty otherwise).
     pub predicted_forces: Vec<[f64; 2]>,
+    /// With `part_dynamics`: for each part asked a curl (in part order),
+    /// the curl its patch's predicted spin-up shows (null for a point).
+    pub predicted_curls: Vec<Option<f64>>,
 }
 
 /// Input errors, each naming the JSON field, one line each.
@@ -208,58 +212,72 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
 /// bounded by what it can play on the validation rig.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let setup = ValidateSetup::default();
-    let first = solve_for(input, &input.force_constraints()?, &setup)?;
+    let first = solve_for(input, &input.force_constraints()?, &input.curl_constraints()?, &setup)?;
     if !input.part_dynamics {
         return Ok(first);
     }
     // One correction: ask each part for what it lacked under the first
-    // answer (more steps wander as the play order changes with k).
-    let predicted = predict(input, &first, &setup)?;
+    // answer, force and own curl (more steps wander as the play order
+    // changes with k).
+    let (forces, curls) = predict(input, &first, &setup)?;
     let mut parts = input.force_constraints()?;
-    for (p, got) in parts.iter_mut().zip(&predicted) {
+    for (p, got) in parts.iter_mut().zip(&forces) {
         if let Some(f) = p.force.as_mut() {
             *f = [2.0 * f[0] - got[0], 2.0 * f[1] - got[1]];
         }
     }
-    let mut out = solve_for(input, &parts, &setup)?;
-    out.predicted_forces = predict(input, &out, &setup)?;
+    let mut asked = input.curl_constraints()?;
+    // The parts' own curls follow the top-level ones.
+    for (q, got) in asked[input.curls.len()..].iter_mut().zip(&curls) {
+        if let Some(got) = got {
+            q.curl = 2.0 * q.curl - got;
+        }
+    }
+    let mut out = solve_for(input, &parts, &asked, &setup)?;
+    (out.predicted_forces, out.predicted_curls) = predict(input, &out, &setup)?;
     Ok(out)
 }
 
-/// The cycle's average force on each part (starting at rest) under `out`.
-fn predict(
-    input: &SolveInput,
-    out: &SolveOutput,
-    setup: &ValidateSetup,
-) -> Result<Vec<[f64; 2]>, InputError> {
+/// Under `out`, each part's average force over a cycle starting at rest,
+/// and, for each part asked a curl, the curl its patch's spin-up shows
+/// (None for a point: it has no spin to predict).
+type Predicted = (Vec<[f64; 2]>, Vec<Option<f64>>);
+
+fn predict(input: &SolveInput, out: &SolveOutput, setup: &ValidateSetup) -> Result<Predicted, InputError> {
     let mut motion = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
     let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
     motion.set_from_solution(&input.centers, &out.k, &order).map_err(|e| InputError::Rig(e.to_string()))?;
     let mu_g = setup.sim.mu_kinetic * setup.sim.gravity;
-    Ok(input
-        .parts
-        .iter()
-        .map(|p| {
-            let a = rt_core::motion::cycle_mean_acceleration(&motion, p.position, [0.0; 2], mu_g);
-            [a[0] / mu_g * input.mu_m_g, a[1] / mu_g * input.mu_m_g]
-        })
-        .collect())
+    let scale = input.mu_m_g / mu_g;
+    let (mut forces, mut curls) = (Vec::new(), Vec::new());
+    for (i, p) in input.parts.iter().enumerate() {
+        let shape = part_shape(p, i)?;
+        let patch = shape.patch_points();
+        let at = [p.position[0] + patch.centroid[0], p.position[1] + patch.centroid[1]];
+        let (a, alpha) = rt_core::motion::cycle_mean_twist(&motion, at, &patch, [0.0; 2], 0.0, mu_g);
+        forces.push([a[0] * scale, a[1] * scale]);
+        if p.curl.is_some() {
+            // The curl whose torque gives this spin-up: 2τ/(mρ²) = 2α·m.
+            curls.push((shape != PartShape::Point).then_some(2.0 * alpha * scale));
+        }
+    }
+    Ok((forces, curls))
 }
 
-/// Solve `input` with `parts` in place of its own.
+/// Solve `input` with `parts` and `curls` in place of its own.
 fn solve_for(
     input: &SolveInput,
     parts: &[ForceConstraint],
+    curls: &[CurlConstraint],
     setup: &ValidateSetup,
 ) -> Result<SolveOutput, InputError> {
     let k_bounds = playable_bounds(input, setup)?;
-    let curls = input.curl_constraints()?;
     let problem = Problem {
         mu_m_g: input.mu_m_g,
         k_max: input.k_max(),
         centers: &input.centers,
         parts,
-        curls: &curls,
+        curls,
         k_bounds: &k_bounds,
     };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
@@ -289,5 +307,6 @@ pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
         k_bounds: Vec::new(),
         k_lowered: Vec::new(),
         predicted_forces: Vec::new(),
+        predicted_curls: Vec::new(),
     }
 }

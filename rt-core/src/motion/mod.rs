@@ -28,7 +28,7 @@ mod rig;
 mod setpoint;
 
 pub use params::{MotionLimits, MotionParams, ParamsError};
-pub use part_drift::cycle_mean_acceleration;
+pub use part_drift::{cycle_mean_acceleration, cycle_mean_twist};
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
 pub use playable::playable_k;
 pub use pose::{PlateSample, Pose, Twist, sin_cos};

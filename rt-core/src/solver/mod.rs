@@ -73,7 +73,7 @@ mod validate;
 pub use error::{InputField, MAX_INPUT_MAGNITUDE, SolveError};
 pub use params::{SolverCapacity, SolverParams};
 pub use problem::{CurlConstraint, ForceConstraint, Problem};
-pub use shape::{MAX_SHAPE_VERTICES, PartShape, ShapeError, wrench_row};
+pub use shape::{MAX_PATCH_POINTS, MAX_SHAPE_VERTICES, PartShape, PatchPoints, ShapeError, wrench_row};
 pub use solution::{Solution, SolveMethod};
 pub use system::LeastSquaresSystem;
 

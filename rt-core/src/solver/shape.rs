@@ -151,6 +151,81 @@ pub fn wrench_row(shape: &PartShape, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64
     }
 }
 
+/// Rings and spokes of a disc's contact points in [`PartShape::patch_points`].
+const DISC_RINGS: usize = 6;
+const DISC_SPOKES: usize = 16;
+
+/// Most points [`PartShape::patch_points`] gives.
+pub const MAX_PATCH_POINTS: usize = DISC_RINGS * DISC_SPOKES;
+
+// A polygon's three points per fan triangle fit too.
+const _: () = assert!(3 * MAX_SHAPE_VERTICES <= MAX_PATCH_POINTS);
+
+/// Where a checked shape presses on the plate: points relative to the
+/// part's centroid with weights summing to 1 (a disc: equal-area rings;
+/// a polygon: its fan's edge midpoints, as in [`wrench_row`]), how many,
+/// the centroid relative to the part's position, and ρ² = I/m.
+#[derive(Debug, Clone, Copy)]
+pub struct PatchPoints {
+    pub points: [([f64; 2], f64); MAX_PATCH_POINTS],
+    pub count: usize,
+    pub centroid: [f64; 2],
+    pub rho2: f64,
+}
+
+impl PartShape {
+    pub fn patch_points(&self) -> PatchPoints {
+        let mut out = PatchPoints {
+            points: [([0.0; 2], 0.0); MAX_PATCH_POINTS],
+            count: 0,
+            centroid: [0.0; 2],
+            rho2: 0.0,
+        };
+        match *self {
+            Self::Point => {
+                out.points[0] = ([0.0; 2], 1.0);
+                out.count = 1;
+            }
+            Self::Disc { radius } => {
+                let w = 1.0 / MAX_PATCH_POINTS as f64;
+                for i in 0..DISC_RINGS {
+                    let r = radius * ((i as f64 + 0.5) / DISC_RINGS as f64).sqrt();
+                    for j in 0..DISC_SPOKES {
+                        let a =
+                            core::f64::consts::TAU * (j as f64 + 0.5 * (i % 2) as f64) / DISC_SPOKES as f64;
+                        out.points[out.count] = ([r * a.cos(), r * a.sin()], w);
+                        out.count += 1;
+                    }
+                }
+                out.rho2 = 0.5 * radius * radius;
+            }
+            Self::Polygon { vertices, count } => {
+                let v = &vertices[..count];
+                let (area, g) = area_and_centroid(v);
+                out.centroid = g;
+                for i in 0..count {
+                    let a = [v[i][0] - g[0], v[i][1] - g[1]];
+                    let b = [v[(i + 1) % count][0] - g[0], v[(i + 1) % count][1] - g[1]];
+                    let tri = 0.5 * (a[0] * b[1] - a[1] * b[0]).abs();
+                    out.rho2 += tri
+                        * (a[0] * a[0] + a[1] * a[1] + b[0] * b[0] + b[1] * b[1] + a[0] * b[0] + a[1] * b[1])
+                        / 6.0;
+                    for q in [
+                        [a[0] / 2.0, a[1] / 2.0],
+                        [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0],
+                        [b[0] / 2.0, b[1] / 2.0],
+                    ] {
+                        out.points[out.count] = (q, tri / (3.0 * area));
+                        out.count += 1;
+                    }
+                }
+                out.rho2 /= area;
+            }
+        }
+        out
+    }
+}
+
 fn area_and_centroid(v: &[[f64; 2]]) -> (f64, [f64; 2]) {
     let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for i in 0..v.len() {
@@ -348,6 +423,24 @@ mod tests {
             let got = wrench_row(&shape, p, c);
             let want = brute(inside, 0.03, p, c);
             assert!(close(got, want, tol), "c {c:?}: {got:?} vs {want:?}");
+        }
+    }
+
+    #[test]
+    fn patch_points_weigh_one_and_carry_the_second_moment() {
+        let tri = PartShape::polygon(&[[-0.02, -0.015], [0.025, -0.01], [0.0, 0.02]]).expect("triangle");
+        for shape in [PartShape::Point, PartShape::Disc { radius: 0.03 }, tri] {
+            let p = shape.patch_points();
+            let pts = &p.points[..p.count];
+            let w: f64 = pts.iter().map(|(_, w)| w).sum();
+            let first = pts.iter().fold([0.0; 2], |a, (q, w)| [a[0] + w * q[0], a[1] + w * q[1]]);
+            let second: f64 = pts.iter().map(|(q, w)| w * (q[0] * q[0] + q[1] * q[1])).sum();
+            assert!((w - 1.0).abs() < 1e-12, "{shape:?}: weights {w}");
+            assert!(
+                first[0].abs() < 1e-12 && first[1].abs() < 1e-12,
+                "{shape:?}: about the centroid {first:?}"
+            );
+            assert!((second - p.rho2).abs() <= 1e-12, "{shape:?}: {second} vs {}", p.rho2);
         }
     }
 
