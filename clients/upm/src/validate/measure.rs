@@ -62,21 +62,16 @@ impl Probe {
     fn spec(&self, mass: f64) -> PartSpec {
         let (shape, position) = match self.patch {
             Some(PartShape::Disc { radius }) => (Shape::Disc { radius }, self.position),
-            Some(PartShape::Polygon { vertices, count }) => {
+            Some(shape @ PartShape::Polygon { vertices, count }) => {
                 let v = &vertices[..count];
-                let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
-                for i in 0..count {
-                    let (p, q) = (v[i], v[(i + 1) % count]);
-                    let cross = p[0] * q[1] - q[0] * p[1];
-                    a2 += cross;
-                    cx += (p[0] + q[0]) * cross;
-                    cy += (p[1] + q[1]) * cross;
-                }
-                let g = [cx / (3.0 * a2), cy / (3.0 * a2)];
+                let g = shape.patch_points().centroid;
+                // Clockwise input (negative signed area) is walked backwards.
+                let twice_area: f64 = (0..count)
+                    .map(|i| v[i][0] * v[(i + 1) % count][1] - v[(i + 1) % count][0] * v[i][1])
+                    .sum();
                 let mut out = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
                 for (i, o) in out.iter_mut().take(count).enumerate() {
-                    // Clockwise input is walked backwards.
-                    let src = if a2 > 0.0 { v[i] } else { v[count - 1 - i] };
+                    let src = if twice_area > 0.0 { v[i] } else { v[count - 1 - i] };
                     *o = [src[0] - g[0], src[1] - g[1]];
                 }
                 (Shape::Polygon { vertices: out, count }, [self.position[0] + g[0], self.position[1] + g[1]])
