@@ -1,5 +1,5 @@
 //! The bounded path against an independent QP solver: on random saturated
-//! problems UPM's objective is never above Clarabel's (an interior-point
+//! problems UPM's objective is never above Clarabel's beyond rounding (an interior-point
 //! method stops a little above the optimum; an active-set answer sits on
 //! it), and the two agree to Clarabel's own accuracy (1e-6 of ½‖b‖²).
 
@@ -35,10 +35,13 @@ proptest! {
         };
         prop_assert!(k_ref.iter().all(|k| k.abs() <= k_max * (1.0 + 1e-6)), "Clarabel left the box");
         let theirs = sys.objective(&k_ref);
-        prop_assert!(ours <= theirs * (1.0 + 1e-9), "UPM {ours} above Clarabel {theirs}");
         // Clarabel's tolerances apply to its QP objective, which is ours
-        // minus ½‖b‖²: measure the disagreement on that scale.
+        // minus ½‖b‖²: measure the disagreement on that scale. Never above
+        // Clarabel beyond rounding on that scale (relative to a nearly met
+        // request's tiny objective, rounding alone exceeded 1e-9: seed
+        // 32147 in the regressions file, on every version since).
         let scale = sys.objective(&vec![0.0; sys.n]);
+        prop_assert!(ours <= theirs + 1e-9 * scale, "UPM {ours} above Clarabel {theirs} (scale {scale})");
         prop_assert!(theirs - ours <= 1e-6 * scale, "UPM {ours} vs Clarabel {theirs} (scale {scale}): disagree");
     }
 }
