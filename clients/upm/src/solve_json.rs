@@ -180,7 +180,8 @@ impl SolveInput {
     }
 }
 
-fn part_shape(p: &PartInput, i: usize) -> Result<PartShape, InputError> {
+/// Part `i`'s shape; the error names `parts[i].shape`.
+pub(crate) fn part_shape(p: &PartInput, i: usize) -> Result<PartShape, InputError> {
     p.shape
         .to_shape()
         .map_err(|e| InputError::Json { path: format!("parts[{i}].shape"), message: e.to_string() })
@@ -212,7 +213,8 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
 /// bounded by what it can play on the validation rig.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let setup = ValidateSetup::default();
-    let first = solve_for(input, &input.force_constraints()?, &input.curl_constraints()?, &setup)?;
+    let k_bounds = playable_bounds(input, &setup)?;
+    let first = solve_for(input, &input.force_constraints()?, &input.curl_constraints()?, &k_bounds)?;
     if !input.part_dynamics {
         return Ok(first);
     }
@@ -233,7 +235,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
             q.curl = 2.0 * q.curl - got;
         }
     }
-    let mut out = solve_for(input, &parts, &asked, &setup)?;
+    let mut out = solve_for(input, &parts, &asked, &k_bounds)?;
     (out.predicted_forces, out.predicted_curls) = predict(input, &out, &setup)?;
     Ok(out)
 }
@@ -264,21 +266,21 @@ fn predict(input: &SolveInput, out: &SolveOutput, setup: &ValidateSetup) -> Resu
     Ok((forces, curls))
 }
 
-/// Solve `input` with `parts` and `curls` in place of its own.
+/// Solve `input` with `parts` and `curls` in place of its own, each center
+/// bounded by `k_bounds`.
 fn solve_for(
     input: &SolveInput,
     parts: &[ForceConstraint],
     curls: &[CurlConstraint],
-    setup: &ValidateSetup,
+    k_bounds: &[f64],
 ) -> Result<SolveOutput, InputError> {
-    let k_bounds = playable_bounds(input, setup)?;
     let problem = Problem {
         mu_m_g: input.mu_m_g,
         k_max: input.k_max(),
         centers: &input.centers,
         parts,
         curls,
-        k_bounds: &k_bounds,
+        k_bounds,
     };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut solution = solver.new_solution();
@@ -288,7 +290,7 @@ fn solve_for(
     result.map_err(InputError::Solve)?;
     let mut out = to_output(&solution, solve_time_us);
     out.k_lowered = (0..k_bounds.len()).filter(|&j| k_bounds[j] < input.k_max()).collect();
-    out.k_bounds = k_bounds;
+    out.k_bounds = k_bounds.to_vec();
     Ok(out)
 }
 

@@ -50,11 +50,6 @@ impl TruthSight {
         part_states(self.tracker.tracks(), self.seq, frame.stamp_ns, out);
         true
     }
-
-    /// Frames the camera dropped.
-    pub fn dropped(&self) -> u64 {
-        self.camera.dropped
-    }
 }
 
 #[cfg(test)]

@@ -22,7 +22,8 @@ use super::samples::{SolverSample, StageOutputs};
 use super::shared::CoreShared;
 use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry, playable_k};
 use crate::solver::{
-    CurlConstraint, ForceConstraint, Problem, Solution, SolveError, Solver, SolverCapacity, SolverParams,
+    CurlConstraint, ForceConstraint, PartShape, Problem, Solution, SolveError, Solver, SolverCapacity,
+    SolverParams,
 };
 
 // Every explicit schedule the protocol can carry fits the motion.
@@ -252,13 +253,8 @@ impl SolveStage {
             newest_request: Newest::default(),
             parts: Box::new(PartStates::new()),
             have_parts: false,
-            forces: [ForceConstraint {
-                position: [0.0; 2],
-                force: None,
-                shape: crate::solver::PartShape::Point,
-            }; MAX_PARTS],
-            curls: [CurlConstraint { position: [0.0; 2], curl: 0.0, shape: crate::solver::PartShape::Point };
-                MAX_CURLS],
+            forces: [ForceConstraint { position: [0.0; 2], force: None, shape: PartShape::Point }; MAX_PARTS],
+            curls: [CurlConstraint { position: [0.0; 2], curl: 0.0, shape: PartShape::Point }; MAX_CURLS],
             entries: [ScheduleEntry::default(); MAX_SLOTS],
             schedule: Box::new(Schedule::new()),
             out,
@@ -428,15 +424,12 @@ impl SolveStage {
                 return Err(RequestError::UnknownPart { id: e.part_id });
             };
             let position = [p.x, p.y];
-            self.forces[np] = ForceConstraint {
-                position,
-                force: e.requested_force(),
-                shape: crate::solver::PartShape::Point,
-            };
+            self.forces[np] =
+                ForceConstraint { position, force: e.requested_force(), shape: PartShape::Point };
             np += 1;
             if let Some(curl) = e.requested_curl() {
                 // validate() caps curl entries at MAX_CURLS.
-                self.curls[nc] = CurlConstraint { position, curl, shape: crate::solver::PartShape::Point };
+                self.curls[nc] = CurlConstraint { position, curl, shape: PartShape::Point };
                 nc += 1;
             }
         }

@@ -420,21 +420,22 @@ impl Solver {
     }
 
     /// Fill `column_scale` with s_j = u_j / u_max and scale A's columns by
-    /// it where it is not 1; returns u_max.
-    fn scale_columns(&mut self, problem: &Problem<'_>, m: usize, n: usize) -> f64 {
+    /// it where it is not 1; returns u_max and whether any column was.
+    fn scale_columns(&mut self, problem: &Problem<'_>, m: usize, n: usize) -> (f64, bool) {
         let bound = |j: usize| problem.k_bounds.get(j).map_or(problem.k_max, |&u| u.min(problem.k_max));
         let top = (0..n).map(bound).fold(0.0, f64::max);
         for j in 0..n {
             self.column_scale[j] = bound(j) / top;
         }
-        if self.column_scale[..n].iter().any(|&s| s != 1.0) {
+        let scaled = self.column_scale[..n].iter().any(|&s| s != 1.0);
+        if scaled {
             for row in self.rows[..m * n].chunks_exact_mut(n) {
                 for (a, s) in row.iter_mut().zip(&self.column_scale[..n]) {
                     *a *= s;
                 }
             }
         }
-        top
+        (top, scaled)
     }
 
     /// Solve one problem into `out` (which must come from
@@ -451,8 +452,7 @@ impl Solver {
             &mut self.center_y,
         )?;
         self.last_shape = (m, n);
-        let k_top = self.scale_columns(problem, m, n);
-        let scaled = self.column_scale[..n].iter().any(|&s| s != 1.0);
+        let (k_top, scaled) = self.scale_columns(problem, m, n);
         // Every path below solves in the scaled variables under one bound.
         let problem = &Problem { k_max: k_top, ..*problem };
 

@@ -147,7 +147,7 @@ pub fn wrench_row(shape: &PartShape, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64
             let t = if r > 0.0 { [-dy / r, dx / r] } else { [0.0, 0.0] };
             ([g * t[0], g * t[1]], 4.0 * h / radius)
         }
-        PartShape::Polygon { vertices, count } => polygon_row(&vertices[..count], p, c),
+        PartShape::Polygon { .. } => polygon_row(shape, p, c),
     }
 }
 
@@ -238,11 +238,11 @@ fn area_and_centroid(v: &[[f64; 2]]) -> (f64, [f64; 2]) {
     (0.5 * a2.abs(), [cx / (3.0 * a2), cy / (3.0 * a2)])
 }
 
-fn polygon_row(v: &[[f64; 2]], p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
-    let (area, g) = area_and_centroid(v);
-    let g = [p[0] + g[0], p[1] + g[1]];
-    let (mut f, mut tau, mut rho2) = ([0.0; 2], 0.0, 0.0);
-    let mut add = |q: [f64; 2], w: f64| {
+fn polygon_row(shape: &PartShape, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
+    let patch = shape.patch_points();
+    let g = [p[0] + patch.centroid[0], p[1] + patch.centroid[1]];
+    let (mut f, mut tau) = ([0.0; 2], 0.0);
+    for &(q, w) in &patch.points[..patch.count] {
         let (dx, dy) = (g[0] + q[0] - c[0], g[1] + q[1] - c[1]);
         let r = (dx * dx + dy * dy).sqrt();
         if r > 0.0 {
@@ -251,23 +251,8 @@ fn polygon_row(v: &[[f64; 2]], p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
             f[1] += w * t[1];
             tau += w * (q[0] * t[1] - q[1] * t[0]);
         }
-    };
-    for i in 0..v.len() {
-        let a = [p[0] + v[i][0] - g[0], p[1] + v[i][1] - g[1]];
-        let j = (i + 1) % v.len();
-        let b = [p[0] + v[j][0] - g[0], p[1] + v[j][1] - g[1]];
-        let tri = 0.5 * (a[0] * b[1] - a[1] * b[0]).abs();
-        // I/m of the triangle (g, a, b) about g, exactly.
-        rho2 +=
-            tri * (a[0] * a[0] + a[1] * a[1] + b[0] * b[0] + b[1] * b[1] + a[0] * b[0] + a[1] * b[1]) / 6.0;
-        for q in
-            [[a[0] / 2.0, a[1] / 2.0], [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0], [b[0] / 2.0, b[1] / 2.0]]
-        {
-            add(q, tri / 3.0);
-        }
     }
-    let rho2 = rho2 / area;
-    ([f[0] / area, f[1] / area], 2.0 * (tau / area) / rho2)
+    (f, 2.0 * tau / patch.rho2)
 }
 
 /// Nodes of the disc table, uniform in x = d/(1 + d) on [0, x(FAR)].

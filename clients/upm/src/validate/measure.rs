@@ -108,7 +108,7 @@ pub fn measure(
         |probes: &[Probe], p: [f64; 2]| probes.iter().position(|q| q.position == p && q.patch.is_none());
     let mut part_body = Vec::new();
     for (n, p) in input.parts.iter().enumerate() {
-        let shape = p.shape.to_shape().map_err(|e| anyhow!("parts[{n}].shape: {e}"))?;
+        let shape = crate::solve_json::part_shape(p, n)?;
         let i = if shape == PartShape::Point {
             find(&probes, p.position).unwrap_or_else(|| {
                 probes.push(Probe { position: p.position, disc: false, patch: None });
