@@ -13,5 +13,6 @@ pub mod sim;
 
 pub use ideal::IdealDriver;
 pub use sim::{
-    ActuatorModel, PartSpec, PartState, Shape, SimConfig, SimConfigError, SimCounters, SimError, Simulator,
+    ActuatorModel, FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PartSpec, PartState,
+    PlateTruth, Shape, SimConfig, SimConfigError, SimCounters, SimError, Simulator, TruthError, friction_scale_ok,
 };

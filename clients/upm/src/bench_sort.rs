@@ -24,6 +24,8 @@ pub struct SortBench {
     pub camera: crate::launcher::CameraChoice,
     /// What moves the plate (the scenario's `[driver]` if None).
     pub driver: Option<crate::config::DriverChoice>,
+    /// The plate's hidden truth (the scenario's `[sim] truth` if None).
+    pub truth: Option<String>,
 }
 
 /// One seed's outcome.
@@ -33,10 +35,14 @@ fn one_seed(
     seconds: f64,
     camera: crate::launcher::CameraChoice,
     driver: Option<crate::config::DriverChoice>,
+    truth: Option<&str>,
 ) -> anyhow::Result<Value> {
     let mut config = sc.config(seed, "unused_")?;
     if let Some(kind) = driver {
         config.driver.kind = kind;
+    }
+    if let Some(t) = truth {
+        config.sim.truth = crate::config::truth::TruthSection::Preset(t.to_owned());
     }
     let mut planner = config.planner.build().map_err(anyhow::Error::msg)?;
     let r = crate::closed_loop::run_seeing(&config, planner.as_mut(), seconds, camera)?;
@@ -92,7 +98,7 @@ fn run_one(b: &SortBench, scenario: &str) -> anyhow::Result<Value> {
     let (first_seeds, second_seeds) = seeds.split_at(first.len());
     let fill = |slots: &mut [Value], seeds: &[u64]| -> anyhow::Result<()> {
         for (slot, &seed) in slots.iter_mut().zip(seeds) {
-            *slot = one_seed(&sc, seed, seconds, b.camera, b.driver)?;
+            *slot = one_seed(&sc, seed, seconds, b.camera, b.driver, b.truth.as_deref())?;
         }
         Ok(())
     };
@@ -113,6 +119,7 @@ fn run_one(b: &SortBench, scenario: &str) -> anyhow::Result<Value> {
         "planner": sc.planner.name(),
         "camera": format!("{:?}", b.camera).to_lowercase(),
         "driver": b.driver.map_or_else(|| "scenario".to_owned(), |d| format!("{d:?}")),
+        "truth": b.truth.as_deref().unwrap_or("scenario"),
         "seeds": b.seeds,
         "first_seed": b.first_seed,
         "seconds_per_seed": seconds,

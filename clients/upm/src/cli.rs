@@ -90,6 +90,10 @@ pub enum Command {
         /// Override the scenario's seed.
         #[arg(long)]
         seed: Option<u64>,
+        /// The simulated plate's hidden truth, instead of the scenario's
+        /// `[sim] truth`: `nominal`, `worn` or `random:SEED`.
+        #[arg(long)]
+        truth: Option<String>,
         /// Service prefix (default: one per run).
         #[arg(long)]
         prefix: Option<String>,
@@ -176,6 +180,10 @@ pub enum Command {
         /// (`ethercat-sim`: the EtherCAT driver over the simulated chain).
         #[arg(long, value_enum)]
         driver: Option<crate::config::DriverChoice>,
+        /// sort: the simulated plate's hidden truth (`nominal`, `worn`,
+        /// `random:SEED`), instead of the scenarios' `[sim] truth`.
+        #[arg(long)]
+        truth: Option<String>,
         /// fidelity: how many random geometries.
         #[arg(long, default_value_t = 50)]
         cases: usize,
@@ -343,6 +351,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             out,
             duration,
             seed,
+            truth,
             prefix,
             quiet,
             stress,
@@ -365,6 +374,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let mut config = sc.config(seed, &prefix)?;
             if let Some(kind) = driver {
                 config.driver.kind = kind;
+            }
+            if let Some(t) = truth {
+                config.sim.truth = crate::config::truth::TruthSection::Preset(t);
             }
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
@@ -436,6 +448,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             baseline,
             camera,
             driver,
+            truth,
             cases,
             seed,
         } => {
@@ -475,6 +488,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         seconds: quick.then_some(30.0),
                         camera,
                         driver,
+                        truth,
                     };
                     (crate::bench_sort::run(&b)?, crate::bench_sort::to_text)
                 }

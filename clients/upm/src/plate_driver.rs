@@ -34,8 +34,12 @@ impl SimulatedPlant for EthercatDriver<SimulatedRig> {
 /// The physics simulator with `[sim]`'s parts.
 pub fn simulator(config: &Config, shown: &str) -> anyhow::Result<(Simulator, SimParts)> {
     let parts = config.sim_parts(shown)?;
-    let sim = Simulator::new(config.sim_config(shown)?, &parts.specs)
+    let mut sim = Simulator::new(config.sim_config(shown)?, &parts.specs)
         .map_err(|e| anyhow::anyhow!("simulator: {e}"))?;
+    for (i, &scale) in parts.friction.iter().enumerate() {
+        // In range by construction (`SimSection::parts` checked each class).
+        anyhow::ensure!(sim.set_part_friction(i, scale), "sim.parts[{i}]: friction scale {scale} refused");
+    }
     Ok((sim, parts))
 }
 

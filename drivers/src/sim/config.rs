@@ -4,6 +4,8 @@ use core::fmt;
 
 use rt_core::motion::RigParams;
 
+use super::truth::{PlateTruth, TruthError};
+
 /// How the plate follows actuator commands.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ActuatorModel {
@@ -38,6 +40,9 @@ pub struct SimConfig {
     /// Std of white noise added to each actuator force (N), seeded.
     pub force_noise: f64,
     pub seed: u64,
+    /// How the plate really differs from `rig` and `mu_*` (only the
+    /// simulator reads it).
+    pub truth: PlateTruth,
 }
 
 impl Default for SimConfig {
@@ -59,11 +64,12 @@ impl Default for SimConfig {
             collisions: true,
             force_noise: 0.0,
             seed: 0,
+            truth: PlateTruth::NOMINAL,
         }
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SimConfigError {
     TickRate,
     Substeps,
@@ -73,6 +79,7 @@ pub enum SimConfigError {
     PlateExtent,
     Restitution,
     Noise,
+    Truth(TruthError),
 }
 
 impl fmt::Display for SimConfigError {
@@ -86,6 +93,7 @@ impl fmt::Display for SimConfigError {
             Self::PlateExtent => "sim.plate_half_extent must be finite and positive",
             Self::Restitution => "sim: restitutions must be in [0, 1]",
             Self::Noise => "sim.force_noise must be finite and >= 0",
+            Self::Truth(e) => return write!(f, "{e}"),
         })
     }
 }
@@ -122,6 +130,7 @@ impl SimConfig {
         if !(self.force_noise.is_finite() && self.force_noise >= 0.0) {
             return Err(SimConfigError::Noise);
         }
+        self.truth.validate(self.plate_half_extent).map_err(SimConfigError::Truth)?;
         Ok(())
     }
 }

@@ -55,6 +55,7 @@ pub(crate) fn step_discs(
         for k in 0..W {
             if g.live[k] & !fast[k] {
                 let at = |v: &[[f64; W]; 3]| [v[0][k], v[1][k], v[2][k]];
+                let mu = mu.scaled(g.mu_scale[k]);
                 step_lane(g, k, &bodies[part_of[gi * W + k]], at(&a), at(&xi), s, mu);
             }
         }
@@ -77,7 +78,8 @@ fn fast_discs(
     mu: Coulomb,
     table: &Table,
 ) -> ([[f64; W]; 6], [bool; W]) {
-    let ck = mu.kinetic;
+    let ck = g.mu_scale.map(|m| mu.kinetic * m);
+    let cs = g.mu_scale.map(|m| mu.stat * m);
     let lane3 = |v: &[[f64; W]; 3], k: usize| [v[0][k], v[1][k], v[2][k]];
     let mut out = [[0.0; W]; 6];
     let (mut n2, mut t2, mut coef) = ([0.0; W], [0.0; W], [[0.0; 2]; W]);
@@ -86,7 +88,7 @@ fn fast_discs(
     let rho2 = g.radius.map(|r| 0.5 * r * r);
     for k in 0..W {
         (n2[k], t2[k]) = disc_friction::kinetic_args(g.radius[k], lane3(xi, k));
-        (load2[k], z[k]) = disc_friction::static_args(g.radius[k], rho2[k], lane3(a, k), mu.stat);
+        (load2[k], z[k]) = disc_friction::static_args(g.radius[k], rho2[k], lane3(a, k), cs[k]);
     }
     for k in 0..W {
         coef[k] = disc_friction::lookup(table, t2[k]);
@@ -98,7 +100,7 @@ fn fast_discs(
     for k in 0..W {
         let (a, xi, r) = (lane3(a, k), lane3(xi, k), g.radius[k]);
         let dot = |x: [f64; 3], y: [f64; 3]| twist_dot(rho2[k], x, y);
-        let gk = disc_friction::kinetic_finish(r, rho2[k], xi, n2[k], coef[k], ck);
+        let gk = disc_friction::kinetic_finish(r, rho2[k], xi, n2[k], coef[k], ck[k]);
         let bv = [a[0] - gk[0], a[1] - gk[1], a[2] - gk[2]];
         let bb = dot(bv, bv);
         let s_star = if bb > 0.0 { -dot(xi, bv) / bb } else { f64::INFINITY };
@@ -117,12 +119,12 @@ fn fast_discs(
         let (a, xi, r) = (lane3(a, k), lane3(xi, k), g.radius[k]);
         let dot = |x: [f64; 3], y: [f64; 3]| twist_dot(rho2[k], x, y);
         let (stuck, v) = (g.stuck[k], [g.vx[k], g.vy[k], g.w[k]]);
-        let scale = dot(a, a).sqrt() + ck;
+        let scale = dot(a, a).sqrt() + ck[k];
         let tol = 1e-9 * scale * h;
         let sticks = disc_friction::sticks_with(load2[k], limit[k]);
         let at_rest = dot(xi, xi) <= tol * tol;
         let xmk = lane3(&xm, k);
-        let gm = disc_friction::kinetic_finish(r, rho2[k], xmk, n2[k], coef[k], ck);
+        let gm = disc_friction::kinetic_finish(r, rho2[k], xmk, n2[k], coef[k], ck[k]);
         let moving = dot(xmk, xmk) > tol * tol;
         for c in 0..3 {
             let g2 = if moving { gm[c] } else { g1[c][k] };

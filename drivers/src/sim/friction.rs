@@ -31,6 +31,14 @@ pub(crate) struct Coulomb {
     pub stat: f64,
 }
 
+impl Coulomb {
+    /// Both coefficients times `scale` (a lane's `mu_scale`).
+    #[inline(always)]
+    pub fn scaled(self, scale: f64) -> Self {
+        Self { kinetic: self.kinetic * scale, stat: self.stat * scale }
+    }
+}
+
 /// Twist inner product with the part's I/m `rho2` weighting the spin.
 #[inline(always)]
 pub(crate) fn twist_dot(rho2: f64, x: [f64; 3], y: [f64; 3]) -> f64 {

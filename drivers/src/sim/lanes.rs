@@ -27,6 +27,9 @@ pub(crate) struct Group {
     pub w: [f64; W],
     /// A disc's radius (its friction depends on it); 0 for other parts.
     pub radius: [f64; W],
+    /// μ here over the nominal μ (the truth's map and part scale; 1 on a
+    /// nominal plate, where multiplying by it changes no bit).
+    pub mu_scale: [f64; W],
     pub stuck: [bool; W],
     pub live: [bool; W],
     pub lim_x: [f64; W],
@@ -45,6 +48,7 @@ impl Default for Group {
             vy: [0.0; W],
             w: [0.0; W],
             radius: [0.0; W],
+            mu_scale: [1.0; W],
             stuck: [true; W],
             live: [false; W],
             lim_x: [f64::INFINITY; W],

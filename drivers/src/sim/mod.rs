@@ -16,18 +16,23 @@ mod part;
 mod plate;
 mod point_lanes;
 mod polygon_limit;
+mod truth;
 
 use core::fmt;
 
 use multiversion::multiversion;
 
 use rt_core::driver::{
-    ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError, apply_limits,
+    ActuatorCommand, ActuatorLimits, MAX_ACTUATORS, PlateDriver, PlateState, ReadError, WriteError, apply_limits,
 };
 use rt_core::motion::{Pose, Rig, RigError, Twist};
 
 pub use config::{ActuatorModel, SimConfig, SimConfigError};
 pub use part::{MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartState, Shape};
+pub use truth::{
+    FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PlateTruth, TruthError,
+    friction_scale_ok,
+};
 
 use contact::Broadphase;
 use friction::Coulomb;
@@ -78,7 +83,19 @@ pub struct SimCounters {
 #[derive(Debug, Clone)]
 pub struct Simulator {
     cfg: SimConfig,
+    /// The rig as the controller knows it (limits, `rig()`).
     rig: Rig,
+    /// The rig as it is ([`PlateTruth::plant_rig`]): what the commands move.
+    plant: Rig,
+    /// 1 + each sensor's scale error.
+    sensor_gain: [f64; MAX_ACTUATORS],
+    /// The truth's rig differs from the model's: `read` reports what the
+    /// sensors say, through the model.
+    plant_differs: bool,
+    /// Each part's friction scale (its class's, in the truth).
+    part_friction: Vec<f64>,
+    /// Some part's friction differs from the nominal μ (a map or a scale).
+    friction_uneven: bool,
     limits: ActuatorLimits,
     mu: Coulomb,
     h: f64,
@@ -103,6 +120,9 @@ impl Simulator {
     pub fn new(cfg: SimConfig, parts: &[PartSpec]) -> Result<Self, SimError> {
         cfg.validate().map_err(SimError::Config)?;
         let rig = Rig::new(cfg.rig).map_err(SimError::Rig)?;
+        let plant = Rig::new(cfg.truth.plant_rig(&cfg.rig)).map_err(SimError::Rig)?;
+        let sensor_gain = cfg.truth.sensor_scale_error.map(|e| 1.0 + e);
+        let plant_differs = plant.params() != rig.params() || sensor_gain.iter().any(|&g| g != 1.0);
         if parts.len() > MAX_PARTS {
             return Err(SimError::TooManyParts { given: parts.len(), capacity: MAX_PARTS });
         }
@@ -130,7 +150,7 @@ impl Simulator {
         let fence_limits: Vec<[f64; 2]> =
             bodies.iter().map(|b| contact::fence_limits(b, cfg.plate_half_extent)).collect();
         let radius: Vec<f64> = bodies.iter().map(|b| b.radius).collect();
-        Ok(Self {
+        let mut sim = Self {
             lanes: Lanes::new(&states, &kind, &fence_limits, &radius),
             patches,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
@@ -142,12 +162,19 @@ impl Simulator {
             broadphase: Broadphase::with_capacity(parts.len()),
             rng: SplitMix64::new(cfg.seed),
             counters: SimCounters::default(),
+            part_friction: vec![1.0; bodies.len()],
+            friction_uneven: !cfg.truth.friction_map.is_flat(),
+            plant,
+            sensor_gain,
+            plant_differs,
             bodies,
             parts: states,
             limits,
             rig,
             cfg,
-        })
+        };
+        sim.update_friction();
+        Ok(sim)
     }
 
     pub fn config(&self) -> &SimConfig {
@@ -197,6 +224,33 @@ impl Simulator {
         }
     }
 
+    /// Set part `i`'s friction scale (μ of its material over the nominal,
+    /// part of the truth). Returns false if `i` is out of range or the
+    /// scale outside [`MIN_FRICTION_SCALE`]..=[`MAX_FRICTION_SCALE`].
+    pub fn set_part_friction(&mut self, i: usize, scale: f64) -> bool {
+        match self.part_friction.get_mut(i) {
+            Some(s) if friction_scale_ok(scale) => {
+                *s = scale;
+                self.friction_uneven |= scale != 1.0;
+                self.update_friction();
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Every live lane's μ scale: its part's, times the map where it is.
+    fn update_friction(&mut self) {
+        let (half, map) = (self.cfg.plate_half_extent, self.cfg.truth.friction_map);
+        let (px, py) = (self.plate.pose.x, self.plate.pose.y);
+        for (i, &l) in self.lanes.lane.iter().enumerate() {
+            let (g, k) = (&mut self.lanes.groups[l / W], l % W);
+            g.mu_scale[k] = self.part_friction[i] * map.scale_at(half, g.x[k] - px, g.y[k] - py);
+        }
+    }
+
+    /// The true plate pose (the simulator's own; a controller sees the
+    /// sensors, through `read`).
     pub fn plate_pose(&self) -> Pose {
         self.plate.pose
     }
@@ -224,10 +278,14 @@ impl Simulator {
     fn step_body(&mut self) {
         let n = self.cfg.substeps;
         let s = self.h / n as f64;
+        if self.friction_uneven {
+            // Parts move micrometres in a tick: the map is read once per tick.
+            self.update_friction();
+        }
         for sub in 0..n {
             self.plate.plan_substep(
                 self.cfg.actuator,
-                &self.rig,
+                &self.plant,
                 &self.target,
                 s,
                 n - sub,
@@ -255,7 +313,8 @@ impl Simulator {
                 let l = self.lanes.lane[i];
                 let (g, k) = (&mut self.lanes.groups[l / W], l % W);
                 let (a, xi) = disc_lanes::relative_twist(&now, [g.x[k], g.y[k]], [g.vx[k], g.vy[k]], g.w[k]);
-                disc_lanes::step_lane(g, k, &self.bodies[i], a, xi, s, self.mu);
+                let mu = self.mu.scaled(g.mu_scale[k]);
+                disc_lanes::step_lane(g, k, &self.bodies[i], a, xi, s, mu);
             }
             self.plate.integrate(s);
         }
@@ -300,7 +359,13 @@ fn write_command(sim: &mut Simulator, command: &ActuatorCommand) -> Result<(), W
     match apply_limits(&sim.limits, command, &mut sim.command) {
         Ok(clamped) => {
             sim.counters.clamped += clamped as u64;
-            sim.target.accept(sim.cfg.actuator, &sim.rig, &sim.command);
+            // The servos drive the sensor readings to the command.
+            let mut sensed = sim.command;
+            for i in 0..MAX_ACTUATORS {
+                sensed.position[i] /= sim.sensor_gain[i];
+                sensed.velocity[i] /= sim.sensor_gain[i];
+            }
+            sim.target.accept(sim.cfg.actuator, &sim.plant, &sensed);
             sim.holding = false;
             Ok(())
         }
@@ -323,9 +388,20 @@ impl PlateDriver for Simulator {
     fn read(&mut self, state: &mut PlateState) -> Result<(), ReadError> {
         state.tick = self.counters.ticks;
         state.time = self.time();
-        state.pose = self.plate.pose;
-        state.velocity = self.plate.vel;
-        self.rig.actuator_positions_sc(&self.plate.pose, self.plate.sc, &mut state.actuator_position);
+        self.plant.actuator_positions_sc(&self.plate.pose, self.plate.sc, &mut state.actuator_position);
+        if self.plant_differs {
+            let mut rate = [0.0; MAX_ACTUATORS];
+            self.plant.actuator_velocities_sc(self.plate.sc, &self.plate.vel, &mut rate);
+            for i in 0..MAX_ACTUATORS {
+                state.actuator_position[i] *= self.sensor_gain[i];
+                rate[i] *= self.sensor_gain[i];
+            }
+            state.pose = self.rig.pose_from_actuators(&state.actuator_position);
+            state.velocity = self.rig.twist_from_actuators(&state.pose, &rate);
+        } else {
+            state.pose = self.plate.pose;
+            state.velocity = self.plate.vel;
+        }
         state.actuator_force = self.plate.force;
         state.clamped = self.counters.clamped;
         state.rejected = self.counters.rejected;
@@ -339,7 +415,7 @@ impl PlateDriver for Simulator {
 
     fn hold(&mut self) {
         self.command = ActuatorCommand::HOME;
-        self.target.accept(self.cfg.actuator, &self.rig, &ActuatorCommand::HOME);
+        self.target.accept(self.cfg.actuator, &self.plant, &ActuatorCommand::HOME);
         self.holding = true;
     }
 

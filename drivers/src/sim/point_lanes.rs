@@ -47,6 +47,7 @@ pub(crate) fn relative(pl: &PlateNow, pos: [f64; 2], v: [f64; 2]) -> ([f64; 2], 
 /// Lane `k` of `g`, scalar.
 #[inline(always)]
 fn step_lane(pl: &PlateNow, g: &mut Group, k: usize, s: f64, mu: Coulomb) {
+    let mu = mu.scaled(g.mu_scale[k]);
     let mut v = [g.vx[k], g.vy[k]];
     let (a, xi) = relative(pl, [g.x[k], g.y[k]], v);
     let d = friction::step_point(xi, &mut v, a, s, mu, &mut g.stuck[k]);
@@ -85,7 +86,7 @@ fn step_block(pl: &PlateNow, block: &mut [Group], s: f64, mu: Coulomb) {
             let (ak, xk) = relative(pl, [g.x[k], g.y[k]], [g.vx[k], g.vy[k]]);
             [a[b][0][k], a[b][1][k]] = ak;
             [xi[b][0][k], xi[b][1][k]] = xk;
-            (n2[b][k], kk[b][k]) = direction(xk, mu);
+            (n2[b][k], kk[b][k]) = direction(xk, mu.scaled(g.mu_scale[k]));
         }
     }
     for (b, g) in block.iter_mut().enumerate() {
@@ -94,6 +95,7 @@ fn step_block(pl: &PlateNow, block: &mut [Group], s: f64, mu: Coulomb) {
         for k in 0..W {
             let v = [g.vx[k], g.vy[k]];
             let (ak, xk) = ([a[b][0][k], a[b][1][k]], [xi[b][0][k], xi[b][1][k]]);
+            let mu = mu.scaled(g.mu_scale[k]);
             let (r, l) = fast_lane(ak, xk, (n2[b][k], kk[b][k]), v, g.stuck[k], s, mu);
             for c in 0..4 {
                 out[c][k] = r[c];
@@ -107,6 +109,7 @@ fn step_block(pl: &PlateNow, block: &mut [Group], s: f64, mu: Coulomb) {
             let mut stuck = g.stuck;
             for k in 0..W {
                 let (ak, xk) = ([a[b][0][k], a[b][1][k]], [xi[b][0][k], xi[b][1][k]]);
+                let mu = mu.scaled(g.mu_scale[k]);
                 let (r, st, ok) = event_lane(ak, xk, kk[b][k], [g.vx[k], g.vy[k]], s, mu);
                 let take = lane[k].event & ok;
                 for c in 0..4 {

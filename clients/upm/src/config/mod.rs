@@ -10,6 +10,7 @@ pub mod core;
 pub mod driver;
 pub mod rig;
 pub mod sim;
+pub mod truth;
 
 use std::path::Path;
 
@@ -97,7 +98,7 @@ impl Config {
 
     /// `[[sim.parts]]` as simulator part specs; ids must be unique.
     pub fn sim_parts(&self, path: &str) -> Result<SimParts, ConfigError> {
-        self.sim.parts().map_err(|m| ConfigError::invalid(path, m))
+        self.sim.parts(self.plate.half_extent).map_err(|m| ConfigError::invalid(path, m))
     }
 
     /// Camera and tracker parameters; errors name the field.

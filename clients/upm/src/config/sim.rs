@@ -5,6 +5,8 @@ use drivers::{ActuatorModel, SimConfig};
 use rt_core::motion::RigParams;
 use serde::{Deserialize, Serialize};
 
+use super::truth::TruthSection;
+
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimSection {
@@ -18,6 +20,9 @@ pub struct SimSection {
     pub substeps: u32,
     /// Parts on the simulated plate (the simulated camera sees these).
     pub parts: Vec<SimPartSection>,
+    /// How the plate really differs from the model (only the simulator
+    /// reads it): a preset or a `[sim.truth]` table.
+    pub truth: TruthSection,
 }
 
 /// One `[[sim.parts]]` entry.
@@ -43,6 +48,8 @@ pub struct SimParts {
     pub specs: Vec<drivers::PartSpec>,
     pub ids: Vec<u32>,
     pub classes: Vec<u32>,
+    /// Each part's μ over the nominal (its class's in the truth).
+    pub friction: Vec<f64>,
 }
 
 impl Default for SimSection {
@@ -61,6 +68,7 @@ impl Default for SimSection {
             damping,
             substeps: s.substeps,
             parts: Vec::new(),
+            truth: TruthSection::default(),
         }
     }
 }
@@ -85,14 +93,17 @@ impl SimSection {
             rig: RigParams::default(),
             plate_half_extent,
             seed: self.seed,
+            truth: self.truth.resolve(RigParams::default().count, plate_half_extent)?.plate,
             ..SimConfig::default()
         };
         cfg.validate().map_err(|e| e.to_string())?;
         Ok(cfg)
     }
 
-    /// `[[sim.parts]]` as simulator part specs; ids must be unique.
-    pub fn parts(&self) -> Result<SimParts, String> {
+    /// `[[sim.parts]]` as simulator part specs (on a plate of
+    /// `plate_half_extent`, with the truth's friction); ids must be unique.
+    pub fn parts(&self, plate_half_extent: [f64; 2]) -> Result<SimParts, String> {
+        let truth = self.truth.resolve(RigParams::default().count, plate_half_extent)?;
         let mut out = SimParts::default();
         for (i, p) in self.parts.iter().enumerate() {
             let field = format!("sim.parts[{i}]");
@@ -130,6 +141,7 @@ impl SimSection {
             out.specs.push(drivers::PartSpec { shape, mass: p.mass, position: p.position, angle: p.angle });
             out.ids.push(p.id);
             out.classes.push(p.class);
+            out.friction.push(truth.class_friction(p.class));
         }
         // The simulator checks mass, position and capacity; name the part.
         drivers::Simulator::new(SimConfig::default(), &out.specs).map_err(|e| format!("sim.parts: {e}"))?;

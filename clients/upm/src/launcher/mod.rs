@@ -270,6 +270,8 @@ pub fn run_plan(
     let mut metrics = json!({
         "scenario": plan.scenario,
         "seed": plan.seed,
+        // For evaluation only: no process of the rig reads it.
+        "truth": serde_json::to_value(&plan.config.sim.truth).unwrap_or(Value::Null),
         "sim_seconds": observer.trails.duration(),
         "interrupted": interrupted,
         "stress": stress,
