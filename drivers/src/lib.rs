@@ -13,6 +13,7 @@ pub mod sim;
 
 pub use ideal::IdealDriver;
 pub use sim::{
-    ActuatorModel, FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PartSpec, PartState,
-    PlateTruth, Shape, SimConfig, SimConfigError, SimCounters, SimError, Simulator, TruthError, friction_scale_ok,
+    ActuatorModel, FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PartSpec,
+    PartState, PlateTruth, Shape, SimConfig, SimConfigError, SimCounters, SimError, Simulator, TruthError,
+    friction_scale_ok,
 };

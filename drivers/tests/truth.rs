@@ -16,6 +16,11 @@ fn point(p: [f64; 2]) -> PartSpec {
 /// Mean force per unit mass on parts restarted at rest at `at` each
 /// cycle, over `cycles` cycles of one slot about `CENTER` (k = 0.6).
 fn measured(cfg: SimConfig, at: &[[f64; 2]], friction: &[f64], cycles: u64) -> Vec<[f64; 2]> {
+    measured_on(cfg, Rig::new(cfg.rig).expect("rig"), at, friction, cycles)
+}
+
+/// [`measured`], commanded through `rig`.
+fn measured_on(cfg: SimConfig, rig: Rig, at: &[[f64; 2]], friction: &[f64], cycles: u64) -> Vec<[f64; 2]> {
     let mut motion = PlateMotion::new(MotionParams::default()).expect("motion");
     motion.set_schedule(&[ScheduleEntry { center: CENTER, k: 0.6 }]).expect("schedule");
     let specs: Vec<PartSpec> = at.iter().map(|&p| point(p)).collect();
@@ -24,7 +29,6 @@ fn measured(cfg: SimConfig, at: &[[f64; 2]], friction: &[f64], cycles: u64) -> V
     for (i, &s) in friction.iter().enumerate() {
         assert!(sim.set_part_friction(i, s));
     }
-    let rig = Rig::new(cfg.rig).expect("rig");
     let (n, t) = (motion.cycle_ticks(), motion.cycle_duration());
     let mut sum = vec![[0.0; 2]; at.len()];
     let mut state = PlateState::default();
@@ -46,27 +50,79 @@ fn angle(f: [f64; 2]) -> f64 {
     f[1].atan2(f[0])
 }
 
-/// The center a commanded rotation about `c` really turns about, to first
-/// order: the nominal strokes of that twist, read by the plant's scaled
-/// sensors, through the plant's geometry.
-fn effective_center(truth: &PlateTruth, c: [f64; 2]) -> [f64; 2] {
+/// The twist a commanded twist becomes, to first order: its nominal
+/// strokes, read by the plant's scaled sensors, through the plant's geometry.
+fn true_twist(truth: &PlateTruth, xi: Twist) -> Twist {
     let nominal = Rig::new(rt_core::motion::RigParams::default()).expect("rig");
     let plant = Rig::new(truth.plant_rig(nominal.params())).expect("plant");
-    let xi = Twist { x: c[1], y: -c[0], theta: 1.0 };
     let mut v = [0.0; MAX_ACTUATORS];
     nominal.actuator_velocities(&Pose::HOME, &xi, &mut v);
     for (vi, e) in v.iter_mut().zip(truth.sensor_scale_error) {
         *vi /= 1.0 + e;
     }
-    let t = plant.twist_from_actuators_exact(&Pose::HOME, &v);
+    plant.twist_from_actuators_exact(&Pose::HOME, &v)
+}
+
+/// The center a commanded rotation about `c` really turns about.
+fn effective_center(truth: &PlateTruth, c: [f64; 2]) -> [f64; 2] {
+    let t = true_twist(truth, Twist { x: c[1], y: -c[0], theta: 1.0 });
     [-t.y / t.theta, t.x / t.theta]
+}
+
+/// The inverse of the map commanded twist → true twist.
+fn exact_correction(truth: &PlateTruth) -> [[f64; 3]; 3] {
+    let cols = [
+        Twist { x: 1.0, ..Twist::default() },
+        Twist { y: 1.0, ..Twist::default() },
+        Twist { theta: 1.0, ..Twist::default() },
+    ]
+    .map(|e| true_twist(truth, e));
+    let m = [
+        [cols[0].x, cols[1].x, cols[2].x],
+        [cols[0].y, cols[1].y, cols[2].y],
+        [cols[0].theta, cols[1].theta, cols[2].theta],
+    ];
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    core::array::from_fn(|r| {
+        core::array::from_fn(|c| {
+            let (r1, r2, c1, c2) = ((c + 1) % 3, (c + 2) % 3, (r + 1) % 3, (r + 2) % 3);
+            (m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]) / det
+        })
+    })
+}
+
+#[test]
+fn the_exact_correction_makes_a_worn_plate_turn_about_the_commanded_center() {
+    let at = [[-0.6, 0.3], [-0.4, -0.35], [0.1, 0.4], [0.8, -0.3]];
+    let worn = SimConfig {
+        truth: PlateTruth { friction_map: FrictionMap::FLAT, ..PlateTruth::worn() },
+        ..SimConfig::default()
+    };
+    let corrected = Rig::new(worn.rig).expect("rig").with_correction(exact_correction(&worn.truth));
+    let f = measured_on(worn, corrected, &at, &[], 6);
+    let f_nom = measured(SimConfig::default(), &at, &[], 6);
+    let c_eff = effective_center(&worn.truth, CENTER);
+    for (i, p) in at.iter().enumerate() {
+        let dir = |c: [f64; 2]| angle([-(p[1] - c[1]), p[0] - c[0]]);
+        let (e, e_nom) = (angle(f[i]) - dir(CENTER), angle(f_nom[i]) - dir(CENTER));
+        let uncorrected = (dir(c_eff) - dir(CENTER)).abs();
+        // As close to the wanted direction as the nominal plate gets, and
+        // far closer than the uncorrected worn plate.
+        assert!(
+            (e - e_nom).abs() < 0.2 * uncorrected,
+            "part {i}: {e} against {e_nom}, uncorrected {uncorrected}"
+        );
+    }
 }
 
 #[test]
 fn a_worn_plate_turns_about_the_center_its_errors_predict() {
     let at = [[-0.6, 0.3], [-0.4, -0.35], [0.1, 0.4], [0.8, -0.3]];
     let nominal = SimConfig::default();
-    let worn = SimConfig { truth: PlateTruth { friction_map: FrictionMap::FLAT, ..PlateTruth::worn() }, ..nominal };
+    let worn =
+        SimConfig { truth: PlateTruth { friction_map: FrictionMap::FLAT, ..PlateTruth::worn() }, ..nominal };
     let f_nom = measured(nominal, &at, &[], 6);
     let f_worn = measured(worn, &at, &[], 6);
     let c_eff = effective_center(&worn.truth, CENTER);
@@ -93,7 +149,8 @@ fn friction_scales_with_the_part_and_with_the_map() {
     let r = norm(scaled[1]) / norm(base[1]);
     assert!((r - 0.7).abs() < 0.02, "a part of 0.7 μ feels {r} of the force");
     let map = FrictionMap { coefficients: [0.2, -0.1, 0.0, 0.1, 0.0] };
-    let mapped = SimConfig { truth: PlateTruth { friction_map: map, ..PlateTruth::NOMINAL }, ..SimConfig::default() };
+    let mapped =
+        SimConfig { truth: PlateTruth { friction_map: map, ..PlateTruth::NOMINAL }, ..SimConfig::default() };
     let on_map = measured(mapped, &at, &[], 4);
     for (i, p) in at.iter().enumerate() {
         let want = map.scale_at([1.0, 0.5], p[0], p[1]);

@@ -9,7 +9,8 @@ use crate::run::run_planner;
 #[derive(Debug, Parser)]
 #[command(name = "upm-planner", version, about = "UPM planner client (track, sort, sort_paper, spin, local)")]
 pub struct PlannerArgs {
-    /// `--config` is read for [service] and [planner] (name and parameters) only.
+    /// `--config` is read for [service], [planner] (name and parameters)
+    /// and [calibration] (the plate calibration file) only.
     #[command(flatten)]
     pub process: ProcessArgs,
     /// track, sort, sort_paper, spin or local, with its default parameters when the
@@ -36,7 +37,18 @@ pub fn run_planner_process(args: PlannerArgs) -> anyhow::Result<u64> {
     let file = args.process.file()?;
     let prefix = args.process.prefix(&file)?;
     let config = planner_config(&file, args.planner.as_deref())?;
-    let mut planner = config.build().map_err(|m| ConfigError::invalid(file.shown(), m))?;
+    let planner = config.build().map_err(|m| ConfigError::invalid(file.shown(), m))?;
+    let calibration = file.section::<Option<rig_config::CalibrationSection>>("calibration")?;
+    let calibration = match calibration.and_then(|c| c.file) {
+        Some(path) => {
+            let c = rig_config::PlateCalibration::load(&path)
+                .map_err(|m| ConfigError::invalid(file.shown(), m))?;
+            eprintln!("upm-planner: friction from {}", path.display());
+            Some(c)
+        }
+        None => None,
+    };
+    let mut planner = crate::calibrated::calibrated(planner, calibration);
     let duration = args.process.duration().map_err(anyhow::Error::msg)?;
     run_planner(planner.as_mut(), &prefix, duration)
 }

@@ -10,6 +10,7 @@
 //! are that planner's parameters.
 
 pub mod args;
+pub mod calibrated;
 pub mod drive;
 pub mod local;
 pub mod registry;

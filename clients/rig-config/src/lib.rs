@@ -5,10 +5,12 @@
 
 mod error;
 mod file;
+pub mod plate_calibration;
 mod process_args;
 mod service;
 
 pub use error::ConfigError;
 pub use file::{RigFile, load_toml, parse_toml};
+pub use plate_calibration::{CalibrationSection, PlateCalibration};
 pub use process_args::ProcessArgs;
 pub use service::ServiceSection;

@@ -7,6 +7,7 @@
 //! seed: used by the tests and `upm bench sort`.
 
 use ipc_types::{ForceRequest, PartStates};
+use rt_core::runtime::QueueInbox;
 use rt_core::runtime::lockstep::Lockstep;
 
 use crate::config::{Config, DriverChoice, SimParts};
@@ -49,15 +50,51 @@ pub fn run_seeing(
     seconds: f64,
     camera: CameraChoice,
 ) -> anyhow::Result<LoopResult> {
+    run_client(config, &mut PlannerClient(planner), seconds, camera)
+}
+
+/// What answers each frame the core gets, in lock-step: a planner's force
+/// request, or explicit schedules (the plate calibration).
+pub trait LoopClient {
+    /// Push the answer to `seen` (at `time` s since the first frame, the
+    /// core's clock at `now_ns`) into `inbox`. False: the client is done
+    /// and the run stops.
+    fn answer(&mut self, seen: &PartStates, time: f64, now_ns: u64, inbox: &mut QueueInbox) -> bool;
+}
+
+/// A planner as the planner process runs it: its request follows the
+/// frame at once.
+struct PlannerClient<'a>(&'a mut dyn Planner);
+
+impl LoopClient for PlannerClient<'_> {
+    fn answer(&mut self, seen: &PartStates, time: f64, now_ns: u64, inbox: &mut QueueInbox) -> bool {
+        let mut request = ForceRequest::new();
+        if self.0.plan(seen, time, &mut request) {
+            request.seq = seen.seq;
+            request.stamp_ns = now_ns;
+            request.deadline_ns = now_ns + upm_planner::run::REQUEST_LIFETIME_NS;
+            inbox.push_request(&request);
+        }
+        true
+    }
+}
+
+/// [`run_seeing`] with any client, until `seconds` or the client is done.
+pub fn run_client(
+    config: &Config,
+    client: &mut dyn LoopClient,
+    seconds: f64,
+    camera: CameraChoice,
+) -> anyhow::Result<LoopResult> {
     let shown = "scenario";
     match config.driver.kind {
         DriverChoice::Sim => {
             let (sim, parts) = crate::plate_driver::simulator(config, shown)?;
-            run_on(config, sim, parts, planner, seconds, camera)
+            run_on(config, sim, parts, client, seconds, camera)
         }
         DriverChoice::EthercatSim => {
             let (driver, parts) = crate::plate_driver::ethercat_sim(config, shown)?;
-            run_on(config, driver, parts, planner, seconds, camera)
+            run_on(config, driver, parts, client, seconds, camera)
         }
         DriverChoice::Ethercat => anyhow::bail!(
             "driver.kind = \"ethercat\" moves a real plate in real time; a lock-step run needs a simulated one \
@@ -70,7 +107,7 @@ fn run_on<D: SimulatedPlant>(
     config: &Config,
     driver: D,
     parts: SimParts,
-    planner: &mut dyn Planner,
+    client: &mut dyn LoopClient,
     seconds: f64,
     camera: CameraChoice,
 ) -> anyhow::Result<LoopResult> {
@@ -92,7 +129,8 @@ fn run_on<D: SimulatedPlant>(
     let mut seq = 0;
     let mut t = 0;
     let mut next_frame = 0;
-    while t < total {
+    let mut going = true;
+    while t < total && going {
         let now = core.now_ns();
         if t == next_frame {
             next_frame += frame_ticks;
@@ -112,13 +150,13 @@ fn run_on<D: SimulatedPlant>(
                 Sight::Truth(s) => s.capture(&states),
                 Sight::Rendered(s) => {
                     s.see(&states, frame_ticks as f64 / tick_hz, &mut seen);
-                    deliver(&mut core, planner, &seen, start_ns);
+                    going &= deliver(&mut core, client, &seen, start_ns);
                 }
             }
         }
         if let Sight::Truth(s) = &mut sight {
             while s.next(now, &mut seen) {
-                deliver(&mut core, planner, &seen, start_ns);
+                going &= deliver(&mut core, client, &seen, start_ns);
             }
         }
         // Step to the next frame, or to the next delivery if sooner.
@@ -156,22 +194,16 @@ enum Sight {
     Rendered(Box<RenderedSight>),
 }
 
-/// Hand a frame to the core and the planner, as vision's publish does;
-/// the planner's request follows at once, as the planner process sends it.
+/// Hand a frame to the core and the client, as vision's publish does;
+/// the client's answer follows at once. False when the client is done.
 fn deliver<D: SimulatedPlant>(
     core: &mut Lockstep<D>,
-    planner: &mut dyn Planner,
+    client: &mut dyn LoopClient,
     seen: &PartStates,
     start_ns: u64,
-) {
+) -> bool {
     core.inbox().push_parts(seen);
     let now = core.now_ns();
     let time = seen.stamp_ns.saturating_sub(start_ns) as f64 / 1e9;
-    let mut request = ForceRequest::new();
-    if planner.plan(seen, time, &mut request) {
-        request.seq = seen.seq;
-        request.stamp_ns = now;
-        request.deadline_ns = now + upm_planner::run::REQUEST_LIFETIME_NS;
-        core.inbox().push_request(&request);
-    }
+    client.answer(seen, time, now, core.inbox())
 }

@@ -15,6 +15,7 @@ pub mod bench_vision;
 pub mod bench_vision_latency;
 pub mod bounded_reference;
 pub mod calibrate_camera;
+pub mod calibrate_plate;
 pub mod cli;
 pub mod closed_loop;
 pub mod config;

@@ -23,7 +23,8 @@ use core::fmt;
 use multiversion::multiversion;
 
 use rt_core::driver::{
-    ActuatorCommand, ActuatorLimits, MAX_ACTUATORS, PlateDriver, PlateState, ReadError, WriteError, apply_limits,
+    ActuatorCommand, ActuatorLimits, MAX_ACTUATORS, PlateDriver, PlateState, ReadError, WriteError,
+    apply_limits,
 };
 use rt_core::motion::{Pose, Rig, RigError, Twist};
 

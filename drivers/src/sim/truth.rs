@@ -85,14 +85,25 @@ pub struct PlateTruth {
 /// Why a truth was refused; each names its field.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum TruthError {
-    AttachOffset { actuator: usize },
-    DirectionError { actuator: usize },
-    SensorScaleError { actuator: usize },
+    AttachOffset {
+        actuator: usize,
+    },
+    DirectionError {
+        actuator: usize,
+    },
+    SensorScaleError {
+        actuator: usize,
+    },
     PlateMassError,
     /// The map leaves [`MIN_FRICTION_SCALE`, `MAX_FRICTION_SCALE`] somewhere on the plate.
-    FrictionMap { least: f64, greatest: f64 },
+    FrictionMap {
+        least: f64,
+        greatest: f64,
+    },
     /// A part's friction scale outside the same range.
-    PartFriction { part: usize },
+    PartFriction {
+        part: usize,
+    },
 }
 
 /// Friction may vary between these multiples of the nominal μ.
@@ -111,7 +122,9 @@ impl fmt::Display for TruthError {
             Self::SensorScaleError { actuator } => {
                 write!(f, "sim.truth.sensor_scale_error_pct[{actuator}] must be finite and within 20 %")
             }
-            Self::PlateMassError => f.write_str("sim.truth.plate_mass_error_pct must be finite, in -50..=100"),
+            Self::PlateMassError => {
+                f.write_str("sim.truth.plate_mass_error_pct must be finite, in -50..=100")
+            }
             Self::FrictionMap { least, greatest } => write!(
                 f,
                 "sim.truth.friction_map spans {least:.3}..{greatest:.3} of the nominal μ over the plate; \

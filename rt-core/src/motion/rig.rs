@@ -171,6 +171,9 @@ pub struct Rig {
     radial: [f64; MAX_ACTUATORS],
     /// pinv · radial.
     radial_dof: [f64; 3],
+    /// The twist to command for a wanted twist (a plate calibration's
+    /// `twist_correction`, rows x, y, θ); None: the model is the plate.
+    correction: Option<[[f64; 3]; 3]>,
 }
 
 impl Rig {
@@ -188,6 +191,7 @@ impl Rig {
             pinv: [[0.0; MAX_ACTUATORS]; 3],
             radial: [0.0; MAX_ACTUATORS],
             radial_dof: [0.0; 3],
+            correction: None,
         };
         // Rows of the home Jacobian; only the layouts derived from it are kept.
         let mut jac = [[0.0; 3]; MAX_ACTUATORS];
@@ -222,6 +226,19 @@ impl Rig {
 
     pub fn params(&self) -> &RigParams {
         &self.params
+    }
+
+    /// This rig, commanding `correction`·ξ for every wanted pose, twist and
+    /// acceleration ξ of a motion ([`Rig::command`]): a calibrated plate
+    /// that turns about a shifted center is told to turn about one that
+    /// lands it where the model wants. Small-motion (linear) correction.
+    pub fn with_correction(mut self, correction: [[f64; 3]; 3]) -> Self {
+        self.correction = Some(correction);
+        self
+    }
+
+    pub fn correction(&self) -> Option<&[[f64; 3]; 3]> {
+        self.correction.as_ref()
     }
 
     pub fn count(&self) -> usize {
@@ -415,6 +432,26 @@ impl Rig {
     /// feed-forward forces. Allocation-free.
     #[inline(always)]
     pub fn command(&self, sample: &PlateSample, cmd: &mut ActuatorCommand) {
+        let corrected;
+        let sample = match &self.correction {
+            Some(m) => {
+                let map = |v: [f64; 3]| {
+                    core::array::from_fn::<f64, 3, _>(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
+                };
+                let (p, v, a) = (sample.pose, sample.velocity, sample.acceleration);
+                let [px, py, pt] = map([p.x, p.y, p.theta]);
+                let [vx, vy, vt] = map([v.x, v.y, v.theta]);
+                let [ax, ay, at] = map([a.x, a.y, a.theta]);
+                corrected = PlateSample {
+                    pose: Pose { x: px, y: py, theta: pt },
+                    velocity: Twist { x: vx, y: vy, theta: vt },
+                    acceleration: Twist { x: ax, y: ay, theta: at },
+                    ..*sample
+                };
+                &corrected
+            }
+            None => sample,
+        };
         let sc = super::pose::sin_cos(sample.pose.theta);
         self.actuator_positions_sc(&sample.pose, sc, &mut cmd.position);
         self.actuator_velocities_sc(sc, &sample.velocity, &mut cmd.velocity);

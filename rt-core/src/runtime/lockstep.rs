@@ -18,7 +18,7 @@ use super::samples::{MOTOR_RING, MotorSample, StageOutputs, StageOutputsRx};
 use super::shared::CoreShared;
 use super::solve_stage::SolveStage;
 use crate::driver::PlateDriver;
-use crate::motion::{PlateMotion, Rig};
+use crate::motion::PlateMotion;
 
 #[derive(Debug)]
 pub struct Lockstep<D: PlateDriver> {
@@ -43,7 +43,7 @@ impl<D: PlateDriver> Lockstep<D> {
     /// A core at manual time `start_ns` (> 0, so stamps are never 0).
     pub fn new(params: &CoreParams, driver: D, start_ns: u64) -> Result<Self, CoreParamsError> {
         params.validate()?;
-        let rig = Rig::new(params.rig).map_err(CoreParamsError::Rig)?;
+        let rig = params.plate_rig()?;
         let empty = PlateMotion::new(params.motion).map_err(CoreParamsError::Motion)?;
         let (writer, reader) =
             motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });

@@ -66,6 +66,9 @@ impl Default for RtParams {
 pub struct CoreParams {
     pub motion: MotionParams,
     pub rig: RigParams,
+    /// A plate calibration's twist correction (`motion::Rig::with_correction`);
+    /// None: the rig is its model.
+    pub twist_correction: Option<[[f64; 3]; 3]>,
     /// Rotation centers (plate coordinates, m); schedules index into these.
     pub centers: Vec<[f64; 2]>,
     /// 0: a cycle plays every center once (the paper). N > 0: the centers
@@ -99,6 +102,7 @@ impl Default for CoreParams {
         Self {
             motion: MotionParams::default(),
             rig: RigParams::default(),
+            twist_correction: None,
             centers: vec![[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]],
             cycle_slots: 0,
             mu_m_g: 0.1,
@@ -128,6 +132,8 @@ pub enum CoreParamsError {
         index: usize,
     },
     MuMg,
+    /// A twist correction with a non-finite entry.
+    TwistCorrection,
     CycleSlots {
         given: usize,
         capacity: usize,
@@ -154,6 +160,7 @@ impl fmt::Display for CoreParamsError {
             }
             Self::NonFiniteCenter { index } => write!(f, "plate.centers[{index}] is not finite"),
             Self::MuMg => f.write_str("plate.mu_m_g must be finite and positive"),
+            Self::TwistCorrection => f.write_str("the calibration's twist_correction must be finite"),
             Self::CycleSlots { given, capacity } => {
                 write!(
                     f,
@@ -184,6 +191,9 @@ impl CoreParams {
     pub fn validate(&self) -> Result<(), CoreParamsError> {
         self.motion.validate().map_err(CoreParamsError::Motion)?;
         self.rig.validate().map_err(CoreParamsError::Rig)?;
+        if self.twist_correction.is_some_and(|m| m.iter().flatten().any(|v| !v.is_finite())) {
+            return Err(CoreParamsError::TwistCorrection);
+        }
         if self.centers.is_empty() {
             return Err(CoreParamsError::NoCenters);
         }
@@ -227,8 +237,17 @@ impl CoreParams {
     /// the bound on |k| the core will actually use.
     pub fn playable_k_bounds(&self) -> Result<Vec<f64>, CoreParamsError> {
         self.validate()?;
+        super::solve_stage::playable_k_bounds(self, &self.plate_rig()?)
+    }
+
+    /// The rig the motor commands: `rig`, through the calibration's
+    /// correction if there is one.
+    pub fn plate_rig(&self) -> Result<crate::motion::Rig, CoreParamsError> {
         let rig = crate::motion::Rig::new(self.rig).map_err(CoreParamsError::Rig)?;
-        super::solve_stage::playable_k_bounds(self, &rig)
+        Ok(match self.twist_correction {
+            Some(m) => rig.with_correction(m),
+            None => rig,
+        })
     }
 
     /// Motor tick period (ns).

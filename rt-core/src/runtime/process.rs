@@ -188,7 +188,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             super::rt_setup::CPU_DMA_LATENCY
         );
     }
-    let rig = Rig::new(params.rig).map_err(|e| StartError::Params(CoreParamsError::Rig(e)))?;
+    let rig = params.plate_rig().map_err(StartError::Params)?;
     let empty =
         PlateMotion::new(params.motion).map_err(|e| StartError::Params(CoreParamsError::Motion(e)))?;
     let (writer, reader) = motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });

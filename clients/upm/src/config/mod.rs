@@ -40,6 +40,8 @@ pub struct Config {
     pub vision: VisionSection,
     pub planner: PlannerConfig,
     pub camera: upm_camera::CameraSection,
+    /// The plate calibration file core and planner load.
+    pub calibration: rig_config::CalibrationSection,
 }
 
 impl Config {
@@ -63,9 +65,25 @@ impl Config {
             return Err(format!("telemetry.period_ms must be at least 1, got {}", self.telemetry.period_ms));
         }
         self.service.prefix_or(None)?;
+        let rig = RigParams::default();
+        let twist_correction = match &self.calibration.file {
+            Some(path) => {
+                let c = rig_config::PlateCalibration::load(path)?;
+                let identity = rig_config::plate_calibration::RigIdentity {
+                    actuators: rig.count as u32,
+                    centers: &self.plate.centers,
+                    plate_half_extent: self.plate.half_extent,
+                    mu_m_g: self.plate.mu_m_g,
+                };
+                c.check_rig(&identity).map_err(|e| format!("calibration.file {}: {e}", path.display()))?;
+                Some(c.twist_correction)
+            }
+            None => None,
+        };
         let params = CoreParams {
             motion: self.motion.params(&self.plate),
-            rig: RigParams::default(),
+            rig,
+            twist_correction,
             centers: self.plate.centers.clone(),
             cycle_slots: self.motion.cycle_slots,
             mu_m_g: self.plate.mu_m_g,

@@ -1,0 +1,457 @@
+//! The fit: from what each part did in each pair of bursts to the plate's
+//! effective turning and its friction.
+//!
+//! 1. **Effective centers.** A slot about C pushes a part at P along
+//!    R90(P − C′), C′ the center the plate really turns about: the part's
+//!    acceleration A is perpendicular to P − C′, so A·C′ = A·P. Every part
+//!    seen in a pair of bursts about one center gives one such line; C′ is
+//!    their least-squares meeting point (outliers beyond 3 MADs dropped).
+//! 2. **The plate's turning.** To first order the plate's true twist is a
+//!    fixed 3 × 3 map M of the commanded one, so (c′_y, −c′_x, 1) ∥
+//!    M·(c_y, −c_x, 1): two linear equations on M per center (the DLT of
+//!    a homography). M is the null vector of their normal matrix (≥ 4
+//!    centers), scaled so that M₃₃ = 1; the correction is M⁻¹.
+//! 3. **Friction.** The model's own acceleration of a part at rest at P
+//!    under the same pair of slots about C′ (`rt_core::motion::
+//!    cycle_mean_acceleration`, nominal μ) scales to the seen one by
+//!    s = (A·a_model)/|a_model|². Then s = σ_class·(1 + Σ c_k·term_k(P)) is
+//!    fitted by Gauss–Newton, with a weak pull of c towards 0 (a map is only
+//!    known where parts went), outliers beyond 3 MADs dropped.
+//!
+//! The difference of the two bursts of a pair (+k then −k about one center)
+//! cancels the drag of the part's own velocity to first order.
+
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
+use rig_config::plate_calibration::{
+    CalibrationReport, ClassFriction, FORMAT, FRICTION_TERMS, PlateCalibration, friction_terms,
+};
+use rt_core::motion::{MotionParams, PlateMotion, ScheduleEntry, cycle_mean_acceleration};
+
+use crate::CalibrateError;
+
+/// One part in one pair of bursts.
+#[derive(Debug, Clone, Copy)]
+pub struct Observation {
+    /// Which excited center (index into the rig's centers).
+    pub center: usize,
+    pub k: f64,
+    pub class: u32,
+    /// Mean position over the pair (m).
+    pub position: [f64; 2],
+    /// Half the difference of the two bursts' accelerations (m/s²).
+    pub acceleration: [f64; 2],
+}
+
+/// What the fit needs of the rig.
+#[derive(Debug, Clone)]
+pub struct RigModel {
+    pub centers: Vec<[f64; 2]>,
+    pub plate_half_extent: [f64; 2],
+    pub mu_m_g: f64,
+    /// The model's μ·g (m/s²): the planner's μmg over its part mass.
+    pub mu_g: f64,
+    pub motion: MotionParams,
+    pub actuators: u32,
+    /// The correction the core played the excitation through (its loaded
+    /// calibration), which the new one replaces.
+    pub prior_correction: Option<[[f64; 3]; 3]>,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Indices to keep: |r| within 3 scaled MADs (and at least `floor`).
+fn inliers(r: &[f64], floor: f64) -> Vec<bool> {
+    let mut a: Vec<f64> = r.iter().map(|x| x.abs()).collect();
+    let cut = (3.0 * 1.4826 * median(&mut a)).max(floor);
+    r.iter().map(|x| x.abs() <= cut).collect()
+}
+
+/// Step 1: C′ for the observations of one center, refined so that the
+/// model's own direction of push (which leans off R90(P − C′) a little:
+/// the slot's fast and slow phases do not cancel exactly) meets every
+/// seen one; also the sine residuals against it.
+fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
+    let (mut c, _) = perpendicular_center(obs)?;
+    let sine = |c: [f64; 2], o: &Observation| -> Option<f64> {
+        let m = model_acceleration(rig, c, o.k, o.position)?;
+        let a = o.acceleration;
+        Some((m[0] * a[1] - m[1] * a[0]) / (m[0].hypot(m[1]) * a[0].hypot(a[1])).max(1e-300))
+    };
+    let mut keep = vec![true; obs.len()];
+    let h = 1e-4;
+    for _ in 0..4 {
+        let (mut n, mut b) = ([[0.0; 2]; 2], [0.0; 2]);
+        for (o, _) in obs.iter().zip(&keep).filter(|(_, k)| **k) {
+            let r = sine(c, o)?;
+            let j = [(sine([c[0] + h, c[1]], o)? - r) / h, (sine([c[0], c[1] + h], o)? - r) / h];
+            for x in 0..2 {
+                for y in 0..2 {
+                    n[x][y] += j[x] * j[y];
+                }
+                b[x] -= j[x] * r;
+            }
+        }
+        let det = n[0][0] * n[1][1] - n[0][1] * n[1][0];
+        if !(det > 0.0) {
+            return None;
+        }
+        let step = [(n[1][1] * b[0] - n[0][1] * b[1]) / det, (n[0][0] * b[1] - n[1][0] * b[0]) / det];
+        c = [c[0] + step[0], c[1] + step[1]];
+        let res: Vec<f64> = obs.iter().map(|o| sine(c, o).unwrap_or(f64::NAN)).collect();
+        keep = inliers(&res, 0.5f64.to_radians().sin());
+    }
+    let res = obs.iter().map(|o| sine(c, o).unwrap_or(f64::NAN)).collect();
+    Some((c, res))
+}
+
+/// C′ as the least-squares meeting point of the lines through each P
+/// perpendicular to its push (the paper's field), outliers dropped.
+fn perpendicular_center(obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
+    let mut keep = vec![true; obs.len()];
+    let mut out = None;
+    for _ in 0..3 {
+        let (mut n, mut b) = (Matrix3::<f64>::zeros(), [0.0; 2]);
+        let mut used = 0;
+        for (o, _) in obs.iter().zip(&keep).filter(|(_, k)| **k) {
+            let a = o.acceleration;
+            let len = a[0].hypot(a[1]);
+            if len == 0.0 {
+                continue;
+            }
+            let u = [a[0] / len, a[1] / len];
+            let rhs = u[0] * o.position[0] + u[1] * o.position[1];
+            for r in 0..2 {
+                for c in 0..2 {
+                    n[(r, c)] += u[r] * u[c];
+                }
+                b[r] += u[r] * rhs;
+            }
+            used += 1;
+        }
+        // Two lines that are not nearly parallel.
+        let det = n[(0, 0)] * n[(1, 1)] - n[(0, 1)] * n[(1, 0)];
+        if used < 2 || det < 0.01 * (used * used) as f64 {
+            return None;
+        }
+        let c = [(n[(1, 1)] * b[0] - n[(0, 1)] * b[1]) / det, (n[(0, 0)] * b[1] - n[(1, 0)] * b[0]) / det];
+        let res: Vec<f64> = obs
+            .iter()
+            .map(|o| {
+                let a = o.acceleration;
+                let d = [o.position[0] - c[0], o.position[1] - c[1]];
+                (a[0] * d[0] + a[1] * d[1]) / (a[0].hypot(a[1]) * d[0].hypot(d[1])).max(1e-300)
+            })
+            .collect();
+        keep = inliers(&res, 0.5f64.to_radians().sin());
+        out = Some((c, res));
+    }
+    out
+}
+
+/// Step 2: M with (c′_y, −c′_x, 1) ∥ M·(c_y, −c_x, 1), M₃₃ = 1.
+fn plate_map(pairs: &[([f64; 2], [f64; 2])]) -> Option<Matrix3<f64>> {
+    if pairs.len() < 4 {
+        return None;
+    }
+    let mut ata = SMatrix::<f64, 9, 9>::zeros();
+    for (c, e) in pairs {
+        let xi = [c[1], -c[0], 1.0];
+        let (a, b) = (e[1], -e[0]);
+        // b·(Mξ)₃ − (Mξ)₂ = 0 and (Mξ)₁ − a·(Mξ)₃ = 0.
+        let mut rows = [[0.0; 9]; 2];
+        for k in 0..3 {
+            rows[0][6 + k] = b * xi[k];
+            rows[0][3 + k] = -xi[k];
+            rows[1][k] = xi[k];
+            rows[1][6 + k] = -a * xi[k];
+        }
+        for row in rows {
+            for i in 0..9 {
+                for j in 0..9 {
+                    ata[(i, j)] += row[i] * row[j];
+                }
+            }
+        }
+    }
+    let eig = ata.symmetric_eigen();
+    let (imin, _) = eig.eigenvalues.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1))?;
+    let v = eig.eigenvectors.column(imin);
+    let m = Matrix3::from_row_slice(v.as_slice());
+    (m[(2, 2)].abs() > 1e-9).then(|| m / m[(2, 2)])
+}
+
+/// The model's acceleration of a part at rest at `p` under a slot about `c`
+/// with intensity `k`, half the difference of +k and −k.
+fn model_acceleration(rig: &RigModel, c: [f64; 2], k: f64, p: [f64; 2]) -> Option<[f64; 2]> {
+    let mut motion = PlateMotion::new(rig.motion).ok()?;
+    let mut at = |k: f64| -> Option<[f64; 2]> {
+        motion.set_schedule(&[ScheduleEntry { center: c, k }]).ok()?;
+        Some(cycle_mean_acceleration(&motion, p, [0.0; 2], rig.mu_g))
+    };
+    let (plus, minus) = (at(k)?, at(-k)?);
+    Some([(plus[0] - minus[0]) / 2.0, (plus[1] - minus[1]) / 2.0])
+}
+
+/// Step 3's model: s = σ_class·(1 + c·t).
+struct FrictionFit {
+    classes: Vec<u32>,
+    sigma: Vec<f64>,
+    c: [f64; FRICTION_TERMS],
+}
+
+impl FrictionFit {
+    fn predict(&self, class: u32, t: &[f64; FRICTION_TERMS]) -> f64 {
+        let i = self.classes.iter().position(|&c| c == class).unwrap_or(0);
+        self.sigma[i] * (1.0 + t.iter().zip(&self.c).map(|(a, b)| a * b).sum::<f64>())
+    }
+}
+
+/// Gauss–Newton on (σ per class, c); `pull` weighs c towards 0.
+fn fit_friction(
+    data: &[(u32, [f64; FRICTION_TERMS], f64)],
+    pull: f64,
+) -> Option<(FrictionFit, DMatrix<f64>, f64)> {
+    let mut classes: Vec<u32> = data.iter().map(|d| d.0).collect();
+    classes.sort_unstable();
+    classes.dedup();
+    let sigma = classes
+        .iter()
+        .map(|&c| {
+            let mut v: Vec<f64> = data.iter().filter(|d| d.0 == c).map(|d| d.2).collect();
+            median(&mut v)
+        })
+        .collect();
+    let mut fit = FrictionFit { classes, sigma, c: [0.0; FRICTION_TERMS] };
+    let n = fit.classes.len() + FRICTION_TERMS;
+    let mut cov = DMatrix::zeros(n, n);
+    let mut rms = 0.0;
+    for _ in 0..8 {
+        let mut jtj = DMatrix::<f64>::zeros(n, n);
+        let mut jtr = DVector::<f64>::zeros(n);
+        let mut ss = 0.0;
+        for (class, t, s) in data {
+            let ci = fit.classes.iter().position(|c| c == class)?;
+            let map = 1.0 + t.iter().zip(&fit.c).map(|(a, b)| a * b).sum::<f64>();
+            let r = s - fit.sigma[ci] * map;
+            ss += r * r;
+            let mut j = vec![0.0; n];
+            j[ci] = map;
+            for k in 0..FRICTION_TERMS {
+                j[fit.classes.len() + k] = fit.sigma[ci] * t[k];
+            }
+            for a in 0..n {
+                jtr[a] += j[a] * r;
+                for b in 0..n {
+                    jtj[(a, b)] += j[a] * j[b];
+                }
+            }
+        }
+        for k in 0..FRICTION_TERMS {
+            let i = fit.classes.len() + k;
+            jtj[(i, i)] += pull;
+            jtr[i] -= pull * fit.c[k];
+        }
+        let inv = jtj.clone().try_inverse()?;
+        let step = &inv * &jtr;
+        for (i, s) in fit.sigma.iter_mut().enumerate() {
+            *s += step[i];
+        }
+        for k in 0..FRICTION_TERMS {
+            fit.c[k] += step[fit.classes.len() + k];
+        }
+        let dof = (data.len() as f64 - n as f64).max(1.0);
+        rms = (ss / dof).sqrt();
+        cov = inv * (rms * rms);
+    }
+    Some((fit, cov, rms))
+}
+
+/// Counts the fit reports.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FitCounts {
+    pub bursts: u32,
+    pub rig_seconds: f64,
+    /// Observations dropped before the fit (fence, neighbours, too few frames).
+    pub dropped: u32,
+}
+
+/// Steps 1–3; the file `upm calibrate plate` writes.
+pub fn fit(
+    rig: &RigModel,
+    obs: &[Observation],
+    counts: FitCounts,
+) -> Result<PlateCalibration, CalibrateError> {
+    let mut excited: Vec<usize> = obs.iter().map(|o| o.center).collect();
+    excited.sort_unstable();
+    excited.dedup();
+    let mut pairs = Vec::new();
+    let mut effective = vec![None; rig.centers.len()];
+    let mut direction_res = Vec::new();
+    let mut outliers = 0u32;
+    for &e in &excited {
+        let of: Vec<&Observation> = obs.iter().filter(|o| o.center == e).collect();
+        if let Some((c, res)) = effective_center(rig, &of) {
+            let keep = inliers(&res, 0.5f64.to_radians().sin());
+            outliers += keep.iter().filter(|k| !**k).count() as u32;
+            direction_res
+                .extend(res.iter().zip(&keep).filter(|(_, k)| **k).map(|(r, _)| r.asin().to_degrees()));
+            effective[e] = Some(c);
+            pairs.push((rig.centers[e], c));
+        }
+    }
+    let m = plate_map(&pairs)
+        .ok_or(CalibrateError::Turning { determined: pairs.len(), excited: excited.len() })?;
+    let inverse =
+        m.try_inverse().ok_or(CalibrateError::Turning { determined: pairs.len(), excited: excited.len() })?;
+    // The core commanded prior·ξ and the plate turned as M·ξ: the plate's
+    // own map is M·prior⁻¹, whose inverse is prior·M⁻¹.
+    let prior = rig.prior_correction.map_or_else(Matrix3::identity, |p| Matrix3::from_fn(|r, c| p[r][c]));
+    let correction = prior * inverse;
+    // Friction: every observation against the model at the fitted center.
+    let mut data = Vec::new();
+    for o in obs {
+        let Some(c) = effective[o.center] else { continue };
+        let Some(a) = model_acceleration(rig, c, o.k, o.position) else { continue };
+        let a2 = a[0] * a[0] + a[1] * a[1];
+        if a2 > 0.0 {
+            let s = (o.acceleration[0] * a[0] + o.acceleration[1] * a[1]) / a2;
+            data.push((o.class, friction_terms(rig.plate_half_extent, o.position[0], o.position[1]), s));
+        }
+    }
+    let mut moved: Vec<f64> = data.iter().map(|d| d.2).collect();
+    let moved = median(&mut moved);
+    if data.is_empty() || !(moved > 0.2) {
+        return Err(CalibrateError::TooLittleMotion {
+            fraction: if moved.is_finite() { moved } else { 0.0 },
+        });
+    }
+    let pull = 1e-3 * data.len() as f64;
+    let (mut f, mut cov, mut rms) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
+    for _ in 0..2 {
+        let res: Vec<f64> = data.iter().map(|(c, t, s)| (s - f.predict(*c, t)) / f.predict(*c, t)).collect();
+        let keep = inliers(&res, 0.02);
+        let before = data.len();
+        data = data.into_iter().zip(keep).filter(|(_, k)| *k).map(|(d, _)| d).collect();
+        outliers += (before - data.len()) as u32;
+        (f, cov, rms) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
+    }
+    let mut rel: Vec<f64> =
+        data.iter().map(|(c, t, s)| ((s - f.predict(*c, t)) / f.predict(*c, t)).abs()).collect();
+    // The fit's own uncertainty of s over the plate (first class), relative.
+    let half = rig.plate_half_extent;
+    let mut spread = Vec::new();
+    for i in 0..9 {
+        for j in 0..5 {
+            let (x, y) = (half[0] * (i as f64 / 4.0 - 1.0) * 0.9, half[1] * (j as f64 / 2.0 - 1.0) * 0.9);
+            let t = friction_terms(half, x, y);
+            let n = f.classes.len() + FRICTION_TERMS;
+            let mut g = DVector::zeros(n);
+            let map = 1.0 + t.iter().zip(&f.c).map(|(a, b)| a * b).sum::<f64>();
+            g[0] = map;
+            for k in 0..FRICTION_TERMS {
+                g[f.classes.len() + k] = f.sigma[0] * t[k];
+            }
+            let var = (g.transpose() * &cov * &g)[(0, 0)];
+            spread.push(var.max(0.0).sqrt() / (f.sigma[0] * map));
+        }
+    }
+    let _ = rms;
+    let to_array =
+        |m: &Matrix3<f64>| -> [[f64; 3]; 3] { core::array::from_fn(|r| core::array::from_fn(|c| m[(r, c)])) };
+    let calibration = PlateCalibration {
+        format: FORMAT,
+        actuators: rig.actuators,
+        centers: rig.centers.clone(),
+        plate_half_extent: rig.plate_half_extent,
+        mu_m_g: rig.mu_m_g,
+        twist_correction: to_array(&correction),
+        class_friction: f
+            .classes
+            .iter()
+            .zip(&f.sigma)
+            .map(|(&class, &scale)| ClassFriction { class, scale })
+            .collect(),
+        friction_map: f.c,
+        report: CalibrationReport {
+            bursts: counts.bursts,
+            rig_seconds: counts.rig_seconds,
+            observations: data.len() as u32,
+            rejected: counts.dropped + outliers,
+            direction_residual_deg: median(&mut direction_res.iter().map(|d| d.abs()).collect::<Vec<_>>()),
+            friction_residual: median(&mut rel),
+            predicted_force_err: median(&mut spread),
+        },
+    };
+    calibration.validate().map_err(CalibrateError::Implausible)?;
+    Ok(calibration)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_known_map_and_friction_come_back_from_clean_observations() {
+        // Synthetic: the plate turns about C′ = H(C) for a known M; friction
+        // σ = (1.1, 0.8) and a map; accelerations exactly the model's.
+        let m = Matrix3::new(1.02, 0.01, 0.004, -0.015, 0.99, -0.006, 0.01, -0.02, 1.0);
+        let rig = RigModel {
+            centers: vec![
+                [1.2, 0.2],
+                [0.7, 0.7],
+                [-0.2, 0.8],
+                [-1.0, 0.5],
+                [-1.3, 0.0],
+                [-1.0, -0.5],
+                [0.6, -0.7],
+            ],
+            plate_half_extent: [1.0, 0.5],
+            mu_m_g: 0.1,
+            mu_g: 0.25 * 9.81,
+            motion: MotionParams::default(),
+            actuators: 4,
+            prior_correction: None,
+        };
+        let map = [0.1, -0.05, 0.05, 0.1, 0.08];
+        let parts: Vec<([f64; 2], u32)> = (0..12)
+            .map(|i| ([-0.7 + 0.13 * i as f64, 0.35 * ((i * 7 % 5) as f64 / 2.0 - 1.0)], (i % 2) as u32))
+            .collect();
+        let mut obs = Vec::new();
+        for (e, c) in rig.centers.iter().enumerate() {
+            let v = m * nalgebra::Vector3::new(c[1], -c[0], 1.0);
+            let ce = [-v[1] / v[2], v[0] / v[2]];
+            for &(p, class) in &parts {
+                let a = model_acceleration(&rig, ce, 0.35, p).expect("model");
+                let t = friction_terms(rig.plate_half_extent, p[0], p[1]);
+                let s =
+                    [1.1, 0.8][class as usize] * (1.0 + t.iter().zip(&map).map(|(a, b)| a * b).sum::<f64>());
+                obs.push(Observation {
+                    center: e,
+                    k: 0.35,
+                    class,
+                    position: p,
+                    acceleration: [s * a[0], s * a[1]],
+                });
+            }
+        }
+        let cal = fit(&rig, &obs, FitCounts::default()).expect("fit");
+        let back = Matrix3::from_fn(|r, c| cal.twist_correction[r][c]).try_inverse().expect("inverse");
+        assert!((back - m).abs().max() < 1e-6, "{back} against {m}");
+        assert!(
+            (cal.class_friction[0].scale - 1.1).abs() < 0.01
+                && (cal.class_friction[1].scale - 0.8).abs() < 0.01,
+            "{:?} {:?}",
+            cal.class_friction,
+            cal.friction_map
+        );
+        for k in 0..FRICTION_TERMS {
+            assert!((cal.friction_map[k] - map[k]).abs() < 0.02, "{:?}", cal.friction_map);
+        }
+    }
+}

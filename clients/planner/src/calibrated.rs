@@ -1,0 +1,64 @@
+//! A planner on a calibrated plate: where friction is μ·s (the plate
+//! calibration's class scale times its map at the part), a force f needs a
+//! request of f / s, and so does a curl. Wraps any planner; the wrapped one
+//! plans for the model's plate as before.
+
+use ipc_types::{ForceRequest, PartStates};
+use rig_config::PlateCalibration;
+
+use crate::Planner;
+
+pub struct Calibrated<P> {
+    inner: P,
+    calibration: PlateCalibration,
+}
+
+impl<P: Planner> core::fmt::Debug for Calibrated<P> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Calibrated").field("planner", &self.inner.name()).finish_non_exhaustive()
+    }
+}
+
+impl<P: Planner> Calibrated<P> {
+    pub fn new(inner: P, calibration: PlateCalibration) -> Self {
+        Self { inner, calibration }
+    }
+}
+
+impl<P: Planner> Planner for Calibrated<P> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {
+        if !self.inner.plan(parts, t, out) {
+            return false;
+        }
+        for e in out.entries_mut() {
+            let Some(p) = parts.parts().iter().find(|p| p.id == e.part_id) else { continue };
+            let s = self.calibration.friction_scale(p.class, p.x, p.y);
+            e.fx /= s;
+            e.fy /= s;
+            e.curl /= s;
+        }
+        true
+    }
+}
+
+/// `planner`, calibrated if there is a calibration.
+pub fn calibrated(planner: Box<dyn Planner>, calibration: Option<PlateCalibration>) -> Box<dyn Planner> {
+    match calibration {
+        Some(c) => Box::new(Calibrated::new(planner, c)),
+        None => planner,
+    }
+}
+
+impl Planner for Box<dyn Planner> {
+    fn name(&self) -> &'static str {
+        self.as_ref().name()
+    }
+
+    fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {
+        self.as_mut().plan(parts, t, out)
+    }
+}
