@@ -8,9 +8,11 @@
 //!    their least-squares meeting point (outliers beyond 3 MADs dropped).
 //! 2. **The plate's turning.** To first order the plate's true twist is a
 //!    fixed 3 × 3 map M of the commanded one, so (c′_y, −c′_x, 1) ∥
-//!    M·(c_y, −c_x, 1): two linear equations on M per center (the DLT of
-//!    a homography). M is the null vector of their normal matrix (≥ 4
-//!    centers), scaled so that M₃₃ = 1; the correction is M⁻¹.
+//!    M·(c_y, −c_x, 1) (a homography of the centers; M₃₃ = 1). M = I + E is
+//!    fitted by Gauss–Newton over the located centers (≥ 4), each weighed
+//!    by its own uncertainty, with a prior pulling E towards 0: centers far
+//!    from every part are located loosely, and what they cannot fix stays
+//!    at the identity. The correction is M⁻¹.
 //! 3. **Friction.** The model's own acceleration of a part at rest at P
 //!    under the same pair of slots about C′ (`rt_core::motion::
 //!    cycle_mean_acceleration`, nominal μ) scales to the seen one by
@@ -76,7 +78,7 @@ fn inliers(r: &[f64], floor: f64) -> Vec<bool> {
 /// model's own direction of push (which leans off R90(P − C′) a little:
 /// the slot's fast and slow phases do not cancel exactly) meets every
 /// seen one; also the sine residuals against it.
-fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
+fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>, [[f64; 2]; 2])> {
     let (mut c, _) = perpendicular_center(obs)?;
     let sine = |c: [f64; 2], o: &Observation| -> Option<f64> {
         let m = model_acceleration(rig, c, o.k, o.position)?;
@@ -85,6 +87,7 @@ fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], V
     };
     let mut keep = vec![true; obs.len()];
     let h = 1e-4;
+    let mut info = [[0.0; 2]; 2];
     for _ in 0..4 {
         let (mut n, mut b) = ([[0.0; 2]; 2], [0.0; 2]);
         for (o, _) in obs.iter().zip(&keep).filter(|(_, k)| **k) {
@@ -104,10 +107,14 @@ fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], V
         let step = [(n[1][1] * b[0] - n[0][1] * b[1]) / det, (n[0][0] * b[1] - n[1][0] * b[0]) / det];
         c = [c[0] + step[0], c[1] + step[1]];
         let res: Vec<f64> = obs.iter().map(|o| sine(c, o).unwrap_or(f64::NAN)).collect();
+        let used = keep.iter().filter(|k| **k).count();
+        let ss: f64 = res.iter().zip(&keep).filter(|(_, k)| **k).map(|(r, _)| r * r).sum();
+        let var = (ss / (used as f64 - 2.0).max(1.0)).max(1e-18);
+        info = n.map(|row| row.map(|x| x / var));
         keep = inliers(&res, 0.5f64.to_radians().sin());
     }
     let res = obs.iter().map(|o| sine(c, o).unwrap_or(f64::NAN)).collect();
-    Some((c, res))
+    Some((c, res, info))
 }
 
 /// C′ as the least-squares meeting point of the lines through each P
@@ -154,36 +161,69 @@ fn perpendicular_center(obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
     out
 }
 
-/// Step 2: M with (c′_y, −c′_x, 1) ∥ M·(c_y, −c_x, 1), M₃₃ = 1.
-fn plate_map(pairs: &[([f64; 2], [f64; 2])]) -> Option<Matrix3<f64>> {
-    if pairs.len() < 4 {
+/// A located effective center: the commanded one, the seen one, and its
+/// information matrix (inverse covariance, 1/m²).
+#[derive(Debug, Clone, Copy)]
+struct Located {
+    center: [f64; 2],
+    seen: [f64; 2],
+    info: [[f64; 2]; 2],
+}
+
+/// How far from the identity the plate's map is expected to be (a prior):
+/// millimetres of mounting over a plate a metre across, percents of
+/// sensor scale.
+const MAP_PRIOR_SD: f64 = 0.03;
+
+/// C′ of `c` under M = I + E (E₃₃ = 0; `e` row-major without it).
+fn mapped(e: &[f64; 8], c: [f64; 2]) -> [f64; 2] {
+    let xi = [c[1], -c[0], 1.0];
+    let m = [[1.0 + e[0], e[1], e[2]], [e[3], 1.0 + e[4], e[5]], [e[6], e[7], 1.0]];
+    let v: [f64; 3] = core::array::from_fn(|r| m[r][0] * xi[0] + m[r][1] * xi[1] + m[r][2] * xi[2]);
+    [-v[1] / v[2], v[0] / v[2]]
+}
+
+/// Step 2: E by Gauss–Newton on every located center, each weighed by how
+/// well it is known, with a Gaussian prior E ~ 0 ([`MAP_PRIOR_SD`]): what
+/// the data do not fix stays at the identity instead of following noise.
+fn plate_map(located: &[Located]) -> Option<Matrix3<f64>> {
+    if located.len() < 4 {
         return None;
     }
-    let mut ata = SMatrix::<f64, 9, 9>::zeros();
-    for (c, e) in pairs {
-        let xi = [c[1], -c[0], 1.0];
-        let (a, b) = (e[1], -e[0]);
-        // b·(Mξ)₃ − (Mξ)₂ = 0 and (Mξ)₁ − a·(Mξ)₃ = 0.
-        let mut rows = [[0.0; 9]; 2];
-        for k in 0..3 {
-            rows[0][6 + k] = b * xi[k];
-            rows[0][3 + k] = -xi[k];
-            rows[1][k] = xi[k];
-            rows[1][6 + k] = -a * xi[k];
-        }
-        for row in rows {
-            for i in 0..9 {
-                for j in 0..9 {
-                    ata[(i, j)] += row[i] * row[j];
+    let mut e = [0.0; 8];
+    let h = 1e-7;
+    let w = 1.0 / (MAP_PRIOR_SD * MAP_PRIOR_SD);
+    for _ in 0..6 {
+        let mut jtj = SMatrix::<f64, 8, 8>::identity() * w;
+        let mut jtr = SMatrix::<f64, 8, 1>::from_fn(|i, _| -e[i] * w);
+        for l in located {
+            let p = mapped(&e, l.center);
+            let r = [l.seen[0] - p[0], l.seen[1] - p[1]];
+            let mut j = [[0.0; 8]; 2];
+            for k in 0..8 {
+                let mut ek = e;
+                ek[k] += h;
+                let q = mapped(&ek, l.center);
+                j[0][k] = (q[0] - p[0]) / h;
+                j[1][k] = (q[1] - p[1]) / h;
+            }
+            for a in 0..8 {
+                for x in 0..2 {
+                    for y in 0..2 {
+                        jtr[a] += j[x][a] * l.info[x][y] * r[y];
+                        for b in 0..8 {
+                            jtj[(a, b)] += j[x][a] * l.info[x][y] * j[y][b];
+                        }
+                    }
                 }
             }
         }
+        let step = jtj.try_inverse()? * jtr;
+        for k in 0..8 {
+            e[k] += step[k];
+        }
     }
-    let eig = ata.symmetric_eigen();
-    let (imin, _) = eig.eigenvalues.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1))?;
-    let v = eig.eigenvectors.column(imin);
-    let m = Matrix3::from_row_slice(v.as_slice());
-    (m[(2, 2)].abs() > 1e-9).then(|| m / m[(2, 2)])
+    Some(Matrix3::new(1.0 + e[0], e[1], e[2], e[3], 1.0 + e[4], e[5], e[6], e[7], 1.0))
 }
 
 /// The model's acceleration of a part at rest at `p` under a slot about `c`
@@ -290,25 +330,24 @@ pub fn fit(
     let mut excited: Vec<usize> = obs.iter().map(|o| o.center).collect();
     excited.sort_unstable();
     excited.dedup();
-    let mut pairs = Vec::new();
+    let mut located = Vec::new();
     let mut effective = vec![None; rig.centers.len()];
     let mut direction_res = Vec::new();
     let mut outliers = 0u32;
     for &e in &excited {
         let of: Vec<&Observation> = obs.iter().filter(|o| o.center == e).collect();
-        if let Some((c, res)) = effective_center(rig, &of) {
+        if let Some((c, res, info)) = effective_center(rig, &of) {
             let keep = inliers(&res, 0.5f64.to_radians().sin());
             outliers += keep.iter().filter(|k| !**k).count() as u32;
             direction_res
                 .extend(res.iter().zip(&keep).filter(|(_, k)| **k).map(|(r, _)| r.asin().to_degrees()));
             effective[e] = Some(c);
-            pairs.push((rig.centers[e], c));
+            located.push(Located { center: rig.centers[e], seen: c, info });
         }
     }
-    let m = plate_map(&pairs)
-        .ok_or(CalibrateError::Turning { determined: pairs.len(), excited: excited.len() })?;
-    let inverse =
-        m.try_inverse().ok_or(CalibrateError::Turning { determined: pairs.len(), excited: excited.len() })?;
+    let undetermined = CalibrateError::Turning { determined: located.len(), excited: excited.len() };
+    let m = plate_map(&located).ok_or(undetermined.clone())?;
+    let inverse = m.try_inverse().ok_or(undetermined)?;
     // The core commanded prior·ξ and the plate turned as M·ξ: the plate's
     // own map is M·prior⁻¹, whose inverse is prior·M⁻¹.
     let prior = rig.prior_correction.map_or_else(Matrix3::identity, |p| Matrix3::from_fn(|r, c| p[r][c]));

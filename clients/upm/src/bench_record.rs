@@ -39,6 +39,7 @@ fn one_run(
         duration_s: seconds,
         config: config.clone(),
         planner_cmd: None,
+        planner_ends_run: false,
         vision_cmd: None,
         stress: false,
         camera: CameraChoice::Truth,

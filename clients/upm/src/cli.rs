@@ -94,6 +94,10 @@ pub enum Command {
         /// `[sim] truth`: `nominal`, `worn` or `random:SEED`.
         #[arg(long)]
         truth: Option<String>,
+        /// A plate calibration (`upm calibrate plate`) for core and
+        /// planner, instead of the scenario's `[calibration] file`.
+        #[arg(long)]
+        calibration: Option<PathBuf>,
         /// Service prefix (default: one per run).
         #[arg(long)]
         prefix: Option<String>,
@@ -196,14 +200,32 @@ pub enum Command {
     Calibrate {
         what: CalibrateTarget,
         /// Rig config ([camera], [plate]); the built-in defaults without it.
+        /// plate: the running rig's file (with --prefix).
         #[arg(long)]
         config: Option<PathBuf>,
-        /// PNG images of the board from a real camera, instead of rendering.
+        /// camera: PNG images of the board from a real camera, instead of rendering.
         #[arg(long)]
         images: Option<PathBuf>,
-        /// Where to write the calibration file vision loads.
-        #[arg(long, default_value = "calibration.toml")]
-        out: PathBuf,
+        /// Where to write the calibration file (camera: calibration.toml,
+        /// which vision loads; plate: plate-calibration.toml, which core and
+        /// planner load through `[calibration] file`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// plate: calibrate the rig running at this prefix (with --config).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// plate: otherwise start this scenario's simulated rig for it.
+        #[arg(long, default_value = "calibrate")]
+        scenario: String,
+        /// plate: the scenario's seed.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// plate: the simulated plate's hidden truth (`nominal`, `worn`, `random:SEED`).
+        #[arg(long)]
+        truth: Option<String>,
+        /// plate: in lock-step, in this process (much faster than real time).
+        #[arg(long)]
+        lockstep: bool,
         /// Print the report as JSON.
         #[arg(long)]
         json: bool,
@@ -272,6 +294,9 @@ pub enum Command {
 pub enum CalibrateTarget {
     /// The camera: intrinsics, distortion and pose over the plate.
     Camera,
+    /// The plate: how it really turns about each center, and its friction
+    /// per part class and over the plate, from the parts on it.
+    Plate,
 }
 
 /// What `upm bench` measures.
@@ -288,6 +313,9 @@ pub enum BenchTarget {
     /// Forces and curls on extended parts: the per-shape model vs the
     /// paper's point model, played on the simulator.
     Fidelity,
+    /// Plates that are not what the model says (random hidden truths):
+    /// force error and track RMS, nominal model vs `calibrate plate`.
+    Calibration,
     /// The camera path: accuracy against the rendered truth, time per
     /// frame beside OpenCV on the same frames.
     Vision,
@@ -352,6 +380,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             duration,
             seed,
             truth,
+            calibration,
             prefix,
             quiet,
             stress,
@@ -378,6 +407,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             if let Some(t) = truth {
                 config.sim.truth = crate::config::truth::TruthSection::Preset(t);
             }
+            if let Some(f) = calibration {
+                // Absolute: the processes start in other directories.
+                config.calibration.file = Some(std::path::absolute(&f)?);
+            }
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
             config.validate(&path.display().to_string())?;
@@ -399,6 +432,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 config: config.clone(),
                 stress,
                 planner_cmd,
+                planner_ends_run: false,
                 vision_cmd,
                 camera,
                 record: !no_record,
@@ -474,6 +508,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
                 }
+                (BenchTarget::Calibration, None) => {
+                    let cases = if quick { cases.min(2) } else { cases };
+                    (crate::bench_calibration::run(cases, seed, quick)?, crate::bench_calibration::to_text)
+                }
                 (BenchTarget::Fidelity, None) => {
                     let cases = if quick { cases.min(3) } else { cases };
                     (crate::bench_fidelity::run(cases, seed)?, crate::bench_fidelity::to_text)
@@ -541,7 +579,35 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             );
             Ok(())
         }
-        Command::Calibrate { what: CalibrateTarget::Camera, config, images, out, json } => {
+        Command::Calibrate {
+            what: CalibrateTarget::Plate,
+            config,
+            images,
+            out,
+            prefix,
+            scenario,
+            seed,
+            truth,
+            lockstep,
+            json,
+        } => {
+            if images.is_some() {
+                anyhow::bail!("--images applies to `upm calibrate camera` only");
+            }
+            let out = out.unwrap_or_else(|| "plate-calibration.toml".into());
+            crate::calibrate_plate::command(&crate::calibrate_plate::PlateArgs {
+                config,
+                prefix,
+                scenario,
+                seed,
+                truth,
+                lockstep,
+                out,
+                json,
+            })
+        }
+        Command::Calibrate { what: CalibrateTarget::Camera, config, images, out, json, .. } => {
+            let out = out.unwrap_or_else(|| "calibration.toml".into());
             let shown = config.as_ref().map_or("built-in defaults".into(), |p| p.display().to_string());
             let config = match &config {
                 Some(p) => crate::config::Config::load(p)?,

@@ -4,6 +4,7 @@
 //! is all a fresh checkout needs; vision and planner are their own crates
 //! (`upm-vision`, `upm-planner`) with their own thin binaries.
 
+pub mod bench_calibration;
 pub mod bench_ethercat;
 pub mod bench_fidelity;
 pub mod bench_ipc;

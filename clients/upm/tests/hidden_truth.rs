@@ -31,8 +31,11 @@ fn workspace_graph() -> BTreeMap<String, BTreeSet<String>> {
     for m in &members {
         let t = toml_at(&root().join(m).join("Cargo.toml"));
         let name = t["package"]["name"].as_str().expect("name").to_owned();
-        let deps: BTreeSet<String> =
-            t.get("dependencies").and_then(|d| d.as_table()).map(|d| d.keys().cloned().collect()).unwrap_or_default();
+        let deps: BTreeSet<String> = t
+            .get("dependencies")
+            .and_then(|d| d.as_table())
+            .map(|d| d.keys().cloned().collect())
+            .unwrap_or_default();
         packages.insert(name, deps);
     }
     let names: BTreeSet<String> = packages.keys().cloned().collect();
@@ -59,7 +62,10 @@ fn the_controllers_crates_cannot_reach_the_simulator() {
     assert!(reaches(&graph, "upm-cli", "drivers"), "the check must see the launcher link the simulator");
     for controller in ["rt-core", "ipc-types", "upm-rig-config", "upm-vision", "upm-planner"] {
         assert!(graph.contains_key(controller), "{controller} is not a workspace package");
-        assert!(!reaches(&graph, controller, "drivers"), "{controller} can reach the simulator and its truth");
+        assert!(
+            !reaches(&graph, controller, "drivers"),
+            "{controller} can reach the simulator and its truth"
+        );
     }
 }
 
@@ -76,7 +82,11 @@ fn changing_the_truth_changes_the_plate_and_nothing_the_controller_sees() {
             assert_ne!(c.sim_config("s").expect("sim"), base.sim_config("s").expect("sim"), "{name} {truth}");
             // …the core's parameters, the planner's, vision's and the
             // camera's sections do not, nor where the parts start.
-            assert_eq!(c.core_params("s").expect("core"), base.core_params("s").expect("core"), "{name} {truth}");
+            assert_eq!(
+                c.core_params("s").expect("core"),
+                base.core_params("s").expect("core"),
+                "{name} {truth}"
+            );
             assert_eq!(c.planner, base.planner);
             assert_eq!(c.vision, base.vision);
             assert_eq!(c.camera, base.camera);

@@ -34,6 +34,9 @@ pub struct RunPlan {
     /// line, started with `UPM_PREFIX` and `UPM_CONFIG` (the rig file) in
     /// its environment and supervised like upm's own.
     pub planner_cmd: Option<String>,
+    /// The planner's exit ends the run instead of a restart: a client with
+    /// a job to finish (`upm calibrate plate`).
+    pub planner_ends_run: bool,
     pub vision_cmd: Option<String>,
     /// Load every CPU but the motor's while the loop runs (see `cpu_load`).
     pub stress: bool,
@@ -216,9 +219,16 @@ pub fn run_plan(
     let mut interrupted = false;
     let mut sim_s = 0.0;
     let mut core_failed = None;
+    let mut planner_exit = None;
     while sim_s < plan.duration_s {
         sim_s = observer.poll()?;
         bar.set_position((sim_s * 10.0) as u64);
+        if plan.planner_ends_run
+            && let Some(s) = planner.exited()
+        {
+            planner_exit = Some(s);
+            break;
+        }
         for c in [Some(&mut vision), Some(&mut planner), camera.as_mut()].into_iter().flatten() {
             if c.restart_if_dead()? {
                 let msg = format!("upm run: {} died; restarted (restart {})", c.name, c.restarts);
@@ -247,6 +257,7 @@ pub fn run_plan(
         "planner": planner.pid(),
         "vision_cmd": plan.vision_cmd,
         "planner_cmd": plan.planner_cmd,
+        "planner_exit": planner_exit.map(|s| s.to_string()),
     });
     let restarts = json!({
         "vision": vision.restarts,

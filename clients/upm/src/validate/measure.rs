@@ -23,12 +23,18 @@ const JITTER: f64 = 1e-4;
 pub struct ValidateSetup {
     pub motion: MotionParams,
     pub sim: SimConfig,
+    /// A plate calibration's twist correction the motion is played through.
+    pub twist_correction: Option<[[f64; 3]; 3]>,
 }
 
 impl Default for ValidateSetup {
     fn default() -> Self {
         // Parts are measured independently: no part–part contact.
-        Self { motion: MotionParams::default(), sim: SimConfig { collisions: false, ..SimConfig::default() } }
+        Self {
+            motion: MotionParams::default(),
+            sim: SimConfig { collisions: false, ..SimConfig::default() },
+            twist_correction: None,
+        }
     }
 }
 
@@ -93,12 +99,29 @@ pub fn measure(
     seed: u64,
     setup: &ValidateSetup,
 ) -> anyhow::Result<Measured> {
+    measure_with_friction(input, k, order, cycles, seed, setup, &[])
+}
+
+/// [`measure`], part `i` of `input` feeling `part_friction[i]` times the
+/// nominal μ (a simulated plate's truth; empty: nominal).
+pub fn measure_with_friction(
+    input: &SolveInput,
+    k: &[f64],
+    order: &[u16],
+    cycles: usize,
+    seed: u64,
+    setup: &ValidateSetup,
+    part_friction: &[f64],
+) -> anyhow::Result<Measured> {
     if cycles == 0 {
         return Err(anyhow!("cycles: must be at least 1"));
     }
     let mut motion = PlateMotion::new(setup.motion).map_err(|e| anyhow!("{e}"))?;
     motion.set_from_solution(&input.centers, k, order).map_err(|e| anyhow!("schedule not playable: {e}"))?;
-    let rig = Rig::new(setup.sim.rig).map_err(|e| anyhow!("{e}"))?;
+    let mut rig = Rig::new(setup.sim.rig).map_err(|e| anyhow!("{e}"))?;
+    if let Some(m) = setup.twist_correction {
+        rig = rig.with_correction(m);
+    }
     rig.check_motion(&motion).map_err(|e| anyhow!("schedule beyond the actuators: {e}"))?;
 
     // One body per distinct point-model point (a curl there makes it a
@@ -145,6 +168,9 @@ pub fn measure(
     let specs: Vec<PartSpec> = probes.iter().map(|p| p.spec(mass)).collect();
     let cfg = SimConfig { tick_hz: setup.motion.tick_hz, seed, ..setup.sim };
     let mut sim = Simulator::new(cfg, &specs).map_err(|e| anyhow!("simulator: {e}"))?;
+    for (&body, &s) in part_body.iter().zip(part_friction) {
+        anyhow::ensure!(sim.set_part_friction(body, s), "part friction {s} refused");
+    }
     let mut rng = SplitMix64::new(seed ^ 0x005e_ed0f_u64);
     let t = motion.cycle_duration();
     let n = motion.cycle_ticks();

@@ -1,0 +1,277 @@
+//! `upm bench calibration`: how far the model is from a plate that is not
+//! what it says, and how much `upm calibrate plate` brings back. Each case
+//! draws a hidden truth (`random:SEED`: actuators off by up to 10 mm and
+//! 5 mrad, sensors by up to 5 %, the plate's mass by 10 %, friction 10–30 %
+//! uneven over the plate and 0.7–1.3 per part class), calibrates in
+//! lock-step on `scenarios/calibrate.toml` (the track rig with ten parts),
+//! then measures, in the same run:
+//! - force error at random part positions as `upm validate` measures it
+//!   (one cycle from rest, played on the simulator with the truth), solved
+//!   from the nominal model and from the calibrated one;
+//! - `track`'s RMS distance to its path (percent of the path's length),
+//!   with the nominal model and with the calibration loaded by core and
+//!   planner.
+//!
+//! Online adaptation is not built: its columns are null.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde_json::{Value, json};
+
+use crate::config::Config;
+use crate::config::truth::TruthSection;
+use crate::scenario::{Scenario, resolve};
+use crate::solve_json::{PartInput, ShapeInput, SolveInput, solve};
+use crate::validate::{ValidateSetup, measure_with_friction};
+
+/// Random geometries per case, and cycles each is played for.
+const GEOMETRIES: usize = 6;
+const CYCLES: usize = 2;
+/// Solve with the velocity parts pick up through the cycle (issue 25's
+/// correction), as the best model the controller has.
+const PART_DYNAMICS: bool = true;
+
+/// The truth's scale of part class `class` and the simulator's settings.
+fn plate_of(config: &Config) -> anyhow::Result<(drivers::SimConfig, crate::config::truth::ResolvedTruth)> {
+    let sim = config.sim_config("bench")?;
+    let truth =
+        config.sim.truth.resolve(sim.rig.count, config.plate.half_extent).map_err(anyhow::Error::msg)?;
+    Ok((sim, truth))
+}
+
+/// Force errors (relative to the request plus 0.005 μmg) of one geometry,
+/// solved from the nominal model and from `calibration`, and (the model's
+/// own floor) from the nominal model on a plate that is exactly nominal.
+fn force_errors(
+    config: &Config,
+    calibration: &rig_config::PlateCalibration,
+    rng: &mut ChaCha8Rng,
+    seed: u64,
+) -> anyhow::Result<Option<[Vec<f64>; 3]>> {
+    let core = config.core_params("bench")?;
+    let (sim, truth) = plate_of(config)?;
+    // Both plates play every center up to the same |k|: the least that the
+    // nominal and the corrected commands allow.
+    let corrected =
+        rt_core::runtime::CoreParams { twist_correction: Some(calibration.twist_correction), ..core.clone() };
+    let k_max = core
+        .playable_k_bounds()
+        .map_err(|e| anyhow::anyhow!("{e}"))?
+        .into_iter()
+        .chain(corrected.playable_k_bounds().map_err(|e| anyhow::anyhow!("{e}"))?)
+        .fold(core.motion.k_max, f64::min);
+    let count = rng.random_range(1..=4usize);
+    let mut parts: Vec<PartInput> = Vec::new();
+    let mut classes = Vec::new();
+    while parts.len() < count {
+        let position = [rng.random_range(-0.8..0.8), rng.random_range(-0.4..0.4)];
+        if parts.iter().any(|p| (p.position[0] - position[0]).hypot(p.position[1] - position[1]) < 0.1) {
+            continue;
+        }
+        let f = rng.random_range(0.002..0.01);
+        let a = rng.random_range(0.0..core::f64::consts::TAU);
+        parts.push(PartInput {
+            position,
+            force: Some([f * a.cos(), f * a.sin()]),
+            shape: ShapeInput::Point,
+            curl: None,
+        });
+        classes.push(rng.random_range(0..2u32));
+    }
+    let nominal = SolveInput {
+        mu_m_g: core.mu_m_g,
+        centers: core.centers.clone(),
+        parts,
+        curls: Vec::new(),
+        k_max: Some(k_max),
+        part_dynamics: PART_DYNAMICS,
+    };
+    // The calibrated model asks each part for f / s where friction is μ·s.
+    let mut calibrated = nominal.clone();
+    for (p, &class) in calibrated.parts.iter_mut().zip(&classes) {
+        let s = calibration.friction_scale(class, p.position[0], p.position[1]);
+        p.force = p.force.map(|f| [f[0] / s, f[1] / s]);
+    }
+    let friction: Vec<f64> = nominal
+        .parts
+        .iter()
+        .zip(&classes)
+        .map(|(p, &c)| {
+            truth.class_friction(c)
+                * truth.plate.friction_map.scale_at(config.plate.half_extent, p.position[0], p.position[1])
+        })
+        .collect();
+    let setup = ValidateSetup {
+        motion: core.motion,
+        sim: drivers::SimConfig { collisions: false, ..sim },
+        twist_correction: None,
+    };
+    let exact = ValidateSetup {
+        sim: drivers::SimConfig { truth: drivers::PlateTruth::NOMINAL, ..setup.sim },
+        ..setup
+    };
+    let mut errors = Vec::new();
+    for (model, setup, friction) in [
+        (&nominal, setup, &friction[..]),
+        (
+            &calibrated,
+            ValidateSetup { twist_correction: Some(calibration.twist_correction), ..setup },
+            &friction[..],
+        ),
+        (&nominal, exact, &[][..]),
+    ] {
+        let out = solve(model)?;
+        if out.saturated || out.residual > 1e-9 {
+            return Ok(None);
+        }
+        let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
+        let m = measure_with_friction(&nominal, &out.k, &order, CYCLES, seed, &setup, friction)?;
+        let mu = nominal.mu_m_g;
+        errors.push(
+            nominal
+                .parts
+                .iter()
+                .zip(&m.forces)
+                .filter_map(|(p, s)| {
+                    p.force.map(|f| (s[0] - f[0]).hypot(s[1] - f[1]) / (f[0].hypot(f[1]) + 0.005 * mu))
+                })
+                .collect::<Vec<f64>>(),
+        );
+    }
+    let floor = errors.pop().unwrap_or_default();
+    let calibrated = errors.pop().unwrap_or_default();
+    let nominal = errors.pop().unwrap_or_default();
+    Ok(Some([nominal, calibrated, floor]))
+}
+
+/// `track`'s RMS distance to its path, percent of the path's length.
+fn track_rms_pct(
+    config: &Config,
+    calibration: Option<rig_config::PlateCalibration>,
+    seconds: f64,
+) -> anyhow::Result<f64> {
+    let sc = Scenario::load(&resolve("track"))?;
+    let planner = config.planner.build().map_err(anyhow::Error::msg)?;
+    let mut planner = upm_planner::calibrated::calibrated(planner, calibration);
+    let r = crate::closed_loop::run(config, planner.as_mut(), seconds)?;
+    let m = sc.evaluate(config, &r.trails);
+    let rms = m["tracking_rms_m"].as_f64().unwrap_or(f64::NAN);
+    let path = m["path_length_m"].as_f64().unwrap_or(f64::NAN);
+    Ok(100.0 * rms / path)
+}
+
+fn median(v: &mut [f64]) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    crate::bench_sort::percentile(v, 0.5)
+}
+
+pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
+    if cases == 0 {
+        anyhow::bail!("--cases must be at least 1");
+    }
+    let calibrate = Scenario::load(&resolve("calibrate"))?;
+    let track = Scenario::load(&resolve("track"))?;
+    let track_s = if quick { 20.0 } else { track.duration_s };
+    let dir = std::env::temp_dir().join(format!("upm-bench-calibration-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut nominal_f, mut calibrated_f, mut floor_f) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Vec::new();
+    let mut rig_s = Vec::new();
+    for case in 0..cases {
+        let truth =
+            TruthSection::Preset(format!("random:{}", seed.wrapping_mul(1000).wrapping_add(case as u64)));
+        let mut cal_config = calibrate.config(seed.wrapping_add(case as u64), "unused_")?;
+        cal_config.sim.truth = truth.clone();
+        let cal = match crate::calibrate_plate::lockstep(&cal_config, upm_calibrate::ExciteParams::default())
+        {
+            Ok(c) => c,
+            Err(e) => {
+                rows.push(json!({ "case": case, "truth": truth, "refused": e.to_string() }));
+                continue;
+            }
+        };
+        rig_s.push(cal.report.rig_seconds);
+        let (mut nf, mut cf, mut ff) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut drawn, mut played) = (0, 0);
+        while played < GEOMETRIES && drawn < 4 * GEOMETRIES {
+            drawn += 1;
+            if let Some([n, c, f]) =
+                force_errors(&cal_config, &cal, &mut rng, seed.wrapping_add(drawn as u64))?
+            {
+                played += 1;
+                nf.extend(n);
+                cf.extend(c);
+                ff.extend(f);
+            }
+        }
+        let mut track_config = track.config(seed.wrapping_add(case as u64), "unused_")?;
+        track_config.sim.truth = truth.clone();
+        let nominal_track = track_rms_pct(&track_config, None, track_s)?;
+        let file = dir.join(format!("case{case}.toml"));
+        cal.write_atomically(&file).map_err(anyhow::Error::msg)?;
+        track_config.calibration.file = Some(file);
+        let calibrated_track = track_rms_pct(&track_config, Some(cal.clone()), track_s)?;
+        rows.push(json!({
+            "case": case,
+            "truth": truth,
+            "nominal_force_err_median": median(&mut nf.clone()),
+            "calibrated_force_err_median": median(&mut cf.clone()),
+            "calibrated_force_err_worst": cf.iter().copied().fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x)))),
+            "nominal_track_rms_pct": nominal_track,
+            "calibrated_track_rms_pct": calibrated_track,
+            "report": serde_json::to_value(&cal.report)?,
+        }));
+        nominal_f.extend(nf);
+        calibrated_f.extend(cf);
+        floor_f.extend(ff);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let col = |key: &str| -> Vec<f64> { rows.iter().filter_map(|r| r[key].as_f64()).collect() };
+    let worst =
+        |v: &[f64]| v.iter().copied().fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m: f64| m.max(x))));
+    let (nt, ct) = (col("nominal_track_rms_pct"), col("calibrated_track_rms_pct"));
+    Ok(json!({
+        "cases": cases,
+        "seed": seed,
+        "track_seconds": track_s,
+        "refused": rows.iter().filter(|r| !r["refused"].is_null()).count(),
+        "nominal_force_err_median": median(&mut nominal_f.clone()),
+        "nominal_force_err_worst": worst(&nominal_f),
+        "calibrated_force_err_median": median(&mut calibrated_f.clone()),
+        "calibrated_force_err_worst": worst(&calibrated_f),
+        "model_floor_force_err_median": median(&mut floor_f.clone()),
+        "model_floor_force_err_worst": worst(&floor_f),
+        "nominal_track_rms_pct": median(&mut nt.clone()),
+        "nominal_track_rms_pct_worst": worst(&nt),
+        "calibrated_track_rms_pct": median(&mut ct.clone()),
+        "calibrated_track_rms_pct_worst": worst(&ct),
+        "adapted_track_rms_pct": Value::Null,
+        "calibration_rig_s": median(&mut rig_s.clone()),
+        "runs": rows,
+    }))
+}
+
+pub fn to_text(v: &Value) -> String {
+    let pct = |k: &str| v[k].as_f64().map_or("—".into(), |x| format!("{:.1} %", 100.0 * x));
+    let num = |k: &str| v[k].as_f64().map_or("—".into(), |x| format!("{x:.2}"));
+    format!(
+        "{} hidden truths (seed {}), {} refused; calibration takes {} s of rig time\n\
+         force error, median / worst: nominal {} / {}, calibrated {} / {} (the model on an exact plate: {} / {})\n\
+         track RMS (% of path), median / worst: nominal {} / {}, calibrated {} / {}; online adaptation: not built\n",
+        v["cases"],
+        v["seed"],
+        v["refused"],
+        num("calibration_rig_s"),
+        pct("nominal_force_err_median"),
+        pct("nominal_force_err_worst"),
+        pct("calibrated_force_err_median"),
+        pct("calibrated_force_err_worst"),
+        pct("model_floor_force_err_median"),
+        pct("model_floor_force_err_worst"),
+        num("nominal_track_rms_pct"),
+        num("nominal_track_rms_pct_worst"),
+        num("calibrated_track_rms_pct"),
+        num("calibrated_track_rms_pct_worst"),
+    )
+}
