@@ -331,3 +331,107 @@ fn parabola(track: &[(f64, [f64; 2])]) -> Option<([f64; 2], [f64; 2])> {
     ];
     Some((mean, [x[2], y[2]]))
 }
+
+#[cfg(test)]
+mod tests {
+    use ipc_types::PartState;
+
+    use super::*;
+
+    fn setup() -> CalibrateSetup {
+        CalibrateSetup {
+            centers: vec![
+                [1.2, 0.2],
+                [0.7, 0.7],
+                [-0.2, 0.8],
+                [-1.0, 0.5],
+                [-1.3, 0.0],
+                [-1.0, -0.5],
+                [0.6, -0.7],
+            ],
+            k_bounds: vec![0.9; 7],
+            motion: MotionParams::default(),
+            mu_m_g: 0.1,
+            mu_g: 0.25 * 9.81,
+            plate_half_extent: [1.0, 0.5],
+            actuators: 4,
+            tracker_alpha: None,
+            prior_correction: None,
+            params: ExciteParams { pairs: 4, ..ExciteParams::default() },
+        }
+    }
+
+    fn states(at: &[[f64; 2]]) -> PartStates {
+        let mut s = PartStates::new();
+        for (i, p) in at.iter().enumerate() {
+            let _ = s.push(PartState { id: i as u32 + 1, x: p[0], y: p[1], ..PartState::ZERO });
+        }
+        s
+    }
+
+    const THREE: [[f64; 2]; 3] = [[0.0, 0.0], [0.3, 0.1], [-0.3, -0.1]];
+
+    #[test]
+    fn bursts_alternate_their_sign_over_spread_centers_then_stop() {
+        let mut e = Exciter::new(setup()).expect("exciter");
+        assert_eq!(e.excited().len(), 7);
+        // Farthest from the middle first, then as far from those as can be.
+        assert_eq!(e.excited()[0], 4);
+        let mut out = ExplicitSchedule::new();
+        let mut seen = Vec::new();
+        for f in 0..80 {
+            let t = f as f64 / 30.0;
+            match e.on_frame(&states(&THREE), t, &mut out).expect("frame") {
+                Step::Play => seen.push((t, out.slots()[0])),
+                Step::Done => {
+                    assert!(t >= e.rig_seconds(), "done at {t}");
+                    break;
+                }
+            }
+        }
+        let at = |t: f64| seen.iter().find(|s| s.0 >= t).map(|s| s.1).expect("slot");
+        let (a, b, c) = (at(0.0), at(0.31), at(0.61));
+        assert_eq!((a.center_index, b.center_index), (4, 4));
+        assert!(a.k == 0.35 && b.k == -0.35 && c.center_index != 4, "{a:?} {b:?} {c:?}");
+    }
+
+    #[test]
+    fn bad_input_is_refused_in_one_line_naming_it() {
+        let mut out = ExplicitSchedule::new();
+        let mut e = Exciter::new(setup()).expect("exciter");
+        let e1 = e.on_frame(&states(&THREE[..2]), 0.0, &mut out).expect_err("two parts");
+        assert_eq!(e1.to_string(), "too few parts on the plate: 2 seen, the fit needs at least 3");
+        let mut e = Exciter::new(setup()).expect("exciter");
+        let mut s = states(&THREE);
+        s.parts_mut()[1].y = f64::NAN;
+        let e2 = e.on_frame(&s, 0.0, &mut out).expect_err("nan");
+        assert_eq!(e2.to_string(), "part_states.parts[1].y is not finite");
+        let mut e = Exciter::new(setup()).expect("exciter");
+        let e3 =
+            e.on_frame(&states(&[[0.99, 0.0], [0.0, 0.49], [0.0, 0.0]]), 0.0, &mut out).expect_err("fence");
+        assert!(e3.to_string().starts_with("parts pinned at the fence: 2 of 3"), "{e3}");
+        // A part lost for a moment is no error; gone for good, it is.
+        let mut e = Exciter::new(setup()).expect("exciter");
+        e.on_frame(&states(&THREE), 0.0, &mut out).expect("start");
+        e.on_frame(&states(&THREE[..2]), 0.1, &mut out).expect("a moment");
+        e.on_frame(&states(&THREE), 0.2, &mut out).expect("back");
+        e.on_frame(&states(&THREE[..2]), 0.3, &mut out).expect("again");
+        let e4 = e.on_frame(&states(&THREE[..2]), 0.9, &mut out).expect_err("gone");
+        assert!(
+            e4.to_string().starts_with("a part vanished 0.90 s into the calibration: 2 of 3 seen"),
+            "{e4}"
+        );
+        // Parts that never move: nothing to fit.
+        let mut e = Exciter::new(setup()).expect("exciter");
+        let mut f = 0;
+        while e.on_frame(&states(&THREE), f as f64 / 30.0, &mut out).expect("frame") == Step::Play {
+            f += 1;
+        }
+        let e5 = e.fit().expect_err("still");
+        assert!(
+            e5.to_string().starts_with("the plate's turning is not determined")
+                || e5.to_string().starts_with("too little motion"),
+            "{e5}"
+        );
+    }
+}

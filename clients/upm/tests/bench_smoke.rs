@@ -103,3 +103,28 @@ fn bench_fidelity_reports_both_models_on_the_same_cases() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--cases must be at least 1"));
 }
+
+#[test]
+fn bench_calibration_reports_nominal_and_calibrated_on_the_same_truths() {
+    let out = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(["bench", "calibration", "--quick", "--seed", "3", "--json"])
+        .output()
+        .expect("upm bench calibration");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["cases"], 2, "{v}");
+    for key in [
+        "nominal_force_err_median",
+        "calibrated_force_err_median",
+        "calibrated_force_err_worst",
+        "nominal_track_rms_pct",
+        "calibration_rig_s",
+        "model_floor_force_err_median",
+    ] {
+        assert!(v[key].as_f64().is_some_and(|x| x >= 0.0), "{key}: {v}");
+    }
+    assert!(v["calibrated_force_err_median"].as_f64() <= v["calibrated_force_err_worst"].as_f64(), "{v}");
+    // Not built: null, never a made-up figure.
+    assert!(v["adapted_track_rms_pct"].is_null(), "{v}");
+    assert_eq!(v["runs"].as_array().map(Vec::len), Some(2), "{v}");
+}

@@ -60,7 +60,8 @@ fn reaches(graph: &BTreeMap<String, BTreeSet<String>>, from: &str, to: &str) -> 
 fn the_controllers_crates_cannot_reach_the_simulator() {
     let graph = workspace_graph();
     assert!(reaches(&graph, "upm-cli", "drivers"), "the check must see the launcher link the simulator");
-    for controller in ["rt-core", "ipc-types", "upm-rig-config", "upm-vision", "upm-planner"] {
+    for controller in ["rt-core", "ipc-types", "upm-rig-config", "upm-vision", "upm-planner", "upm-calibrate"]
+    {
         assert!(graph.contains_key(controller), "{controller} is not a workspace package");
         assert!(
             !reaches(&graph, controller, "drivers"),
