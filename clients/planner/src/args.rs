@@ -17,6 +17,9 @@ pub struct PlannerArgs {
     /// config has no [planner]; must agree with planner.name when it has.
     #[arg(long)]
     pub planner: Option<String>,
+    /// At exit, write what the planner learnt (JSON) here.
+    #[arg(long)]
+    pub stats: Option<std::path::PathBuf>,
 }
 
 /// The planner the config and `--planner` ask for.
@@ -37,7 +40,6 @@ pub fn run_planner_process(args: PlannerArgs) -> anyhow::Result<u64> {
     let file = args.process.file()?;
     let prefix = args.process.prefix(&file)?;
     let config = planner_config(&file, args.planner.as_deref())?;
-    let planner = config.build().map_err(|m| ConfigError::invalid(file.shown(), m))?;
     let calibration = file.section::<Option<rig_config::CalibrationSection>>("calibration")?;
     let calibration = match calibration.and_then(|c| c.file) {
         Some(path) => {
@@ -48,7 +50,18 @@ pub fn run_planner_process(args: PlannerArgs) -> anyhow::Result<u64> {
         }
         None => None,
     };
-    let mut planner = crate::calibrated::calibrated(planner, calibration);
+    let mut planner = crate::calibrated::on_plate(&config, calibration)
+        .map_err(|m| ConfigError::invalid(file.shown(), m))?;
     let duration = args.process.duration().map_err(anyhow::Error::msg)?;
-    run_planner(planner.as_mut(), &prefix, duration)
+    let sent = run_planner(planner.as_mut(), &prefix, duration)?;
+    if let Some(path) = &args.stats {
+        let estimates: Vec<String> = planner
+            .friction_estimates()
+            .iter()
+            .map(|(id, s)| format!("{{\"id\": {id}, \"friction_scale\": {s}}}"))
+            .collect();
+        let text = format!("{{\"requests\": {sent}, \"friction_estimates\": [{}]}}\n", estimates.join(", "));
+        std::fs::write(path, text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    }
+    Ok(sent)
 }

@@ -53,9 +53,29 @@ pub fn calibrated(planner: Box<dyn Planner>, calibration: Option<PlateCalibratio
     }
 }
 
+/// `planner` on this plate: its calibration if any, and online friction
+/// adaptation if `[planner.drive] adapt_friction` asks for it.
+pub fn on_plate(
+    config: &crate::PlannerConfig,
+    calibration: Option<PlateCalibration>,
+) -> Result<Box<dyn Planner>, String> {
+    let planner = config.build()?;
+    let mut c = config.clone();
+    let drive = *c.drive_mut();
+    Ok(if drive.adapt_friction {
+        Box::new(crate::adaptive::Adaptive::new(planner, calibration, drive.part_mass))
+    } else {
+        calibrated(planner, calibration)
+    })
+}
+
 impl Planner for Box<dyn Planner> {
     fn name(&self) -> &'static str {
         self.as_ref().name()
+    }
+
+    fn friction_estimates(&self) -> Vec<(u32, f64)> {
+        self.as_ref().friction_estimates()
     }
 
     fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {

@@ -24,6 +24,9 @@ pub struct DriveParams {
     /// The parts' μmg (N) and mass (kg).
     pub mu_m_g: f64,
     pub part_mass: f64,
+    /// Learn each part's friction online and ask for what it needs
+    /// (`adaptive`).
+    pub adapt_friction: bool,
 }
 
 impl Default for DriveParams {
@@ -35,6 +38,7 @@ impl Default for DriveParams {
             max_force_fraction: 0.15,
             mu_m_g: 0.1,
             part_mass: 0.1 / (0.25 * 9.81),
+            adapt_friction: false,
         }
     }
 }

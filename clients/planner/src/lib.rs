@@ -9,6 +9,7 @@
 //! section of the rig config: `name` picks the planner, the other fields
 //! are that planner's parameters.
 
+pub mod adaptive;
 pub mod args;
 pub mod calibrated;
 pub mod drive;
@@ -32,4 +33,9 @@ pub trait Planner: Send {
     /// since the planner's first frame). Returns false when it has nothing
     /// to ask this frame.
     fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool;
+    /// Each part's friction scale as this planner believes it, where the
+    /// part was last seen (μ over the nominal), if it learns one.
+    fn friction_estimates(&self) -> Vec<(u32, f64)> {
+        Vec::new()
+    }
 }

@@ -12,7 +12,9 @@
 //!   with the nominal model and with the calibration loaded by core and
 //!   planner.
 //!
-//! Online adaptation is not built: its columns are null.
+//! - the same with online friction adaptation in the planner
+//!   (`upm_planner::adaptive`), alone and on top of the calibration, and
+//!   how close its learnt scales come to the truth's.
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -144,20 +146,47 @@ fn force_errors(
     Ok(Some([nominal, calibrated, floor]))
 }
 
-/// `track`'s RMS distance to its path, percent of the path's length.
+/// `track`'s RMS distance to its path, percent of the path's length; with
+/// `adapt`, also each part's learnt friction scale against the truth's
+/// where the part ended (relative error).
 fn track_rms_pct(
     config: &Config,
     calibration: Option<rig_config::PlateCalibration>,
+    adapt: bool,
     seconds: f64,
-) -> anyhow::Result<f64> {
+) -> anyhow::Result<(f64, Vec<f64>)> {
     let sc = Scenario::load(&resolve("track"))?;
-    let planner = config.planner.build().map_err(anyhow::Error::msg)?;
-    let mut planner = upm_planner::calibrated::calibrated(planner, calibration);
-    let r = crate::closed_loop::run(config, planner.as_mut(), seconds)?;
+    let mut planner_config = config.planner.clone();
+    let drive = *planner_config.drive_mut();
+    let planner = planner_config.build().map_err(anyhow::Error::msg)?;
+    let mut adaptive = upm_planner::adaptive::Adaptive::new(planner, calibration.clone(), drive.part_mass);
+    let mut plain = upm_planner::calibrated::calibrated(
+        planner_config.build().map_err(anyhow::Error::msg)?,
+        calibration.clone(),
+    );
+    let r = if adapt {
+        crate::closed_loop::run(config, &mut adaptive, seconds)?
+    } else {
+        crate::closed_loop::run(config, plain.as_mut(), seconds)?
+    };
     let m = sc.evaluate(config, &r.trails);
     let rms = m["tracking_rms_m"].as_f64().unwrap_or(f64::NAN);
     let path = m["path_length_m"].as_f64().unwrap_or(f64::NAN);
-    Ok(100.0 * rms / path)
+    let mut scale_errors = Vec::new();
+    if adapt {
+        let (_, truth) = plate_of(config)?;
+        for (id, believed) in upm_planner::Planner::friction_estimates(&adaptive) {
+            let Some(last) = r.trails.parts.get(&id).and_then(|t| t.points.last().map(|q| (t.class, *q)))
+            else {
+                continue;
+            };
+            let (class, q) = last;
+            let real = truth.class_friction(class)
+                * truth.plate.friction_map.scale_at(config.plate.half_extent, q[1], q[2]);
+            scale_errors.push((believed - real).abs() / real);
+        }
+    }
+    Ok((100.0 * rms / path, scale_errors))
 }
 
 fn median(v: &mut [f64]) -> Option<f64> {
@@ -176,6 +205,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
     std::fs::create_dir_all(&dir)?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut nominal_f, mut calibrated_f, mut floor_f) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut scale_err, mut both_scale_err) = (Vec::new(), Vec::new());
     let mut rows = Vec::new();
     let mut rig_s = Vec::new();
     for case in 0..cases {
@@ -207,11 +237,15 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         }
         let mut track_config = track.config(seed.wrapping_add(case as u64), "unused_")?;
         track_config.sim.truth = truth.clone();
-        let nominal_track = track_rms_pct(&track_config, None, track_s)?;
+        let (nominal_track, _) = track_rms_pct(&track_config, None, false, track_s)?;
+        let (adapted_track, adapt_err) = track_rms_pct(&track_config, None, true, track_s)?;
         let file = dir.join(format!("case{case}.toml"));
         cal.write_atomically(&file).map_err(anyhow::Error::msg)?;
         track_config.calibration.file = Some(file);
-        let calibrated_track = track_rms_pct(&track_config, Some(cal.clone()), track_s)?;
+        let (calibrated_track, _) = track_rms_pct(&track_config, Some(cal.clone()), false, track_s)?;
+        let (both_track, both_err) = track_rms_pct(&track_config, Some(cal.clone()), true, track_s)?;
+        scale_err.extend(adapt_err.iter().copied());
+        both_scale_err.extend(both_err.iter().copied());
         rows.push(json!({
             "case": case,
             "truth": truth,
@@ -220,6 +254,8 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
             "calibrated_force_err_worst": cf.iter().copied().fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x)))),
             "nominal_track_rms_pct": nominal_track,
             "calibrated_track_rms_pct": calibrated_track,
+            "adapted_track_rms_pct": adapted_track,
+            "both_track_rms_pct": both_track,
             "report": serde_json::to_value(&cal.report)?,
         }));
         nominal_f.extend(nf);
@@ -231,6 +267,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
     let worst =
         |v: &[f64]| v.iter().copied().fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m: f64| m.max(x))));
     let (nt, ct) = (col("nominal_track_rms_pct"), col("calibrated_track_rms_pct"));
+    let (at, bt) = (col("adapted_track_rms_pct"), col("both_track_rms_pct"));
     Ok(json!({
         "cases": cases,
         "seed": seed,
@@ -246,7 +283,14 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         "nominal_track_rms_pct_worst": worst(&nt),
         "calibrated_track_rms_pct": median(&mut ct.clone()),
         "calibrated_track_rms_pct_worst": worst(&ct),
-        "adapted_track_rms_pct": Value::Null,
+        "adapted_track_rms_pct": median(&mut at.clone()),
+        "adapted_track_rms_pct_worst": worst(&at),
+        "both_track_rms_pct": median(&mut bt.clone()),
+        "both_track_rms_pct_worst": worst(&bt),
+        // The learnt friction scale against the truth's where each part
+        // ended, relative: adaptation alone, and on top of the calibration.
+        "adapted_scale_err_median": median(&mut scale_err.clone()),
+        "both_scale_err_median": median(&mut both_scale_err.clone()),
         "calibration_rig_s": median(&mut rig_s.clone()),
         "runs": rows,
     }))
@@ -258,7 +302,8 @@ pub fn to_text(v: &Value) -> String {
     format!(
         "{} hidden truths (seed {}), {} refused; calibration takes {} s of rig time\n\
          force error, median / worst: nominal {} / {}, calibrated {} / {} (the model on an exact plate: {} / {})\n\
-         track RMS (% of path), median / worst: nominal {} / {}, calibrated {} / {}; online adaptation: not built\n",
+         track RMS (% of path), median / worst: nominal {} / {}, calibrated {} / {}, adapted {} / {}, both {} / {}\n\
+         learnt friction scale against the truth (median): adapted {}, both {}\n",
         v["cases"],
         v["seed"],
         v["refused"],
@@ -273,5 +318,11 @@ pub fn to_text(v: &Value) -> String {
         num("nominal_track_rms_pct_worst"),
         num("calibrated_track_rms_pct"),
         num("calibrated_track_rms_pct_worst"),
+        num("adapted_track_rms_pct"),
+        num("adapted_track_rms_pct_worst"),
+        num("both_track_rms_pct"),
+        num("both_track_rms_pct_worst"),
+        pct("adapted_scale_err_median"),
+        pct("both_scale_err_median"),
     )
 }

@@ -98,6 +98,10 @@ pub enum Command {
         /// planner, instead of the scenario's `[calibration] file`.
         #[arg(long)]
         calibration: Option<PathBuf>,
+        /// The planner learns each part's friction online
+        /// (`[planner.drive] adapt_friction`).
+        #[arg(long)]
+        adapt: bool,
         /// Service prefix (default: one per run).
         #[arg(long)]
         prefix: Option<String>,
@@ -381,6 +385,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             seed,
             truth,
             calibration,
+            adapt,
             prefix,
             quiet,
             stress,
@@ -406,6 +411,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             if let Some(t) = truth {
                 config.sim.truth = crate::config::truth::TruthSection::Preset(t);
+            }
+            if adapt {
+                config.planner.drive_mut().adapt_friction = true;
             }
             if let Some(f) = calibration {
                 // Absolute: the processes start in other directories.

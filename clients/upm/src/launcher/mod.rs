@@ -153,7 +153,12 @@ pub fn run_plan(
         vision = vision.arg("--stats").arg(&vision_stats.display().to_string());
     }
     let mut camera = rendered.then(|| client("upm-camera", &None, "camera.log"));
+    let planner_stats = out.join("planner_stats.json");
+    let _ = std::fs::remove_file(&planner_stats);
     let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log");
+    if plan.planner_cmd.is_none() {
+        planner = planner.arg("--stats").arg(&planner_stats.display().to_string());
+    }
     let recording = out.join(RECORDING);
     let mut recorder = (plan.record || plan.monitor.is_some()).then(|| {
         let mut r = client("upm-recorder", &None, "recorder.log")
@@ -318,6 +323,7 @@ pub fn run_plan(
         "recording": recording_json,
         // What vision did with the frames (rendered camera only).
         "vision": std::fs::read_to_string(&vision_stats).ok().and_then(|t| serde_json::from_str::<Value>(&t).ok()),
+        "planner": planner_json(&plan.config, &planner_stats, &observer.trails),
     });
     if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&observer.trails)) {
         m.extend(goals);
@@ -362,4 +368,27 @@ fn wait_for_recorder(r: &mut Supervised, file: Option<&Path>, logs: &Path) -> an
         }
         std::thread::sleep(Duration::from_millis(10));
     }
+}
+
+/// What the planner learnt (its `--stats` file), each friction estimate
+/// beside the simulated plate's truth where the part was last seen: the
+/// launcher may read the truth for evaluation, the planner never does.
+fn planner_json(config: &Config, stats: &Path, trails: &Trails) -> Value {
+    let Some(mut v) =
+        std::fs::read_to_string(stats).ok().and_then(|t| serde_json::from_str::<Value>(&t).ok())
+    else {
+        return Value::Null;
+    };
+    let count = rt_core::motion::RigParams::default().count;
+    let truth = config.sim.truth.resolve(count, config.plate.half_extent).ok();
+    if let (Some(truth), Some(list)) = (truth, v["friction_estimates"].as_array_mut()) {
+        for e in list {
+            let id = e["id"].as_u64().unwrap_or(u64::MAX) as u32;
+            let Some(t) = trails.parts.get(&id) else { continue };
+            let Some(last) = t.points.last() else { continue };
+            let map = truth.plate.friction_map.scale_at(config.plate.half_extent, last[1], last[2]);
+            e["truth"] = json!(truth.class_friction(t.class) * map);
+        }
+    }
+    v
 }
