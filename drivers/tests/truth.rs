@@ -175,12 +175,10 @@ fn sensors_read_the_command_while_the_plate_sits_elsewhere() {
     let real = sim.plate_pose();
     let mut stroke = [0.0; MAX_ACTUATORS];
     Rig::new(truth.plant_rig(&cfg.rig)).expect("plant").actuator_positions(&real, &mut stroke);
-    for i in 0..rig.count() {
-        // Four actuators, three degrees of freedom: the servos meet the
-        // command in the least-squares sense, and each sensor reads its
-        // stroke scaled.
-        let (read, command) = (state.actuator_position[i], cmd.position[i]);
-        assert_eq!(read, stroke[i] * (1.0 + truth.sensor_scale_error[i]), "sensor {i}");
+    // Four actuators, three degrees of freedom: the servos meet the command
+    // in the least-squares sense, and each sensor reads its stroke scaled.
+    for (i, (read, stroke)) in state.actuator_position.iter().zip(stroke).take(rig.count()).enumerate() {
+        assert_eq!(*read, stroke * (1.0 + truth.sensor_scale_error[i]), "sensor {i}");
     }
     // Through the model, the sensors say the plate is about where it was
     // told to be, while it is not.

@@ -149,7 +149,7 @@ impl Exciter {
     fn burst(&self, b: usize) -> (usize, f64) {
         let center = self.excited[(b / 2) % self.excited.len()];
         let k = self.setup.params.k.min(0.9 * self.setup.k_bounds[center]);
-        (center, if b % 2 == 0 { k } else { -k })
+        (center, if b.is_multiple_of(2) { k } else { -k })
     }
 
     /// Take the newest part states (time `t`, s, from their stamp) and fill
@@ -340,15 +340,7 @@ mod tests {
 
     fn setup() -> CalibrateSetup {
         CalibrateSetup {
-            centers: vec![
-                [1.2, 0.2],
-                [0.7, 0.7],
-                [-0.2, 0.8],
-                [-1.0, 0.5],
-                [-1.3, 0.0],
-                [-1.0, -0.5],
-                [0.6, -0.7],
-            ],
+            centers: crate::fit::TEST_CENTERS.to_vec(),
             k_bounds: vec![0.9; 7],
             motion: MotionParams::default(),
             mu_m_g: 0.1,

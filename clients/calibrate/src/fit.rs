@@ -78,7 +78,7 @@ fn inliers(r: &[f64], floor: f64) -> Vec<bool> {
 /// model's own direction of push (which leans off R90(P − C′) a little:
 /// the slot's fast and slow phases do not cancel exactly) meets every
 /// seen one; also the sine residuals against it.
-fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>, [[f64; 2]; 2])> {
+fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<CenterFit> {
     let (mut c, _) = perpendicular_center(obs)?;
     let sine = |c: [f64; 2], o: &Observation| -> Option<f64> {
         let m = model_acceleration(rig, c, o.k, o.position)?;
@@ -113,8 +113,8 @@ fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<([f64; 2], V
         info = n.map(|row| row.map(|x| x / var));
         keep = inliers(&res, 0.5f64.to_radians().sin());
     }
-    let res = obs.iter().map(|o| sine(c, o).unwrap_or(f64::NAN)).collect();
-    Some((c, res, info))
+    let residuals = obs.iter().map(|o| sine(c, o).unwrap_or(f64::NAN)).collect();
+    Some(CenterFit { center: c, residuals, info })
 }
 
 /// C′ as the least-squares meeting point of the lines through each P
@@ -159,6 +159,14 @@ fn perpendicular_center(obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
         out = Some((c, res));
     }
     out
+}
+
+/// Step 1's answer: C′, each observation's sine residual against the
+/// model's push there, and C′'s information matrix (1/m²).
+struct CenterFit {
+    center: [f64; 2],
+    residuals: Vec<f64>,
+    info: [[f64; 2]; 2],
 }
 
 /// A located effective center: the commanded one, the seen one, and its
@@ -336,7 +344,7 @@ pub fn fit(
     let mut outliers = 0u32;
     for &e in &excited {
         let of: Vec<&Observation> = obs.iter().filter(|o| o.center == e).collect();
-        if let Some((c, res, info)) = effective_center(rig, &of) {
+        if let Some(CenterFit { center: c, residuals: res, info }) = effective_center(rig, &of) {
             let keep = inliers(&res, 0.5f64.to_radians().sin());
             outliers += keep.iter().filter(|k| !**k).count() as u32;
             direction_res
@@ -431,6 +439,11 @@ pub fn fit(
     Ok(calibration)
 }
 
+/// Seven centers around a 2 m × 1 m plate, as the track rig's.
+#[cfg(test)]
+pub(crate) const TEST_CENTERS: [[f64; 2]; 7] =
+    [[1.2, 0.2], [0.7, 0.7], [-0.2, 0.8], [-1.0, 0.5], [-1.3, 0.0], [-1.0, -0.5], [0.6, -0.7]];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -441,15 +454,7 @@ mod tests {
         // σ = (1.1, 0.8) and a map; accelerations exactly the model's.
         let m = Matrix3::new(1.02, 0.01, 0.004, -0.015, 0.99, -0.006, 0.01, -0.02, 1.0);
         let rig = RigModel {
-            centers: vec![
-                [1.2, 0.2],
-                [0.7, 0.7],
-                [-0.2, 0.8],
-                [-1.0, 0.5],
-                [-1.3, 0.0],
-                [-1.0, -0.5],
-                [0.6, -0.7],
-            ],
+            centers: TEST_CENTERS.to_vec(),
             plate_half_extent: [1.0, 0.5],
             mu_m_g: 0.1,
             mu_g: 0.25 * 9.81,

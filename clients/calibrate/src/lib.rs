@@ -9,6 +9,9 @@
 //! (`rt-core`) and the wire contract, never the simulator: it cannot see a
 //! simulated plate's hidden truth.
 
+// Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod excite;
 pub mod fit;
 pub mod process;

@@ -96,6 +96,7 @@ enum Fit {
 }
 
 /// Least squares of (x₀, v₀x, y₀, v₀y, s) over one window.
+#[allow(clippy::needless_range_loop)] // index loops mirror the formulas
 fn fit_scale(samples: &[[f64; 5]], mass: f64) -> Fit {
     let t0 = samples[0][0];
     // ∬f dt per axis, the force held from each frame to the next.
@@ -149,6 +150,7 @@ fn fit_scale(samples: &[[f64; 5]], mass: f64) -> Fit {
 }
 
 /// Gaussian elimination with partial pivoting; None if singular.
+#[allow(clippy::needless_range_loop)]
 fn solve5(mut n: [[f64; 5]; 5], mut b: [f64; 5]) -> Option<[f64; 5]> {
     for c in 0..5 {
         let p = (c..5).max_by(|&i, &j| n[i][c].abs().total_cmp(&n[j][c].abs()))?;

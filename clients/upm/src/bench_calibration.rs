@@ -24,7 +24,7 @@ use crate::config::Config;
 use crate::config::truth::TruthSection;
 use crate::scenario::{Scenario, resolve};
 use crate::solve_json::{PartInput, ShapeInput, SolveInput, solve};
-use crate::validate::{ValidateSetup, measure_with_friction};
+use crate::validate::{ValidateSetup, measure};
 
 /// Random geometries per case, and cycles each is played for.
 const GEOMETRIES: usize = 6;
@@ -127,7 +127,7 @@ fn force_errors(
             return Ok(None);
         }
         let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
-        let m = measure_with_friction(&nominal, &out.k, &order, CYCLES, seed, &setup, friction)?;
+        let m = measure(&nominal, &out.k, &order, CYCLES, seed, &setup, friction)?;
         let mu = nominal.mu_m_g;
         errors.push(
             nominal

@@ -64,7 +64,7 @@ fn errors(input: &SolveInput, model: &SolveInput, seed: u64) -> anyhow::Result<O
         return Ok(None);
     }
     let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
-    let m = measure(input, &out.k, &order, CYCLES, seed, &ValidateSetup::default())?;
+    let m = measure(input, &out.k, &order, CYCLES, seed, &ValidateSetup::default(), &[])?;
     let mu = input.mu_m_g;
     let force = input
         .parts

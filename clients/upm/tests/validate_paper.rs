@@ -167,7 +167,7 @@ fn ordering_study() {
         let rev: Vec<u16> = pri.iter().rev().copied().collect();
         let inp: Vec<u16> = (0..input.centers.len() as u16).collect();
         let err = |order: &[u16]| -> Option<f64> {
-            let m = validate::measure(&input, &out.k, order, 2, 1, &setup).ok()?;
+            let m = validate::measure(&input, &out.k, order, 2, 1, &setup, &[]).ok()?;
             let worst = input
                 .parts
                 .iter()

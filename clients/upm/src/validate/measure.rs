@@ -90,21 +90,10 @@ impl Probe {
 }
 
 /// Simulate `cycles` cycles of the schedule (k per center, `order` play
-/// order) and measure every constrained point of `input`.
+/// order) and measure every constrained point of `input`, part `i`
+/// feeling `part_friction[i]` times the nominal μ (a simulated plate's
+/// truth; empty: nominal).
 pub fn measure(
-    input: &SolveInput,
-    k: &[f64],
-    order: &[u16],
-    cycles: usize,
-    seed: u64,
-    setup: &ValidateSetup,
-) -> anyhow::Result<Measured> {
-    measure_with_friction(input, k, order, cycles, seed, setup, &[])
-}
-
-/// [`measure`], part `i` of `input` feeling `part_friction[i]` times the
-/// nominal μ (a simulated plate's truth; empty: nominal).
-pub fn measure_with_friction(
     input: &SolveInput,
     k: &[f64],
     order: &[u16],

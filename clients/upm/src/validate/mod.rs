@@ -23,7 +23,7 @@ use serde_json::json;
 
 use crate::solve_json::{SolveInput, solve};
 
-pub use measure::{DISC_RADIUS, Measured, ValidateSetup, measure, measure_with_friction};
+pub use measure::{DISC_RADIUS, Measured, ValidateSetup, measure};
 
 /// Solve `input`, simulate `cycles` cycles, and return the solve output plus
 /// `simulated` (forces, curls, errors) as JSON. `plot` writes an SVG of the
@@ -37,7 +37,7 @@ pub fn run(
     let out = solve(input)?;
     let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
     let setup = ValidateSetup::default();
-    let m = measure(input, &out.k, &order, cycles, seed, &setup)?;
+    let m = measure(input, &out.k, &order, cycles, seed, &setup, &[])?;
     let mu_m_g = input.mu_m_g;
     let force_err: Vec<Option<f64>> = input
         .parts
