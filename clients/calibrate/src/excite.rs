@@ -35,6 +35,13 @@ pub struct ExciteParams {
     pub vanish_s: f64,
 }
 
+impl ExciteParams {
+    /// Rig time the excitation takes (s).
+    pub fn rig_seconds(&self) -> f64 {
+        2.0 * self.pairs as f64 * self.burst_s
+    }
+}
+
 impl Default for ExciteParams {
     fn default() -> Self {
         Self {
@@ -67,6 +74,9 @@ pub struct CalibrateSetup {
     /// curvature the fit measures: each position is taken back to the
     /// detection it came from); None: positions are raw detections.
     pub tracker_alpha: Option<f64>,
+    /// Vision's frame period (s): a gap longer than 1.5 of it means a
+    /// frame the fit did not see, and the tracker's step cannot be undone.
+    pub frame_period_s: f64,
     /// The calibration the core is playing through, if any.
     pub prior_correction: Option<[[f64; 3]; 3]>,
     pub params: ExciteParams,
@@ -138,7 +148,7 @@ impl Exciter {
 
     /// Rig time the excitation takes (s).
     pub fn rig_seconds(&self) -> f64 {
-        2.0 * self.setup.params.pairs as f64 * self.setup.params.burst_s
+        self.setup.params.rig_seconds()
     }
 
     /// The centers excited (indices into the rig's).
@@ -272,6 +282,9 @@ impl Exciter {
         let prev = self.frames.get(i.checked_sub(1)?)?;
         let &(_, _, q0, v0) = prev.parts.iter().find(|q| q.0 == id)?;
         let dt = f.t - prev.t;
+        if dt > 1.5 * self.setup.frame_period_s {
+            return None;
+        }
         let pred = [q0[0] + v0[0] * dt, q0[1] + v0[1] * dt];
         Some([pred[0] + (q[0] - pred[0]) / alpha, pred[1] + (q[1] - pred[1]) / alpha])
     }
@@ -348,6 +361,7 @@ mod tests {
             plate_half_extent: [1.0, 0.5],
             actuators: 4,
             tracker_alpha: None,
+            frame_period_s: 1.0 / 30.0,
             prior_correction: None,
             params: ExciteParams { pairs: 4, ..ExciteParams::default() },
         }

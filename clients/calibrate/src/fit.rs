@@ -264,7 +264,7 @@ impl FrictionFit {
 fn fit_friction(
     data: &[(u32, [f64; FRICTION_TERMS], f64)],
     pull: f64,
-) -> Option<(FrictionFit, DMatrix<f64>, f64)> {
+) -> Option<(FrictionFit, DMatrix<f64>)> {
     let mut classes: Vec<u32> = data.iter().map(|d| d.0).collect();
     classes.sort_unstable();
     classes.dedup();
@@ -278,7 +278,6 @@ fn fit_friction(
     let mut fit = FrictionFit { classes, sigma, c: [0.0; FRICTION_TERMS] };
     let n = fit.classes.len() + FRICTION_TERMS;
     let mut cov = DMatrix::zeros(n, n);
-    let mut rms = 0.0;
     for _ in 0..8 {
         let mut jtj = DMatrix::<f64>::zeros(n, n);
         let mut jtr = DVector::<f64>::zeros(n);
@@ -314,10 +313,9 @@ fn fit_friction(
             fit.c[k] += step[fit.classes.len() + k];
         }
         let dof = (data.len() as f64 - n as f64).max(1.0);
-        rms = (ss / dof).sqrt();
-        cov = inv * (rms * rms);
+        cov = inv * (ss / dof);
     }
-    Some((fit, cov, rms))
+    Some((fit, cov))
 }
 
 /// Counts the fit reports.
@@ -379,14 +377,14 @@ pub fn fit(
         });
     }
     let pull = 1e-3 * data.len() as f64;
-    let (mut f, mut cov, mut rms) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
+    let (mut f, mut cov) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
     for _ in 0..2 {
         let res: Vec<f64> = data.iter().map(|(c, t, s)| (s - f.predict(*c, t)) / f.predict(*c, t)).collect();
         let keep = inliers(&res, 0.02);
         let before = data.len();
         data = data.into_iter().zip(keep).filter(|(_, k)| *k).map(|(d, _)| d).collect();
         outliers += (before - data.len()) as u32;
-        (f, cov, rms) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
+        (f, cov) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
     }
     let mut rel: Vec<f64> =
         data.iter().map(|(c, t, s)| ((s - f.predict(*c, t)) / f.predict(*c, t)).abs()).collect();
@@ -408,7 +406,6 @@ pub fn fit(
             spread.push(var.max(0.0).sqrt() / (f.sigma[0] * map));
         }
     }
-    let _ = rms;
     let to_array =
         |m: &Matrix3<f64>| -> [[f64; 3]; 3] { core::array::from_fn(|r| core::array::from_fn(|c| m[(r, c)])) };
     let calibration = PlateCalibration {

@@ -31,10 +31,12 @@ pub fn run_calibration(
     let mut first: Option<u64> = None;
     let mut last_frame = Instant::now();
     let mut seq = 0u64;
+    let mut received = Vec::new();
     loop {
-        let mut newest = None;
+        // Every frame, in order: undoing the tracker's step needs each one.
+        received.clear();
         while let Some(s) = parts.receive().map_err(|e| anyhow::anyhow!("receiving part states: {e:?}"))? {
-            newest = Some(*s.payload());
+            received.push(*s.payload());
         }
         while let Some(r) =
             rejections.receive().map_err(|e| anyhow::anyhow!("receiving rejections: {e:?}"))?
@@ -43,21 +45,28 @@ pub fn run_calibration(
                 anyhow::bail!("the core refused the excitation: {}", r.detail_str());
             }
         }
-        if let Some(states) = newest {
+        let mut step = None;
+        for states in &received {
             last_frame = Instant::now();
             let t0 = *first.get_or_insert(states.stamp_ns);
             let t = states.stamp_ns.saturating_sub(t0) as f64 / 1e9;
-            match exciter.on_frame(&states, t, &mut msg)? {
-                Step::Play => {
-                    seq += 1;
-                    msg.seq = seq;
-                    msg.stamp_ns = monotonic_now_ns();
-                    schedules.send_copy(msg).map_err(|e| anyhow::anyhow!("publishing a schedule: {e:?}"))?;
-                    wake.notify();
-                }
-                Step::Done => break,
+            step = Some(exciter.on_frame(states, t, &mut msg)?);
+            if step == Some(Step::Done) {
+                break;
             }
-        } else if last_frame.elapsed() > patience {
+        }
+        match step {
+            Some(Step::Play) => {
+                seq += 1;
+                msg.seq = seq;
+                msg.stamp_ns = monotonic_now_ns();
+                schedules.send_copy(msg).map_err(|e| anyhow::anyhow!("publishing a schedule: {e:?}"))?;
+                wake.notify();
+            }
+            Some(Step::Done) => break,
+            None => {}
+        }
+        if received.is_empty() && last_frame.elapsed() > patience {
             anyhow::bail!(
                 "no part states on prefix {prefix} for {:.1} s: is the rig running?",
                 patience.as_secs_f64()

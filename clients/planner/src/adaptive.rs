@@ -65,10 +65,6 @@ impl<P: Planner> Adaptive<P> {
         Self { inner, calibration, part_mass, tracks: Vec::new(), counts: AdaptCounts::default() }
     }
 
-    pub fn counts(&self) -> AdaptCounts {
-        self.counts
-    }
-
     fn learn(&mut self, t: f64) {
         let m = self.part_mass;
         for tr in &mut self.tracks {
@@ -181,6 +177,10 @@ impl<P: Planner> Planner for Adaptive<P> {
 
     fn friction_estimates(&self) -> Vec<(u32, f64)> {
         self.tracks.iter().map(|t| (t.id, t.calibrated * t.scale)).collect()
+    }
+
+    fn learning_counts(&self) -> Option<AdaptCounts> {
+        Some(self.counts)
     }
 
     fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {

@@ -60,7 +60,16 @@ pub fn run_planner_process(args: PlannerArgs) -> anyhow::Result<u64> {
             .iter()
             .map(|(id, s)| format!("{{\"id\": {id}, \"friction_scale\": {s}}}"))
             .collect();
-        let text = format!("{{\"requests\": {sent}, \"friction_estimates\": [{}]}}\n", estimates.join(", "));
+        let windows = planner.learning_counts().map_or("null".into(), |c| {
+            format!(
+                "{{\"updates\": {}, \"skipped\": {}, \"rejected\": {}}}",
+                c.updates, c.skipped, c.rejected
+            )
+        });
+        let text = format!(
+            "{{\"requests\": {sent}, \"friction_estimates\": [{}], \"learning_windows\": {windows}}}\n",
+            estimates.join(", ")
+        );
         std::fs::write(path, text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     }
     Ok(sent)

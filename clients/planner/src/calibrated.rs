@@ -78,6 +78,10 @@ impl Planner for Box<dyn Planner> {
         self.as_ref().friction_estimates()
     }
 
+    fn learning_counts(&self) -> Option<crate::adaptive::AdaptCounts> {
+        self.as_ref().learning_counts()
+    }
+
     fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {
         self.as_mut().plan(parts, t, out)
     }

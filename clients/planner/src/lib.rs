@@ -38,4 +38,8 @@ pub trait Planner: Send {
     fn friction_estimates(&self) -> Vec<(u32, f64)> {
         Vec::new()
     }
+    /// What the learning did with its windows, if it learns.
+    fn learning_counts(&self) -> Option<adaptive::AdaptCounts> {
+        None
+    }
 }

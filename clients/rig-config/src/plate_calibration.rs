@@ -79,6 +79,10 @@ pub struct PlateCalibration {
 
 pub const FORMAT: u32 = 1;
 
+/// Friction may differ from the nominal between these multiples.
+pub const MIN_SCALE: f64 = 0.2;
+pub const MAX_SCALE: f64 = 3.0;
+
 /// The rig a calibration file must match.
 #[derive(Debug, Clone, Copy)]
 pub struct RigIdentity<'a> {
@@ -117,9 +121,18 @@ impl PlateCalibration {
                 }
             }
         }
+        let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        if det.is_nan() || det.abs() <= 0.5 {
+            return Err(format!("twist_correction: determinant {det:.3}, not a small correction"));
+        }
         for (i, f) in self.class_friction.iter().enumerate() {
-            if !(0.2..=3.0).contains(&f.scale) {
-                return Err(format!("class_friction[{i}].scale = {}: must be within 0.2..3", f.scale));
+            if !(MIN_SCALE..=MAX_SCALE).contains(&f.scale) {
+                return Err(format!(
+                    "class_friction[{i}].scale = {}: must be within {MIN_SCALE}..{MAX_SCALE}",
+                    f.scale
+                ));
             }
         }
         if let Some(k) = self.friction_map.iter().position(|c| !c.is_finite()) {
@@ -129,11 +142,11 @@ impl PlateCalibration {
         if !(half.iter().all(|h| h.is_finite() && *h > 0.0)) {
             return Err("plate_half_extent: must be finite and positive".into());
         }
-        for i in 0..=10 {
-            for j in 0..=10 {
-                let (x, y) = (half[0] * (i as f64 / 5.0 - 1.0), half[1] * (j as f64 / 5.0 - 1.0));
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let (x, y) = (half[0] * (i as f64 / 20.0 - 1.0), half[1] * (j as f64 / 20.0 - 1.0));
                 let m = self.map_at(x, y);
-                if !(0.2..=3.0).contains(&m) {
+                if !(MIN_SCALE..=MAX_SCALE).contains(&m) {
                     return Err(format!("friction_map: {m:.3} of the nominal μ at ({x:.2}, {y:.2})"));
                 }
             }
@@ -182,8 +195,10 @@ impl PlateCalibration {
         1.0 + t.iter().zip(&self.friction_map).map(|(t, c)| t * c).sum::<f64>()
     }
 
-    /// μ of a part of `class` at (x, y) over the nominal μ. A class the
-    /// calibration never saw takes the mean of those it saw.
+    /// μ of a part of `class` at (x, y) over the nominal μ, within
+    /// [`MIN_SCALE`, `MAX_SCALE`] wherever the part is (off the plate too,
+    /// where the map is extrapolated). A class the calibration never saw
+    /// takes the mean of those it saw.
     pub fn friction_scale(&self, class: u32, x: f64, y: f64) -> f64 {
         let s = match self.class_friction.iter().find(|f| f.class == class) {
             Some(f) => f.scale,
@@ -192,7 +207,7 @@ impl PlateCalibration {
                 self.class_friction.iter().map(|f| f.scale).sum::<f64>() / self.class_friction.len() as f64
             }
         };
-        s * self.map_at(x, y)
+        (s * self.map_at(x, y)).clamp(MIN_SCALE, MAX_SCALE)
     }
 
     /// Write to `path` without ever leaving a half-written file there: the

@@ -94,15 +94,8 @@ fn force_errors(
         let s = calibration.friction_scale(class, p.position[0], p.position[1]);
         p.force = p.force.map(|f| [f[0] / s, f[1] / s]);
     }
-    let friction: Vec<f64> = nominal
-        .parts
-        .iter()
-        .zip(&classes)
-        .map(|(p, &c)| {
-            truth.class_friction(c)
-                * truth.plate.friction_map.scale_at(config.plate.half_extent, p.position[0], p.position[1])
-        })
-        .collect();
+    // Each part's material; the simulator adds the map where it stands.
+    let friction: Vec<f64> = classes.iter().map(|&c| truth.class_friction(c)).collect();
     let setup = ValidateSetup {
         motion: core.motion,
         sim: drivers::SimConfig { collisions: false, ..sim },

@@ -29,6 +29,7 @@ pub fn setup(config: &Config, params: ExciteParams) -> anyhow::Result<CalibrateS
         plate_half_extent: config.plate.half_extent,
         actuators: core.rig.count as u32,
         tracker_alpha: Some(config.vision.alpha),
+        frame_period_s: 1.0 / config.vision.frame_hz,
         prior_correction: core.twist_correction,
         params,
     })
@@ -60,7 +61,7 @@ impl LoopClient for Lockstepped {
             }
             Ok(Step::Done) => false,
             Err(e) => {
-                self.failed = Some(e);
+                self.failed.get_or_insert(e);
                 false
             }
         }
@@ -103,11 +104,13 @@ pub fn command(a: &PlateArgs) -> anyhow::Result<()> {
                 .config
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--prefix needs --config (the rig's file)"))?;
-            let config = Config::load(path)?;
+            let mut config = Config::load(path)?;
+            // A simulated plate's truth is the simulator's alone.
+            config.sim = crate::config::SimSection::default();
             let setup = setup(&config, ExciteParams::default())?;
             eprintln!(
                 "upm calibrate plate: playing {:.0} s of excitation on rig {prefix}",
-                2.0 * setup.params.pairs as f64 * setup.params.burst_s
+                setup.params.rig_seconds()
             );
             upm_calibrate::process::run_calibration(setup, prefix, std::time::Duration::from_secs(5))?
         }
@@ -161,7 +164,7 @@ fn launched(
         exe.display(),
         staged.display()
     );
-    let rig_s = 2.0 * ExciteParams::default().pairs as f64 * ExciteParams::default().burst_s;
+    let rig_s = ExciteParams::default().rig_seconds();
     let prefix = config.service.prefix.clone();
     let plan = crate::launcher::RunPlan {
         scenario: sc.name.clone(),

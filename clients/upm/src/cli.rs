@@ -218,9 +218,10 @@ pub enum Command {
         /// plate: calibrate the rig running at this prefix (with --config).
         #[arg(long)]
         prefix: Option<String>,
-        /// plate: otherwise start this scenario's simulated rig for it.
-        #[arg(long, default_value = "calibrate")]
-        scenario: String,
+        /// plate: otherwise start this scenario's simulated rig for it
+        /// (default `calibrate`).
+        #[arg(long)]
+        scenario: Option<String>,
         /// plate: the scenario's seed.
         #[arg(long)]
         seed: Option<u64>,
@@ -602,6 +603,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             if images.is_some() {
                 anyhow::bail!("--images applies to `upm calibrate camera` only");
             }
+            if prefix.is_some() && (scenario.is_some() || seed.is_some() || truth.is_some() || lockstep) {
+                anyhow::bail!(
+                    "--prefix calibrates a running rig: --scenario, --seed, --truth and --lockstep do not apply"
+                );
+            }
+            if prefix.is_none() && config.is_some() {
+                anyhow::bail!("--config names a running rig's file: it goes with --prefix");
+            }
+            let scenario = scenario.unwrap_or_else(|| "calibrate".into());
             let out = out.unwrap_or_else(|| "plate-calibration.toml".into());
             crate::calibrate_plate::command(&crate::calibrate_plate::PlateArgs {
                 config,
@@ -614,7 +624,23 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 json,
             })
         }
-        Command::Calibrate { what: CalibrateTarget::Camera, config, images, out, json, .. } => {
+        Command::Calibrate {
+            what: CalibrateTarget::Camera,
+            config,
+            images,
+            out,
+            json,
+            prefix,
+            scenario,
+            seed,
+            truth,
+            lockstep,
+        } => {
+            if prefix.is_some() || scenario.is_some() || seed.is_some() || truth.is_some() || lockstep {
+                anyhow::bail!(
+                    "--prefix, --scenario, --seed, --truth and --lockstep apply to `upm calibrate plate` only"
+                );
+            }
             let out = out.unwrap_or_else(|| "calibration.toml".into());
             let shown = config.as_ref().map_or("built-in defaults".into(), |p| p.display().to_string());
             let config = match &config {

@@ -150,13 +150,13 @@ fn run_on<D: SimulatedPlant>(
                 Sight::Truth(s) => s.capture(&states),
                 Sight::Rendered(s) => {
                     s.see(&states, frame_ticks as f64 / tick_hz, &mut seen);
-                    going &= deliver(&mut core, client, &seen, start_ns);
+                    going = going && deliver(&mut core, client, &seen, start_ns);
                 }
             }
         }
         if let Sight::Truth(s) = &mut sight {
             while s.next(now, &mut seen) {
-                going &= deliver(&mut core, client, &seen, start_ns);
+                going = going && deliver(&mut core, client, &seen, start_ns);
             }
         }
         // Step to the next frame, or to the next delivery if sooner.

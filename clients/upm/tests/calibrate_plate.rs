@@ -60,7 +60,7 @@ fn a_worn_plate_is_found_worn_and_a_nominal_one_nominal() {
 }
 
 #[test]
-fn core_and_planner_load_the_file_and_refuse_one_from_another_rig() {
+fn the_core_loads_the_file_and_refuses_one_from_another_rig_and_the_planner_divides_by_friction() {
     let d = dir("load");
     let file = d.join("plate.toml");
     let cal = calibrated("worn");
@@ -70,17 +70,11 @@ fn core_and_planner_load_the_file_and_refuse_one_from_another_rig() {
     config.calibration.file = Some(file.clone());
     let params = config.core_params("rig.toml").expect("core params");
     assert_eq!(params.twist_correction, Some(cal.twist_correction));
-    // A file made on a rig with other centers.
-    let mut other = cal.clone();
-    other.centers[3][0] += 0.01;
-    other.write_atomically(&file).expect("write");
-    let e = config.core_params("rig.toml").expect_err("other rig").to_string();
-    assert!(e.contains("calibration.file") && e.contains("centers[3]"), "{e}");
-    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
-    // The planner asks for f / s where friction is μ·s.
+    // The planner (which checks the file itself, not the rig: it does not
+    // know the centers) asks for f / s where friction is μ·s.
+    let loaded = PlateCalibration::load(&file).expect("load");
     let mut inner = config.planner.build().expect("planner");
-    let mut wrapped =
-        upm_planner::calibrated::calibrated(config.planner.build().expect("planner"), Some(cal.clone()));
+    let mut wrapped = upm_planner::calibrated::on_plate(&config.planner, Some(loaded)).expect("planner");
     let mut states = ipc_types::PartStates::new();
     for (id, x, class) in [(1u32, -0.65, 0u32), (2, 0.25, 1)] {
         let _ = states.push(ipc_types::PartState { id, class, x, y: -0.15, ..ipc_types::PartState::ZERO });
@@ -92,6 +86,13 @@ fn core_and_planner_load_the_file_and_refuse_one_from_another_rig() {
         let s = cal.friction_scale(p.class, p.x, p.y);
         assert!((eb.fx * s - ea.fx).abs() < 1e-12 && (eb.fy * s - ea.fy).abs() < 1e-12);
     }
+    // A file made on a rig with other centers.
+    let mut other = cal.clone();
+    other.centers[3][0] += 0.01;
+    other.write_atomically(&file).expect("write");
+    let e = config.core_params("rig.toml").expect_err("other rig").to_string();
+    assert!(e.contains("calibration.file") && e.contains("centers[3]"), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
     let _ = std::fs::remove_dir_all(&d);
 }
 

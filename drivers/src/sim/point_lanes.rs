@@ -44,10 +44,10 @@ pub(crate) fn relative(pl: &PlateNow, pos: [f64; 2], v: [f64; 2]) -> ([f64; 2], 
     (a, xi)
 }
 
-/// Lane `k` of `g`, scalar.
+/// Lane `k` of `g`, scalar; `mu` already the lane's (as every lane
+/// routine takes it).
 #[inline(always)]
 fn step_lane(pl: &PlateNow, g: &mut Group, k: usize, s: f64, mu: Coulomb) {
-    let mu = mu.scaled(g.mu_scale[k]);
     let mut v = [g.vx[k], g.vy[k]];
     let (a, xi) = relative(pl, [g.x[k], g.y[k]], v);
     let d = friction::step_point(xi, &mut v, a, s, mu, &mut g.stuck[k]);
@@ -129,7 +129,7 @@ fn step_block(pl: &PlateNow, block: &mut [Group], s: f64, mu: Coulomb) {
         }
         for k in 0..W {
             if g.live[k] & !done[k] {
-                step_lane(pl, g, k, s, mu);
+                step_lane(pl, g, k, s, mu.scaled(g.mu_scale[k]));
             }
         }
     }

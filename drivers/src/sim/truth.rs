@@ -5,8 +5,9 @@
 //! sensors read a few percent off scale, the plate is heavier than
 //! specified, and friction varies over a worn plate and from one part
 //! material to another. [`PlateTruth`] is that difference. The simulator
-//! plays the commands through it; the controller (core, planner, vision,
-//! calibration) never links this crate, so it cannot read it.
+//! plays the commands through it; the controller's crates (`rt-core`,
+//! planner, vision, calibration) never link this crate, and the
+//! calibration client is handed the rig file without `[sim]`.
 //!
 //! - Actuators: the plant's rig is the nominal one with each attachment
 //!   moved by `attach_offset` and each direction turned by
@@ -100,6 +101,10 @@ pub enum TruthError {
         least: f64,
         greatest: f64,
     },
+    /// A non-finite coefficient of the map.
+    FrictionCoefficient {
+        term: usize,
+    },
     /// A part's friction scale outside the same range.
     PartFriction {
         part: usize,
@@ -130,6 +135,7 @@ impl fmt::Display for TruthError {
                 "sim.truth.friction_map spans {least:.3}..{greatest:.3} of the nominal μ over the plate; \
                  it must stay within {MIN_FRICTION_SCALE}..{MAX_FRICTION_SCALE}"
             ),
+            Self::FrictionCoefficient { term } => write!(f, "sim.truth.friction_map[{term}] is not finite"),
             Self::PartFriction { part } => write!(
                 f,
                 "part {part}: friction scale must be finite, within {MIN_FRICTION_SCALE}..{MAX_FRICTION_SCALE}"
@@ -167,6 +173,12 @@ impl PlateTruth {
         t.plate_mass_error = 0.08;
         t.friction_map = FrictionMap { coefficients: [0.03, -0.02, 0.0, 0.15, 0.15] };
         t
+    }
+
+    /// The friction scale of part class `class` on [`PlateTruth::worn`]'s
+    /// rig: class 1 a smoother material, class 2 a rougher one.
+    pub fn worn_class_friction(class: u32) -> f64 {
+        [1.0, 0.8, 1.15].get(class as usize).copied().unwrap_or(1.0)
     }
 
     /// A random truth for `count` actuators on a plate of `half_extent`:
@@ -226,8 +238,8 @@ impl PlateTruth {
         if !(-0.5..=1.0).contains(&self.plate_mass_error) {
             return Err(TruthError::PlateMassError);
         }
-        if self.friction_map.coefficients.iter().any(|c| !c.is_finite()) {
-            return Err(TruthError::FrictionMap { least: f64::NAN, greatest: f64::NAN });
+        if let Some(term) = self.friction_map.coefficients.iter().position(|c| !c.is_finite()) {
+            return Err(TruthError::FrictionCoefficient { term });
         }
         let (least, greatest) = self.friction_map.range(half_extent);
         if !(friction_scale_ok(least) && friction_scale_ok(greatest)) {

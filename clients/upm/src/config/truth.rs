@@ -95,8 +95,7 @@ impl Preset {
     fn class_friction(self, class: u32) -> f64 {
         match self {
             Self::Nominal => 1.0,
-            // Class 1 of the shipped scenarios is a smoother material.
-            Self::Worn => [1.0, 0.8, 1.15].get(class as usize).copied().unwrap_or(1.0),
+            Self::Worn => PlateTruth::worn_class_friction(class),
             Self::Random(seed) => PlateTruth::random_class_friction(seed, class),
         }
     }

@@ -90,9 +90,9 @@ impl Probe {
 }
 
 /// Simulate `cycles` cycles of the schedule (k per center, `order` play
-/// order) and measure every constrained point of `input`, part `i`
-/// feeling `part_friction[i]` times the nominal μ (a simulated plate's
-/// truth; empty: nominal).
+/// order) and measure every constrained point of `input`, part `i`'s
+/// material `part_friction[i]` times the nominal μ (a simulated plate's
+/// truth, the plate's own friction map on top; empty: nominal).
 pub fn measure(
     input: &SolveInput,
     k: &[f64],
@@ -158,7 +158,7 @@ pub fn measure(
     let cfg = SimConfig { tick_hz: setup.motion.tick_hz, seed, ..setup.sim };
     let mut sim = Simulator::new(cfg, &specs).map_err(|e| anyhow!("simulator: {e}"))?;
     for (&body, &s) in part_body.iter().zip(part_friction) {
-        anyhow::ensure!(sim.set_part_friction(body, s), "part friction {s} refused");
+        anyhow::ensure!(sim.set_part_friction(body, s), "part_friction: {s} refused (allowed 0.2..3)");
     }
     let mut rng = SplitMix64::new(seed ^ 0x005e_ed0f_u64);
     let t = motion.cycle_duration();
