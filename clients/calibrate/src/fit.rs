@@ -79,7 +79,7 @@ fn inliers(r: &[f64], floor: f64) -> Vec<bool> {
 /// the slot's fast and slow phases do not cancel exactly) meets every
 /// seen one; also the sine residuals against it.
 fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<CenterFit> {
-    let (mut c, _) = perpendicular_center(obs)?;
+    let mut c = perpendicular_center(obs)?;
     let sine = |c: [f64; 2], o: &Observation| -> Option<f64> {
         let m = model_acceleration(rig, c, o.k, o.position)?;
         let a = o.acceleration;
@@ -119,7 +119,7 @@ fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<CenterFit> {
 
 /// C′ as the least-squares meeting point of the lines through each P
 /// perpendicular to its push (the paper's field), outliers dropped.
-fn perpendicular_center(obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
+fn perpendicular_center(obs: &[&Observation]) -> Option<[f64; 2]> {
     let mut keep = vec![true; obs.len()];
     let mut out = None;
     for _ in 0..3 {
@@ -156,7 +156,7 @@ fn perpendicular_center(obs: &[&Observation]) -> Option<([f64; 2], Vec<f64>)> {
             })
             .collect();
         keep = inliers(&res, 0.5f64.to_radians().sin());
-        out = Some((c, res));
+        out = Some(c);
     }
     out
 }

@@ -41,27 +41,32 @@ fn plate_of(config: &Config) -> anyhow::Result<(drivers::SimConfig, crate::confi
     Ok((sim, truth))
 }
 
-/// Force errors (relative to the request plus 0.005 μmg) of one geometry,
+/// Both plates play every center up to the same |k|: the least that the
+/// nominal and the corrected commands allow.
+fn common_k_max(config: &Config, calibration: &rig_config::PlateCalibration) -> anyhow::Result<f64> {
+    let core = config.core_params("bench")?;
+    let corrected =
+        rt_core::runtime::CoreParams { twist_correction: Some(calibration.twist_correction), ..core.clone() };
+    Ok(core
+        .playable_k_bounds()
+        .map_err(|e| anyhow::anyhow!("{e}"))?
+        .into_iter()
+        .chain(corrected.playable_k_bounds().map_err(|e| anyhow::anyhow!("{e}"))?)
+        .fold(core.motion.k_max, f64::min))
+}
+
+/// Force errors (relative to the request plus 0.005 μmg) of one geometry, with |k| ≤ `k_max`,
 /// solved from the nominal model and from `calibration`, and (the model's
 /// own floor) from the nominal model on a plate that is exactly nominal.
 fn force_errors(
     config: &Config,
     calibration: &rig_config::PlateCalibration,
+    k_max: f64,
     rng: &mut ChaCha8Rng,
     seed: u64,
 ) -> anyhow::Result<Option<[Vec<f64>; 3]>> {
     let core = config.core_params("bench")?;
     let (sim, truth) = plate_of(config)?;
-    // Both plates play every center up to the same |k|: the least that the
-    // nominal and the corrected commands allow.
-    let corrected =
-        rt_core::runtime::CoreParams { twist_correction: Some(calibration.twist_correction), ..core.clone() };
-    let k_max = core
-        .playable_k_bounds()
-        .map_err(|e| anyhow::anyhow!("{e}"))?
-        .into_iter()
-        .chain(corrected.playable_k_bounds().map_err(|e| anyhow::anyhow!("{e}"))?)
-        .fold(core.motion.k_max, f64::min);
     let count = rng.random_range(1..=4usize);
     let mut parts: Vec<PartInput> = Vec::new();
     let mut classes = Vec::new();
@@ -150,34 +155,22 @@ fn track_rms_pct(
 ) -> anyhow::Result<(f64, Vec<f64>)> {
     let sc = Scenario::load(&resolve("track"))?;
     let mut planner_config = config.planner.clone();
-    let drive = *planner_config.drive_mut();
-    let planner = planner_config.build().map_err(anyhow::Error::msg)?;
-    let mut adaptive = upm_planner::adaptive::Adaptive::new(planner, calibration.clone(), drive.part_mass);
-    let mut plain = upm_planner::calibrated::calibrated(
-        planner_config.build().map_err(anyhow::Error::msg)?,
-        calibration.clone(),
-    );
-    let r = if adapt {
-        crate::closed_loop::run(config, &mut adaptive, seconds)?
-    } else {
-        crate::closed_loop::run(config, plain.as_mut(), seconds)?
-    };
+    planner_config.drive_mut().adapt_friction = adapt;
+    let mut planner =
+        upm_planner::calibrated::on_plate(&planner_config, calibration).map_err(anyhow::Error::msg)?;
+    let r = crate::closed_loop::run(config, planner.as_mut(), seconds)?;
     let m = sc.evaluate(config, &r.trails);
     let rms = m["tracking_rms_m"].as_f64().unwrap_or(f64::NAN);
     let path = m["path_length_m"].as_f64().unwrap_or(f64::NAN);
+    let (_, truth) = plate_of(config)?;
     let mut scale_errors = Vec::new();
-    if adapt {
-        let (_, truth) = plate_of(config)?;
-        for (id, believed) in upm_planner::Planner::friction_estimates(&adaptive) {
-            let Some(last) = r.trails.parts.get(&id).and_then(|t| t.points.last().map(|q| (t.class, *q)))
-            else {
-                continue;
-            };
-            let (class, q) = last;
-            let real = truth.class_friction(class)
-                * truth.plate.friction_map.scale_at(config.plate.half_extent, q[1], q[2]);
-            scale_errors.push((believed - real).abs() / real);
-        }
+    for (id, believed) in planner.friction_estimates() {
+        let Some((class, q)) = r.trails.parts.get(&id).and_then(|t| t.points.last().map(|q| (t.class, *q)))
+        else {
+            continue;
+        };
+        let real = truth.friction_at(class, q[1], q[2]);
+        scale_errors.push((believed - real).abs() / real);
     }
     Ok((100.0 * rms / path, scale_errors))
 }
@@ -217,10 +210,11 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         rig_s.push(cal.report.rig_seconds);
         let (mut nf, mut cf, mut ff) = (Vec::new(), Vec::new(), Vec::new());
         let (mut drawn, mut played) = (0, 0);
+        let k_max = common_k_max(&cal_config, &cal)?;
         while played < GEOMETRIES && drawn < 4 * GEOMETRIES {
             drawn += 1;
             if let Some([n, c, f]) =
-                force_errors(&cal_config, &cal, &mut rng, seed.wrapping_add(drawn as u64))?
+                force_errors(&cal_config, &cal, k_max, &mut rng, seed.wrapping_add(drawn as u64))?
             {
                 played += 1;
                 nf.extend(n);

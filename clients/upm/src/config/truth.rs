@@ -105,6 +105,7 @@ impl Preset {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResolvedTruth {
     pub plate: PlateTruth,
+    half_extent: [f64; 2],
     preset: Preset,
     class_friction: Vec<f64>,
 }
@@ -113,6 +114,12 @@ impl ResolvedTruth {
     /// μ of part class `class` over the nominal.
     pub fn class_friction(&self, class: u32) -> f64 {
         self.class_friction.get(class as usize).copied().unwrap_or_else(|| self.preset.class_friction(class))
+    }
+
+    /// μ over the nominal felt by a part of `class` at plate point (x, y):
+    /// its class's scale times the map there.
+    pub fn friction_at(&self, class: u32, x: f64, y: f64) -> f64 {
+        self.class_friction(class) * self.plate.friction_map.scale_at(self.half_extent, x, y)
     }
 }
 
@@ -175,7 +182,7 @@ impl TruthSection {
         }
         debug_assert!(actuators <= MAX_ACTUATORS);
         plate.validate(half_extent).map_err(|e| e.to_string())?;
-        Ok(ResolvedTruth { plate, preset, class_friction })
+        Ok(ResolvedTruth { plate, half_extent, preset, class_friction })
     }
 }
 

@@ -386,8 +386,7 @@ fn planner_json(config: &Config, stats: &Path, trails: &Trails) -> Value {
             let id = e["id"].as_u64().unwrap_or(u64::MAX) as u32;
             let Some(t) = trails.parts.get(&id) else { continue };
             let Some(last) = t.points.last() else { continue };
-            let map = truth.plate.friction_map.scale_at(config.plate.half_extent, last[1], last[2]);
-            e["truth"] = json!(truth.class_friction(t.class) * map);
+            e["truth"] = json!(truth.friction_at(t.class, last[1], last[2]));
         }
     }
     v
