@@ -103,7 +103,7 @@ fn force_errors(
     let friction: Vec<f64> = classes.iter().map(|&c| truth.class_friction(c)).collect();
     let setup = ValidateSetup {
         motion: core.motion,
-        sim: drivers::SimConfig { collisions: false, ..sim },
+        sim: drivers::SimConfig { collisions: false, substeps: crate::validate::MEASURE_SUBSTEPS, ..sim },
         twist_correction: None,
     };
     let exact = ValidateSetup {
@@ -199,6 +199,8 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
             TruthSection::Preset(format!("random:{}", seed.wrapping_mul(1000).wrapping_add(case as u64)));
         let mut cal_config = calibrate.config(seed.wrapping_add(case as u64), "unused_")?;
         cal_config.sim.truth = truth.clone();
+        // Calibrated on the physics it is judged by.
+        cal_config.sim.substeps = crate::validate::MEASURE_SUBSTEPS;
         let cal = match crate::calibrate_plate::lockstep(&cal_config, upm_calibrate::ExciteParams::default())
         {
             Ok(c) => c,

@@ -285,7 +285,8 @@ fn part_dynamics_recover_what_the_velocity_through_the_cycle_costs() {
     let (at_rest, corrected) = (worst(false), worst(true));
     println!("worst force error: parts at rest {at_rest:.3}, part dynamics {corrected:.3} of the request");
     assert!(at_rest > 0.08, "the loss this test is about is gone: {at_rest}");
-    assert!(corrected < 0.4 * at_rest, "{corrected} vs {at_rest}");
+    // Issue 25's target: within 2 % of the request.
+    assert!(corrected < 0.02, "{corrected} vs {at_rest}");
 }
 
 /// Issue 25's case: a disc asked for force and curl together. At rest the
@@ -308,5 +309,38 @@ fn part_dynamics_recover_force_and_curl_on_a_disc() {
     let (at_rest, corrected) = (errors(false), errors(true));
     println!("disc, force and curl: at rest {at_rest:.3?}, part dynamics {corrected:.3?}");
     assert!(at_rest.0 > 0.08 && at_rest.1 > 0.08, "the loss this test is about is gone: {at_rest:?}");
-    assert!(corrected.0 < 0.4 * at_rest.0 && corrected.1 < 0.4 * at_rest.1, "{corrected:?} vs {at_rest:?}");
+    // Issue 25's targets: force within 2 %, curl within 10 %.
+    assert!(corrected.0 < 0.02 && corrected.1 < 0.10, "{corrected:?} vs {at_rest:?}");
+}
+
+/// `validate` measures on a simulator stepped finely enough that its answer
+/// hardly moves. Its error falls as 1/substeps (measured on this case: 7.5,
+/// 3.8, 1.1 and 0.28 % of the request at 1, 4, 16 and 32 against 64), so
+/// halving the step changes no force by more than 0.5 % of the request.
+#[test]
+fn the_measuring_simulator_is_converged() {
+    let text = r#"{"mu_m_g": 0.1, "k_max": 0.75, "part_dynamics": true,
+        "centers": [[-1,-0.5],[-0.3,-0.55],[0.4,-0.55],[1,-0.5],[1.05,0],[1,0.5],[0.3,0.55],[-0.4,0.55],[-1,0.5],[-1.05,0]],
+        "parts": [{"position": [0.1, 0.05], "force": [0.004, 0.002], "shape": {"disc": {"radius": 0.02}}},
+                  {"position": [-0.3, -0.1], "force": [0.0, 0.004]}]}"#;
+    let input = parse(text).expect("input");
+    let out = solve_json::solve(&input).expect("solve");
+    let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
+    let forces = |substeps: u32| {
+        let d = validate::ValidateSetup::default();
+        let setup = validate::ValidateSetup { sim: drivers::SimConfig { substeps, ..d.sim }, ..d };
+        validate::measure(&input, &out.k, &order, 2, 1, &setup, &[]).expect("measure").forces
+    };
+    let gap = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+        a.iter().zip(b).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]) / 0.004).fold(0.0, f64::max)
+    };
+    let used = forces(validate::MEASURE_SUBSTEPS);
+    let (half, coarse) = (forces(validate::MEASURE_SUBSTEPS / 2), forces(1));
+    println!(
+        "half the substeps changes {:.4}, one substep {:.4} of the request",
+        gap(&half, &used),
+        gap(&coarse, &used)
+    );
+    assert!(gap(&half, &used) < 0.005, "{half:?} vs {used:?}");
+    assert!(gap(&coarse, &used) > 0.02, "one substep is as good: the test shows nothing");
 }

@@ -21,6 +21,7 @@
 mod params;
 mod part_drift;
 mod plan;
+mod plate_follow;
 mod playable;
 mod pose;
 mod profile;
@@ -30,6 +31,7 @@ mod setpoint;
 pub use params::{MotionLimits, MotionParams, ParamsError};
 pub use part_drift::{cycle_mean_acceleration, cycle_mean_twist};
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
+pub use plate_follow::PlateFollow;
 pub use playable::playable_k;
 pub use pose::{PlateSample, Pose, Twist, sin_cos};
 pub use profile::{MAX_KNOTS, Profile, ProfilePoint};

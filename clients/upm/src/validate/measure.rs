@@ -17,6 +17,12 @@ const _: () = assert!(rt_core::solver::MAX_SHAPE_VERTICES <= drivers::sim::MAX_P
 pub const DISC_RADIUS: f64 = 0.05;
 /// Start-position jitter per cycle (m), seeded.
 const JITTER: f64 = 1e-4;
+/// Simulator substeps per motor tick when measuring (the most it takes).
+/// The plate's servo is stepped to first order, so a cycle's mean friction
+/// is off by about 0.25/substeps of the request: 0.4 % here, where the
+/// rig's default of one is off by several percent on many-slot cycles
+/// (BENCHMARKS.md, "Forces and curls on extended parts").
+pub const MEASURE_SUBSTEPS: u32 = 64;
 
 /// Motion and simulator settings of a validation run.
 #[derive(Debug, Clone, Copy)]
@@ -32,7 +38,7 @@ impl Default for ValidateSetup {
         // Parts are measured independently: no part–part contact.
         Self {
             motion: MotionParams::default(),
-            sim: SimConfig { collisions: false, ..SimConfig::default() },
+            sim: SimConfig { collisions: false, substeps: MEASURE_SUBSTEPS, ..SimConfig::default() },
             twist_correction: None,
         }
     }
