@@ -13,15 +13,17 @@
 //!    by its own uncertainty, with a prior pulling E towards 0: centers far
 //!    from every part are located loosely, and what they cannot fix stays
 //!    at the identity. The correction is M⁻¹.
-//! 3. **Friction.** The model's own acceleration of a part at rest at P
-//!    under the same pair of slots about C′ (`rt_core::motion::
-//!    cycle_mean_acceleration`, nominal μ) scales to the seen one by
+//! 3. **Friction.** The model's own acceleration of the part under the
+//!    same pair of slots about C′, read where and as fast as the part went
+//!    (`rt_core::motion::cycle_mean_acceleration`, nominal μ; step 1 reads
+//!    it the same way), scales to the seen one by
 //!    s = (A·a_model)/|a_model|². Then s = σ_class·(1 + Σ c_k·term_k(P)) is
 //!    fitted by Gauss–Newton, with a weak pull of c towards 0 (a map is only
 //!    known where parts went), outliers beyond 3 MADs dropped.
 //!
 //! The difference of the two bursts of a pair (+k then −k about one center)
-//! cancels the drag of the part's own velocity to first order.
+//! cancels what the model does not hold (a bias common to both) to first
+//! order; the drag of the part's own velocity is in the model.
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
 use rig_config::plate_calibration::{
@@ -42,6 +44,28 @@ pub struct Observation {
     pub position: [f64; 2],
     /// Half the difference of the two bursts' accelerations (m/s²).
     pub acceleration: [f64; 2],
+    /// How the part moved in each burst (+k, then −k): the model is read
+    /// at the velocities it really had.
+    pub bursts: [BurstMotion; 2],
+}
+
+/// A part's motion through one burst, from the parabola fitted to it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BurstMotion {
+    /// Mean position (m), and the velocity (m/s) and acceleration (m/s²)
+    /// at the mean time of the frames used.
+    pub position: [f64; 2],
+    pub velocity: [f64; 2],
+    pub acceleration: [f64; 2],
+    /// First and last frame used, relative to that mean time (s).
+    pub span: [f64; 2],
+}
+
+impl BurstMotion {
+    /// A part at rest at `position` through the whole burst.
+    pub fn at_rest(position: [f64; 2]) -> Self {
+        Self { position, ..Self::default() }
+    }
 }
 
 /// What the fit needs of the rig.
@@ -81,7 +105,7 @@ fn inliers(r: &[f64], floor: f64) -> Vec<bool> {
 fn effective_center(rig: &RigModel, obs: &[&Observation]) -> Option<CenterFit> {
     let mut c = perpendicular_center(obs)?;
     let sine = |c: [f64; 2], o: &Observation| -> Option<f64> {
-        let m = model_acceleration(rig, c, o.k, o.position)?;
+        let m = model_acceleration(rig, c, o)?;
         let a = o.acceleration;
         Some((m[0] * a[1] - m[1] * a[0]) / (m[0].hypot(m[1]) * a[0].hypot(a[1])).max(1e-300))
     };
@@ -234,15 +258,29 @@ fn plate_map(located: &[Located]) -> Option<Matrix3<f64>> {
     Some(Matrix3::new(1.0 + e[0], e[1], e[2], e[3], 1.0 + e[4], e[5], e[6], e[7], 1.0))
 }
 
-/// The model's acceleration of a part at rest at `p` under a slot about `c`
-/// with intensity `k`, half the difference of +k and −k.
-fn model_acceleration(rig: &RigModel, c: [f64; 2], k: f64, p: [f64; 2]) -> Option<[f64; 2]> {
+/// The model's mean acceleration of the part seen in `o` under a slot
+/// about `c`, half the difference of the +k and −k bursts. Each burst is
+/// read at a few times through it, at the position and velocity the part
+/// had then: a part moving at a good fraction of the plate's speed feels
+/// friction turned and weakened, and the two bursts do not cancel that
+/// (read at rest, the fitted centers of a nominal plate sat 5–18 cm off).
+fn model_acceleration(rig: &RigModel, c: [f64; 2], o: &Observation) -> Option<[f64; 2]> {
+    const READS: usize = 4;
     let mut motion = PlateMotion::new(rig.motion).ok()?;
-    let mut at = |k: f64| -> Option<[f64; 2]> {
+    let mut burst = |k: f64, b: &BurstMotion| -> Option<[f64; 2]> {
         motion.set_schedule(&[ScheduleEntry { center: c, k }]).ok()?;
-        Some(cycle_mean_acceleration(&motion, p, [0.0; 2], rig.mu_g))
+        let mut sum = [0.0; 2];
+        for i in 0..READS {
+            let t = b.span[0] + (b.span[1] - b.span[0]) * (i as f64 + 0.5) / READS as f64;
+            let at: [f64; 2] =
+                core::array::from_fn(|d| b.position[d] + b.velocity[d] * t + 0.5 * b.acceleration[d] * t * t);
+            let v: [f64; 2] = core::array::from_fn(|d| b.velocity[d] + b.acceleration[d] * t);
+            let a = cycle_mean_acceleration(&motion, at, v, rig.mu_g);
+            sum = [sum[0] + a[0] / READS as f64, sum[1] + a[1] / READS as f64];
+        }
+        Some(sum)
     };
-    let (plus, minus) = (at(k)?, at(-k)?);
+    let (plus, minus) = (burst(o.k, &o.bursts[0])?, burst(-o.k, &o.bursts[1])?);
     Some([(plus[0] - minus[0]) / 2.0, (plus[1] - minus[1]) / 2.0])
 }
 
@@ -362,7 +400,7 @@ pub fn fit(
     let mut data = Vec::new();
     for o in obs {
         let Some(c) = effective[o.center] else { continue };
-        let Some(a) = model_acceleration(rig, c, o.k, o.position) else { continue };
+        let Some(a) = model_acceleration(rig, c, o) else { continue };
         let a2 = a[0] * a[0] + a[1] * a[1];
         if a2 > 0.0 {
             let s = (o.acceleration[0] * a[0] + o.acceleration[1] * a[1]) / a2;
@@ -468,17 +506,14 @@ mod tests {
             let v = m * nalgebra::Vector3::new(c[1], -c[0], 1.0);
             let ce = [-v[1] / v[2], v[0] / v[2]];
             for &(p, class) in &parts {
-                let a = model_acceleration(&rig, ce, 0.35, p).expect("model");
+                let bursts = [BurstMotion::at_rest(p); 2];
+                let seen =
+                    Observation { center: e, k: 0.35, class, position: p, acceleration: [0.0; 2], bursts };
+                let a = model_acceleration(&rig, ce, &seen).expect("model");
                 let t = friction_terms(rig.plate_half_extent, p[0], p[1]);
                 let s =
                     [1.1, 0.8][class as usize] * (1.0 + t.iter().zip(&map).map(|(a, b)| a * b).sum::<f64>());
-                obs.push(Observation {
-                    center: e,
-                    k: 0.35,
-                    class,
-                    position: p,
-                    acceleration: [s * a[0], s * a[1]],
-                });
+                obs.push(Observation { acceleration: [s * a[0], s * a[1]], ..seen });
             }
         }
         let cal = fit(&rig, &obs, FitCounts::default()).expect("fit");

@@ -17,7 +17,7 @@ pub mod fit;
 pub mod process;
 
 pub use excite::{CalibrateSetup, ExciteParams, Exciter, Step};
-pub use fit::{Observation, RigModel};
+pub use fit::{BurstMotion, Observation, RigModel};
 
 /// Why a calibration was refused: one line each, naming what is missing.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
