@@ -263,7 +263,7 @@ fn plate_map(located: &[Located]) -> Option<Matrix3<f64>> {
 /// read at a few times through it, at the position and velocity the part
 /// had then: a part moving at a good fraction of the plate's speed feels
 /// friction turned and weakened, and the two bursts do not cancel that
-/// (read at rest, the fitted centers of a nominal plate sat 5–18 cm off).
+/// (the long bursts `ExciteParams` plays make parts fast).
 fn model_acceleration(rig: &RigModel, c: [f64; 2], o: &Observation) -> Option<[f64; 2]> {
     const READS: usize = 4;
     let mut motion = PlateMotion::new(rig.motion).ok()?;
