@@ -47,8 +47,9 @@ impl Default for ExciteParams {
     /// push by about 3° (its acceleration goes as the burst's length
     /// squared), and a line fitted through such pushes misplaces a center
     /// 1.2 m away by centimetres. Measured on a nominal plate (lock-step,
-    /// the `calibrate` scenario): 80 pairs of 0.3 s at k 0.35 fitted a
-    /// twist map 6.9 % off the identity, 48 pairs of 0.6 s at k 0.2 1.1 %.
+    /// the `calibrate` scenario's parts, the plate at 64 substeps): 80
+    /// pairs of 0.3 s at k 0.35 fitted a twist map 6.9 % off the identity,
+    /// 48 pairs of 0.6 s at k 0.2 1.1 %.
     /// The part's own speed is then large, and the fit's model reads it.
     fn default() -> Self {
         Self {

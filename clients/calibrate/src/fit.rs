@@ -52,8 +52,8 @@ pub struct Observation {
 /// A part's motion through one burst, from the parabola fitted to it.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BurstMotion {
-    /// Mean position (m), and the velocity (m/s) and acceleration (m/s²)
-    /// at the mean time of the frames used.
+    /// Position (m), velocity (m/s) and acceleration (m/s²) of the fitted
+    /// parabola at the mean time of the frames used.
     pub position: [f64; 2],
     pub velocity: [f64; 2],
     pub acceleration: [f64; 2],

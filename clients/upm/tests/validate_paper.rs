@@ -266,7 +266,7 @@ fn every_solution_plays_on_the_rig() {
 }
 
 /// Ten centers, two point parts: the paper's model (parts at rest) loses
-/// about an eighth of the force to the velocity parts pick up through the
+/// about a sixth of the force to the velocity parts pick up through the
 /// cycle; `part_dynamics` corrects for it (BENCHMARKS.md, issue 25).
 #[test]
 fn part_dynamics_recover_what_the_velocity_through_the_cycle_costs() {

@@ -4,9 +4,10 @@
 //! velocity points elsewhere, so the friction it feels there is turned;
 //! with a min-norm answer's large opposing k this loses a fixed fraction
 //! of the request whatever its size (BENCHMARKS.md, issue 25). This
-//! integrates a point mass under Coulomb friction on the commanded plate
-//! motion, from the part's velocity at the cycle's start, and returns its
-//! average acceleration over the cycle; [`cycle_mean_twist`] does the same
+//! integrates a point mass under Coulomb friction on the plate's motion
+//! (as [`PlateFollow`] has it follow the command), from the part's
+//! velocity at the cycle's start, and returns its average acceleration
+//! over the cycle; [`cycle_mean_twist`] does the same
 //! for a rigid patch, spin included.
 //!
 //! The part moves and turns as it is pushed, and the plate is read where
