@@ -132,9 +132,7 @@ fn force_errors(
                 .parts
                 .iter()
                 .zip(&m.forces)
-                .filter_map(|(p, s)| {
-                    p.force.map(|f| (s[0] - f[0]).hypot(s[1] - f[1]) / (f[0].hypot(f[1]) + 0.005 * mu))
-                })
+                .filter_map(|(p, s)| p.force.map(|f| crate::solve_json::relative_force_error(f, *s, mu)))
                 .collect::<Vec<f64>>(),
         );
     }

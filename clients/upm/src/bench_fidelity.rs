@@ -70,9 +70,7 @@ fn errors(input: &SolveInput, model: &SolveInput, seed: u64) -> anyhow::Result<O
         .parts
         .iter()
         .zip(&m.forces)
-        .filter_map(|(p, s)| {
-            p.force.map(|f| (s[0] - f[0]).hypot(s[1] - f[1]) / (f[0].hypot(f[1]) + 0.005 * mu))
-        })
+        .filter_map(|(p, s)| p.force.map(|f| crate::solve_json::relative_force_error(f, *s, mu)))
         .collect();
     let asked = input.parts.iter().filter_map(|p| p.curl);
     let curl = asked.zip(&m.curls).map(|(c, s)| ((s - c) / c).abs()).collect();

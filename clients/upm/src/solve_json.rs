@@ -271,8 +271,15 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
 const DYNAMICS_STEPS: usize = 8;
 const DYNAMICS_TOLERANCE: f64 = 1e-3;
 
+/// Issue 25's measure of a force's error: |got − asked| over |asked| +
+/// 0.005 μmg (the small requests' floor). The benches and the correction
+/// below all judge a force by it.
+pub fn relative_force_error(asked: [f64; 2], got: [f64; 2], mu_m_g: f64) -> f64 {
+    (got[0] - asked[0]).hypot(got[1] - asked[1]) / (asked[0].hypot(asked[1]) + 0.005 * mu_m_g)
+}
+
 /// The largest relative gap between what the parts ask and what the model
-/// predicts: forces against |f| + 0.005 μmg, own curls against |curl|.
+/// predicts: forces by [`relative_force_error`], own curls against |curl|.
 fn worst_lack(
     input: &SolveInput,
     wanted: &[ForceConstraint],
@@ -280,10 +287,10 @@ fn worst_lack(
     forces: &[[f64; 2]],
     curls: &[Option<f64>],
 ) -> f64 {
-    let floor = 0.005 * input.mu_m_g;
-    let force_lack = wanted.iter().zip(forces).filter_map(|(w, got)| {
-        w.force.map(|f| (f[0] - got[0]).hypot(f[1] - got[1]) / (f[0].hypot(f[1]) + floor))
-    });
+    let force_lack = wanted
+        .iter()
+        .zip(forces)
+        .filter_map(|(w, got)| w.force.map(|f| relative_force_error(f, *got, input.mu_m_g)));
     // A curl asked as zero is met within 1e-6 μmg per metre.
     let curl_floor = 1e-6 * input.mu_m_g;
     let curl_lack = wanted_curls

@@ -64,7 +64,8 @@ impl<'a> PlatePath<'a> {
             return (s.pose, s.velocity);
         };
         if sub == 0 {
-            self.from = if tick == 0 { dof(self.motion, 0) } else { self.to };
+            // `to` starts at tick 0's setpoint.
+            self.from = self.to;
             self.to = dof(self.motion, tick + 1);
         }
         let tick_s = self.h * self.substeps as f64;
