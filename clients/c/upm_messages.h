@@ -15,10 +15,14 @@
 #define UPM_ALIGNOF _Alignof
 #endif
 
-#define UPM_PROTOCOL_VERSION 4u
+#define UPM_PROTOCOL_VERSION 5u
 #define UPM_MAX_PARTS 64
 #define UPM_MAX_CURLS 16
 #define UPM_MAX_SLOTS 192
+#define UPM_MAX_SHAPE_VERTICES 8
+#define UPM_SHAPE_POINT 0u
+#define UPM_SHAPE_DISC 1u
+#define UPM_SHAPE_POLYGON 2u
 #define UPM_SERVICE_PART_STATES "upm/part_states"
 #define UPM_SERVICE_FORCE_REQUEST "upm/force_request"
 #define UPM_SERVICE_EXPLICIT_SCHEDULE "upm/explicit_schedule"
@@ -30,35 +34,43 @@
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
-/* iceoryx2 type name "upm::PartState.v4", 64 bytes, align 8 */
-#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v4"
+/* iceoryx2 type name "upm::PartState.v5", 208 bytes, align 8 */
+#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v5"
 typedef struct {
     uint32_t id;
     uint32_t class_;
     uint32_t friction_class;
-    uint32_t reserved;
+    uint32_t shape;
     double x;
     double y;
     double theta;
     double vx;
     double vy;
     double omega;
+    double radius;
+    uint32_t vertex_count;
+    uint32_t reserved;
+    double vertices[8][2];
 } upm_PartState;
-UPM_STATIC_ASSERT(sizeof(upm_PartState) == 64, "upm_PartState size");
+UPM_STATIC_ASSERT(sizeof(upm_PartState) == 208, "upm_PartState size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PartState) == 8, "upm_PartState align");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, id) == 0, "upm_PartState.id offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, class_) == 4, "upm_PartState.class_ offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, friction_class) == 8, "upm_PartState.friction_class offset");
-UPM_STATIC_ASSERT(offsetof(upm_PartState, reserved) == 12, "upm_PartState.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, shape) == 12, "upm_PartState.shape offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, x) == 16, "upm_PartState.x offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, y) == 24, "upm_PartState.y offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, theta) == 32, "upm_PartState.theta offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, vx) == 40, "upm_PartState.vx offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, vy) == 48, "upm_PartState.vy offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, omega) == 56, "upm_PartState.omega offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, radius) == 64, "upm_PartState.radius offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, vertex_count) == 72, "upm_PartState.vertex_count offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, reserved) == 76, "upm_PartState.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_PartState, vertices) == 80, "upm_PartState.vertices offset");
 
-/* iceoryx2 type name "upm::PartStates.v4", 4120 bytes, align 8 */
-#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v4"
+/* iceoryx2 type name "upm::PartStates.v5", 13336 bytes, align 8 */
+#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -66,7 +78,7 @@ typedef struct {
     uint64_t stamp_ns;
     upm_PartState parts[64];
 } upm_PartStates;
-UPM_STATIC_ASSERT(sizeof(upm_PartStates) == 4120, "upm_PartStates size");
+UPM_STATIC_ASSERT(sizeof(upm_PartStates) == 13336, "upm_PartStates size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PartStates) == 8, "upm_PartStates align");
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, protocol_version) == 0, "upm_PartStates.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, count) == 4, "upm_PartStates.count offset");
@@ -74,8 +86,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartStates, seq) == 8, "upm_PartStates.seq offset
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, stamp_ns) == 16, "upm_PartStates.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, parts) == 24, "upm_PartStates.parts offset");
 
-/* iceoryx2 type name "upm::ForceEntry.v4", 40 bytes, align 8 */
-#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v4"
+/* iceoryx2 type name "upm::ForceEntry.v5", 40 bytes, align 8 */
+#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v5"
 typedef struct {
     uint32_t part_id;
     uint32_t force_flag;
@@ -95,8 +107,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fx) == 16, "upm_ForceEntry.fx offset"
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fy) == 24, "upm_ForceEntry.fy offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, curl) == 32, "upm_ForceEntry.curl offset");
 
-/* iceoryx2 type name "upm::ForceRequest.v4", 2592 bytes, align 8 */
-#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v4"
+/* iceoryx2 type name "upm::ForceRequest.v5", 2592 bytes, align 8 */
+#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -114,8 +126,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, stamp_ns) == 16, "upm_ForceRequest.
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, deadline_ns) == 24, "upm_ForceRequest.deadline_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, entries) == 32, "upm_ForceRequest.entries offset");
 
-/* iceoryx2 type name "upm::ExplicitSlot.v4", 16 bytes, align 8 */
-#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v4"
+/* iceoryx2 type name "upm::ExplicitSlot.v5", 16 bytes, align 8 */
+#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v5"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -127,8 +139,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, center_index) == 0, "upm_ExplicitSl
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, reserved) == 4, "upm_ExplicitSlot.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, k) == 8, "upm_ExplicitSlot.k offset");
 
-/* iceoryx2 type name "upm::ExplicitSchedule.v4", 3096 bytes, align 8 */
-#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v4"
+/* iceoryx2 type name "upm::ExplicitSchedule.v5", 3096 bytes, align 8 */
+#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -144,8 +156,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, seq) == 8, "upm_ExplicitSchedul
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, stamp_ns) == 16, "upm_ExplicitSchedule.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, slots) == 24, "upm_ExplicitSchedule.slots offset");
 
-/* iceoryx2 type name "upm::CoreCommand.v4", 24 bytes, align 8 */
-#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v4"
+/* iceoryx2 type name "upm::CoreCommand.v5", 24 bytes, align 8 */
+#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t command;
@@ -159,8 +171,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, command) == 4, "upm_CoreCommand.comm
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, seq) == 8, "upm_CoreCommand.seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, stamp_ns) == 16, "upm_CoreCommand.stamp_ns offset");
 
-/* iceoryx2 type name "upm::ScheduleSlot.v4", 32 bytes, align 8 */
-#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v4"
+/* iceoryx2 type name "upm::ScheduleSlot.v5", 32 bytes, align 8 */
+#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v5"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -176,8 +188,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, x) == 8, "upm_ScheduleSlot.x offset
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, y) == 16, "upm_ScheduleSlot.y offset");
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, k) == 24, "upm_ScheduleSlot.k offset");
 
-/* iceoryx2 type name "upm::Schedule.v4", 6232 bytes, align 8 */
-#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v4"
+/* iceoryx2 type name "upm::Schedule.v5", 6232 bytes, align 8 */
+#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -211,8 +223,8 @@ UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 80, "upm_Schedule.rank offset"
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 84, "upm_Schedule.saturated offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 88, "upm_Schedule.slots offset");
 
-/* iceoryx2 type name "upm::Rejection.v4", 176 bytes, align 8 */
-#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v4"
+/* iceoryx2 type name "upm::Rejection.v5", 176 bytes, align 8 */
+#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t kind;
@@ -238,8 +250,8 @@ UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 48, "upm_Rejection.reason o
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 52, "upm_Rejection.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 56, "upm_Rejection.detail offset");
 
-/* iceoryx2 type name "upm::FrameHeader.v4", 48 bytes, align 8 */
-#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v4"
+/* iceoryx2 type name "upm::FrameHeader.v5", 48 bytes, align 8 */
+#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t pixel_format;
@@ -263,8 +275,8 @@ UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, seq) == 24, "upm_FrameHeader.seq off
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stamp_ns) == 32, "upm_FrameHeader.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, exposure_ns) == 40, "upm_FrameHeader.exposure_ns offset");
 
-/* iceoryx2 type name "upm::DriverTelemetry.v4", 96 bytes, align 8 */
-#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v4"
+/* iceoryx2 type name "upm::DriverTelemetry.v5", 96 bytes, align 8 */
+#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v5"
 typedef struct {
     uint32_t kind;
     uint32_t state;
@@ -282,8 +294,8 @@ UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, lost_frames) == 72, "upm_DriverT
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, bad_frames) == 80, "upm_DriverTelemetry.bad_frames offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, sync0_phase_ns) == 88, "upm_DriverTelemetry.sync0_phase_ns offset");
 
-/* iceoryx2 type name "upm::CoreCounters.v4", 96 bytes, align 8 */
-#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v4"
+/* iceoryx2 type name "upm::CoreCounters.v5", 96 bytes, align 8 */
+#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v5"
 typedef struct {
     uint64_t ticks;
     uint64_t overruns;
@@ -313,8 +325,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_rejected) == 72, "upm_CoreCo
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, fault_holds) == 80, "upm_CoreCounters.fault_holds offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, resumes) == 88, "upm_CoreCounters.resumes offset");
 
-/* iceoryx2 type name "upm::LatencyPercentiles.v4", 40 bytes, align 8 */
-#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v4"
+/* iceoryx2 type name "upm::LatencyPercentiles.v5", 40 bytes, align 8 */
+#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v5"
 typedef struct {
     uint64_t samples;
     uint64_t p50_ns;
@@ -330,8 +342,8 @@ UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p99_ns) == 16, "upm_LatencyPe
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p999_ns) == 24, "upm_LatencyPercentiles.p999_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, max_ns) == 32, "upm_LatencyPercentiles.max_ns offset");
 
-/* iceoryx2 type name "upm::CoreLatencies.v4", 160 bytes, align 8 */
-#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v4"
+/* iceoryx2 type name "upm::CoreLatencies.v5", 160 bytes, align 8 */
+#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v5"
 typedef struct {
     upm_LatencyPercentiles motor_wakeup;
     upm_LatencyPercentiles solver;
@@ -345,8 +357,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, solver) == 40, "upm_CoreLatencies.
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, ipc_vision_to_core) == 80, "upm_CoreLatencies.ipc_vision_to_core offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, frame_to_schedule) == 120, "upm_CoreLatencies.frame_to_schedule offset");
 
-/* iceoryx2 type name "upm::Telemetry.v4", 840 bytes, align 8 */
-#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v4"
+/* iceoryx2 type name "upm::Telemetry.v5", 840 bytes, align 8 */
+#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v5"
 typedef struct {
     uint32_t protocol_version;
     uint32_t state;

@@ -32,6 +32,7 @@ mod force_request;
 mod header;
 mod health;
 mod latency_percentiles;
+pub mod part_shape;
 mod part_states;
 pub mod ports;
 mod reject_reason;
@@ -56,6 +57,7 @@ pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
 pub use header::HeaderError;
 pub use health::{DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};
 pub use latency_percentiles::LatencyPercentiles;
+pub use part_shape::{MAX_SHAPE_VERTICES, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, ShapeError};
 pub use part_states::{PartState, PartStates, PartStatesError};
 pub use reject_reason::{REJECT_REASONS, RejectReason};
 pub use rejection::{RejectedKind, Rejection};
@@ -67,4 +69,4 @@ pub use wire_message::{WireMessage, WrongLength};
 /// Version of the wire format. Bump it on any layout or meaning change; it is
 /// also part of every payload's iceoryx2 `type_name`, so mismatched builds
 /// fail when opening a service instead of misreading each other.
-pub const PROTOCOL_VERSION: u32 = 4;
+pub const PROTOCOL_VERSION: u32 = 5;

@@ -6,14 +6,21 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::MAX_PARTS;
+use crate::part_shape::{
+    MAX_SHAPE_VERTICES, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, ShapeError, check_disc, check_polygon,
+};
 use crate::reject_reason::RejectReason;
 use crate::validation::{ValidationLimits, first_non_finite};
 
 /// One part as seen by vision. Pose in plate coordinates (m, rad),
-/// velocity in m/s and rad/s.
+/// velocity in m/s and rad/s, and its contact outline (`shape`): a point
+/// (the paper's model), a disc of `radius`, or a convex polygon of
+/// `vertex_count` `vertices` in the part's own frame (m, relative to its
+/// position; turned by `theta` into plate axes). Fields a shape does not
+/// use are ignored.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartState.v4")]
+#[type_name("upm::PartState.v5")]
 pub struct PartState {
     /// Tracking id, unique within one message.
     pub id: u32,
@@ -21,36 +28,87 @@ pub struct PartState {
     pub class: u32,
     /// Friction class code (which μ applies).
     pub friction_class: u32,
-    /// Unused, keep 0 (keeps the layout free of padding).
-    pub reserved: u32,
+    /// [`SHAPE_POINT`], [`SHAPE_DISC`] or [`SHAPE_POLYGON`].
+    pub shape: u32,
     pub x: f64,
     pub y: f64,
     pub theta: f64,
     pub vx: f64,
     pub vy: f64,
     pub omega: f64,
+    /// A disc's radius (m).
+    pub radius: f64,
+    /// A polygon's number of used `vertices`.
+    pub vertex_count: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
+    /// A polygon's vertices in order, in the part's frame (m).
+    pub vertices: [[f64; 2]; MAX_SHAPE_VERTICES],
 }
 
 // No implicit padding: every byte of the shared layout is a named field.
-const _: () = assert!(size_of::<PartState>() == 4 * 4 + 6 * 8);
+const _: () = assert!(size_of::<PartState>() == 4 * 4 + 7 * 8 + 2 * 4 + MAX_SHAPE_VERTICES * 16);
 
 impl PartState {
     /// All zeros.
     pub const ZERO: Self = Self::new(0, 0, 0, [0.0; 3], [0.0; 3]);
 
-    /// A part with pose (x, y, θ) and velocity (vx, vy, ω).
+    /// A point part with pose (x, y, θ) and velocity (vx, vy, ω).
     pub const fn new(id: u32, class: u32, friction_class: u32, pose: [f64; 3], velocity: [f64; 3]) -> Self {
         Self {
             id,
             class,
             friction_class,
-            reserved: 0,
+            shape: SHAPE_POINT,
             x: pose[0],
             y: pose[1],
             theta: pose[2],
             vx: velocity[0],
             vy: velocity[1],
             omega: velocity[2],
+            radius: 0.0,
+            vertex_count: 0,
+            reserved: 0,
+            vertices: [[0.0; 2]; MAX_SHAPE_VERTICES],
+        }
+    }
+
+    /// The same part as a disc of `radius` (m); checked by `validate`.
+    pub const fn with_disc(mut self, radius: f64) -> Self {
+        self.shape = SHAPE_DISC;
+        self.radius = radius;
+        self
+    }
+
+    /// The same part as a polygon with `vertices` in its own frame (m).
+    /// More than [`MAX_SHAPE_VERTICES`] is refused here; the rest of the
+    /// check is `validate`'s.
+    pub fn with_polygon(mut self, vertices: &[[f64; 2]]) -> Result<Self, ShapeError> {
+        let used = self.vertices.get_mut(..vertices.len()).ok_or(ShapeError::VertexCount)?;
+        used.copy_from_slice(vertices);
+        self.shape = SHAPE_POLYGON;
+        self.vertex_count = vertices.len() as u32;
+        Ok(self)
+    }
+
+    /// The used polygon vertices (`vertex_count` clamped to the capacity).
+    pub fn polygon(&self) -> &[[f64; 2]] {
+        &self.vertices[..(self.vertex_count as usize).min(MAX_SHAPE_VERTICES)]
+    }
+
+    /// Whether the outline is one of the three, well formed and no larger
+    /// than `max_extent` (m) from the part's position.
+    pub fn check_shape(&self, max_extent: f64) -> Result<(), ShapeError> {
+        match self.shape {
+            SHAPE_POINT => Ok(()),
+            SHAPE_DISC => check_disc(self.radius, max_extent),
+            SHAPE_POLYGON => {
+                if self.vertex_count as usize > MAX_SHAPE_VERTICES {
+                    return Err(ShapeError::VertexCount);
+                }
+                check_polygon(self.polygon(), max_extent)
+            }
+            _ => Err(ShapeError::Code),
         }
     }
 }
@@ -58,7 +116,7 @@ impl PartState {
 /// Vision → core: every part seen in one camera frame.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartStates.v4")]
+#[type_name("upm::PartStates.v5")]
 pub struct PartStates {
     pub protocol_version: u32,
     /// Number of used entries of `parts`.
@@ -98,6 +156,11 @@ pub enum PartStatesError {
         first_index: usize,
         id: u32,
     },
+    /// The outline is malformed ([`ShapeError::field`] names the field).
+    Shape {
+        index: usize,
+        error: ShapeError,
+    },
 }
 
 impl fmt::Display for PartStatesError {
@@ -118,6 +181,9 @@ impl fmt::Display for PartStatesError {
             Self::DuplicateId { index, first_index, id } => {
                 write!(f, "part_states.parts[{index}].id {id} duplicates parts[{first_index}]")
             }
+            Self::Shape { index, error } => {
+                write!(f, "part_states.parts[{index}].{}: {error}", error.field())
+            }
         }
     }
 }
@@ -133,6 +199,7 @@ impl PartStatesError {
             Self::OffPlate { .. } => RejectReason::OffPlate,
             Self::UnknownClass { .. } | Self::UnknownFrictionClass { .. } => RejectReason::UnknownClass,
             Self::DuplicateId { .. } => RejectReason::DuplicateId,
+            Self::Shape { .. } => RejectReason::BadShape,
         }
     }
 }
@@ -170,6 +237,8 @@ impl PartStates {
                     friction_class: p.friction_class,
                 });
             }
+            p.check_shape(limits.max_part_extent())
+                .map_err(|error| PartStatesError::Shape { index, error })?;
             if let Some(first_index) = parts[..index].iter().position(|q| q.id == p.id) {
                 return Err(PartStatesError::DuplicateId { index, first_index, id: p.id });
             }

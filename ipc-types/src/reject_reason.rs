@@ -44,6 +44,8 @@ crate::wire_code::wire_code! {
         ReceiveError = 23 => "receive_error",
         /// A core command with an unknown code.
         UnknownCommand = 24 => "unknown_command",
+        /// A part's outline is malformed (shape code, radius, vertices).
+        BadShape = 25 => "bad_shape",
     }
 }
 

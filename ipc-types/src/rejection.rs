@@ -37,7 +37,7 @@ impl RejectedKind {
 /// Core → sender: one refused message.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::Rejection.v4")]
+#[type_name("upm::Rejection.v5")]
 pub struct Rejection {
     pub protocol_version: u32,
     /// [`RejectedKind`] code of the refused message.
@@ -105,7 +105,7 @@ impl Rejection {
 }
 
 impl fmt::Display for Rejection {
-    /// `force_request seq 42 rejected: wrong_protocol_version (force_request.protocol_version is 2, expected 4)`
+    /// `force_request seq 42 rejected: wrong_protocol_version (force_request.protocol_version is 2, expected 5)`
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let kind = self.kind().map_or("unknown", RejectedKind::as_str);
         let reason = self.reason().map_or("unknown", RejectReason::as_str);

@@ -12,7 +12,7 @@ use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag}
 /// (m, plate coordinates; centers may lie off the plate) with intensity k.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ScheduleSlot.v4")]
+#[type_name("upm::ScheduleSlot.v5")]
 pub struct ScheduleSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -37,7 +37,7 @@ impl ScheduleSlot {
 /// one), with the solver's diagnostics.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Schedule.v4")]
+#[type_name("upm::Schedule.v5")]
 pub struct Schedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`.

@@ -70,6 +70,12 @@ impl ValidationLimits {
         y.abs() <= self.plate_half_extent_m[1]
     }
 
+    /// How far (m) a part's outline may reach from its position: the
+    /// larger half-extent of the plate.
+    pub fn max_part_extent(&self) -> f64 {
+        self.plate_half_extent_m[0].max(self.plate_half_extent_m[1])
+    }
+
     /// True if |k| ≤ min(k_max, 1) (false for NaN k or a NaN k_max).
     pub fn is_k_allowed(&self, k: f64) -> bool {
         k.abs() <= self.k_max && k.abs() <= 1.0

@@ -41,7 +41,7 @@ pub trait WireMessage: ZeroCopySend + Copy + sealed::Sealed + 'static {
     /// The service this payload is published on.
     const SERVICE: &'static str;
 
-    /// The iceoryx2 type name, e.g. `upm::PartStates.v4`.
+    /// The iceoryx2 type name, e.g. `upm::PartStates.v5`.
     fn wire_type_name() -> &'static str {
         // SAFETY: only reads the name the derive generated.
         unsafe { <Self as ZeroCopySend>::type_name() }
@@ -103,6 +103,22 @@ mod tests {
         assert_eq!(back, m);
         let e = PartStates::from_bytes(&[0; 3]).expect_err("3 bytes");
         assert_eq!(e.found, 3);
-        assert!(e.to_string().starts_with("upm::PartStates.v4 is "), "{e}");
+        assert!(e.to_string().starts_with("upm::PartStates.v5 is "), "{e}");
+    }
+
+    #[test]
+    fn outlines_round_trip_and_v4_bytes_are_refused() {
+        use crate::{PartState, SHAPE_POLYGON};
+        let tri = [[0.02, 0.0], [-0.01, 0.015], [-0.01, -0.015]];
+        let mut m = PartStates::new();
+        m.push(PartState::new(1, 0, 0, [0.1, 0.0, 0.5], [0.0; 3]).with_polygon(&tri).expect("3 fit"))
+            .expect("fits");
+        m.push(PartState::new(2, 0, 0, [0.0, 0.1, 0.0], [0.0; 3]).with_disc(0.02)).expect("fits");
+        let bytes = m.as_bytes();
+        // parts[0].shape sits at 24 + 12, where v4 had `reserved`.
+        assert_eq!(bytes[36..40], SHAPE_POLYGON.to_ne_bytes());
+        assert_eq!(PartStates::from_bytes(bytes), Ok(m));
+        let e = PartStates::from_bytes(&[0; 4120]).expect_err("a v4 PartStates");
+        assert_eq!(e.to_string(), "upm::PartStates.v5 is 13336 bytes, found 4120");
     }
 }

@@ -8,13 +8,17 @@ mod wire_layout;
 
 use std::process::Command;
 
-use ipc_types::{MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION, service_names};
+use ipc_types::{
+    MAX_CURLS, MAX_PARTS, MAX_SHAPE_VERTICES, MAX_SLOTS, PROTOCOL_VERSION, SHAPE_DISC, SHAPE_POINT,
+    SHAPE_POLYGON, service_names,
+};
 
 const HEADER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../clients/c/upm_messages.h");
 
 /// A Rust field type as C: `u32` → `uint32_t`, `[PartState; 64]` → element
-/// type and array length.
-fn c_type(ty: &str) -> (String, Option<String>) {
+/// type and array lengths, outermost first (`[[f64; 2]; 8]` → `double`,
+/// [8, 2]).
+fn c_type(ty: &str) -> (String, Vec<String>) {
     let scalar = |t: &str| match t {
         "u8" => "uint8_t".to_owned(),
         "u32" => "uint32_t".to_owned(),
@@ -23,9 +27,14 @@ fn c_type(ty: &str) -> (String, Option<String>) {
         "f64" => "double".to_owned(),
         other => format!("upm_{other}"),
     };
-    match ty.strip_prefix('[').and_then(|t| t.strip_suffix(']')).and_then(|t| t.split_once("; ")) {
-        Some((elem, n)) => (scalar(elem), Some(n.to_owned())),
-        None => (scalar(ty), None),
+    // The outer length follows the last "; " (the element may be an array).
+    match ty.strip_prefix('[').and_then(|t| t.strip_suffix(']')).and_then(|t| t.rsplit_once("; ")) {
+        Some((elem, n)) => {
+            let (t, mut dims) = c_type(elem);
+            dims.insert(0, n.to_owned());
+            (t, dims)
+        }
+        None => (scalar(ty), Vec::new()),
     }
 }
 
@@ -48,6 +57,11 @@ fn render() -> String {
     out += &format!(
         "#define UPM_MAX_PARTS {MAX_PARTS}\n#define UPM_MAX_CURLS {MAX_CURLS}\n#define UPM_MAX_SLOTS {MAX_SLOTS}\n"
     );
+    out += &format!("#define UPM_MAX_SHAPE_VERTICES {MAX_SHAPE_VERTICES}\n");
+    // PartState.shape codes.
+    for (name, code) in [("POINT", SHAPE_POINT), ("DISC", SHAPE_DISC), ("POLYGON", SHAPE_POLYGON)] {
+        out += &format!("#define UPM_SHAPE_{name} {code}u\n");
+    }
     for s in service_names::ALL.iter().chain([&service_names::INBOX_EVENT]) {
         let name = s.trim_start_matches("upm/").replace('/', "_").to_uppercase();
         out += &format!("#define UPM_SERVICE_{name} \"{s}\"\n");
@@ -71,11 +85,9 @@ fn render() -> String {
         out += &format!("#define UPM_{}_TYPE_NAME \"{}\"\n", l.rust.to_uppercase(), l.type_name);
         out += "typedef struct {\n";
         for f in &l.fields {
-            let (t, n) = c_type(&f.ty);
-            match n {
-                Some(n) => out += &format!("    {t} {}[{n}];\n", c_name(f.name)),
-                None => out += &format!("    {t} {};\n", c_name(f.name)),
-            }
+            let (t, dims) = c_type(&f.ty);
+            let dims: String = dims.iter().map(|n| format!("[{n}]")).collect();
+            out += &format!("    {t} {}{dims};\n", c_name(f.name));
         }
         out += &format!("}} upm_{};\n", l.rust);
         out += &format!("UPM_STATIC_ASSERT(sizeof(upm_{0}) == {1}, \"upm_{0} size\");\n", l.rust, l.size);

@@ -91,9 +91,15 @@ fn clean_up(config: &Config, name: &ServiceName, pattern: MessagingPattern) -> R
     Ok(())
 }
 
+/// A point, a disc and a polygon (a v5 payload, 13336 bytes).
 fn sample_payload() -> PartStates {
     let mut m = PartStates::new();
     let _ = m.push(PartState::new(1, 0, 0, [0.1, 0.0, 0.0], [0.0; 3]));
+    let _ = m.push(PartState::new(2, 0, 0, [0.0, 0.1, 0.0], [0.0; 3]).with_disc(0.02));
+    let triangle = [[0.02, 0.0], [-0.01, 0.015], [-0.01, -0.015]];
+    if let Ok(p) = PartState::new(3, 0, 0, [-0.1, 0.0, 0.0], [0.0; 3]).with_polygon(&triangle) {
+        let _ = m.push(p);
+    }
     m
 }
 
@@ -122,9 +128,10 @@ fn publish_subscribe_cases(out: &mut Vec<Measured>) -> Result<(), AnyError> {
             },
             || {
                 let sample = subscriber.receive()?.ok_or("no sample")?;
-                black_box(sample.payload().count);
+                // The outlines cross shared memory intact.
+                let intact = black_box(*sample.payload()) == sample_payload();
                 drop(sample);
-                Ok(())
+                if intact { Ok(()) } else { Err("the payload changed in transit".into()) }
             },
         )?);
         // The loaned sample is returned unsent after counting stops.

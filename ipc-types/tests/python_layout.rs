@@ -8,7 +8,10 @@ mod wire_layout;
 use std::collections::BTreeMap;
 use std::process::Command;
 
-use ipc_types::{MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION, service_names};
+use ipc_types::{
+    MAX_CURLS, MAX_PARTS, MAX_SHAPE_VERTICES, MAX_SLOTS, PROTOCOL_VERSION, SHAPE_DISC, SHAPE_POINT,
+    SHAPE_POLYGON, service_names,
+};
 
 /// What the Python module says: `name value` lines (see the script below).
 fn python_layout() -> BTreeMap<String, String> {
@@ -24,7 +27,7 @@ for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlo
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT",
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT",
           "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER"):
     print(f"{c} {getattr(m, c)}")
 print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
@@ -65,6 +68,10 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("MAX_PARTS", MAX_PARTS.to_string()),
         ("MAX_CURLS", MAX_CURLS.to_string()),
         ("MAX_SLOTS", MAX_SLOTS.to_string()),
+        ("MAX_SHAPE_VERTICES", MAX_SHAPE_VERTICES.to_string()),
+        ("SHAPE_POINT", SHAPE_POINT.to_string()),
+        ("SHAPE_DISC", SHAPE_DISC.to_string()),
+        ("SHAPE_POLYGON", SHAPE_POLYGON.to_string()),
         ("PART_STATES", service_names::PART_STATES.to_owned()),
         ("FORCE_REQUEST", service_names::FORCE_REQUEST.to_owned()),
         ("SCHEDULE", service_names::SCHEDULE.to_owned()),

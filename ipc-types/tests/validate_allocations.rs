@@ -8,8 +8,8 @@ use std::hint::black_box;
 
 use common::counting_allocator::count;
 use ipc_types::{
-    ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, PartState, PartStates, Schedule, ScheduleSlot,
-    Telemetry, ValidationLimits,
+    ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, MAX_SHAPE_VERTICES, PartState, PartStates,
+    Schedule, ScheduleSlot, Telemetry, ValidationLimits,
 };
 
 #[test]
@@ -24,8 +24,19 @@ fn validate_never_allocates() {
     let mut request = ForceRequest::new();
     let mut explicit = ExplicitSchedule::new();
     let mut schedule = Schedule::new();
+    // Every outline: the polygon check is the longest walk.
+    let octagon: [[f64; 2]; MAX_SHAPE_VERTICES] = core::array::from_fn(|k| {
+        let a = core::f64::consts::TAU * k as f64 / MAX_SHAPE_VERTICES as f64;
+        [0.02 * a.cos(), 0.02 * a.sin()]
+    });
     for i in 0..PartStates::CAPACITY as u32 {
-        parts.push(PartState::new(i, 0, 0, [0.5, 0.5, 0.0], [0.0; 3])).expect("within capacity");
+        let point = PartState::new(i, 0, 0, [0.5, 0.5, 0.0], [0.0; 3]);
+        let part = match i % 3 {
+            0 => point.with_polygon(&octagon).expect("8 fit"),
+            1 => point,
+            _ => point.with_disc(0.02),
+        };
+        parts.push(part).expect("within capacity");
         let entry = if i < 16 {
             ForceEntry::force_and_curl(i, [0.1, 0.1], 0.1)
         } else {
@@ -38,6 +49,9 @@ fn validate_never_allocates() {
         schedule.push(ScheduleSlot::new(j, [2.0, 2.0], -0.5)).expect("within capacity");
     }
     let telemetry = Telemetry::new();
+    let mut bad_outline = parts;
+    bad_outline.parts[PartStates::CAPACITY - 1].vertices.swap(1, 5); // a polygon, now not convex
+    assert!(matches!(bad_outline.validate(&limits), Err(ipc_types::PartStatesError::Shape { .. })));
 
     let (ok, n) = count(|| {
         black_box(parts.validate(&limits)).is_ok()
@@ -58,6 +72,7 @@ fn validate_never_allocates() {
     bad_telemetry.latency.solver.p50_ns = 1;
     let (all_rejected, n) = count(|| {
         black_box(parts.validate(&limits)).is_err()
+            && black_box(bad_outline.validate(&limits)).is_err()
             && black_box(request.validate(&limits)).is_err()
             && black_box(explicit.validate(&limits)).is_err()
             && black_box(schedule.validate(&limits)).is_err()

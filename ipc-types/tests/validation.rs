@@ -3,9 +3,10 @@
 
 use ipc_types::{
     CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, ForceEntry,
-    ForceRequest, ForceRequestError, HeaderError, MAX_CURLS, MAX_PARTS, MAX_SLOTS, PROTOCOL_VERSION,
-    PartState, PartStates, PartStatesError, Schedule, ScheduleError, ScheduleSlot, Telemetry, TelemetryError,
-    ValidationLimits,
+    ForceRequest, ForceRequestError, HeaderError, MAX_CURLS, MAX_PARTS, MAX_SHAPE_VERTICES, MAX_SLOTS,
+    PROTOCOL_VERSION, PartState, PartStates, PartStatesError, RejectReason, RejectedKind, Rejection,
+    SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ScheduleError, ScheduleSlot, ShapeError, Telemetry,
+    TelemetryError, ValidationLimits,
 };
 
 const NOW: u64 = 5_000_000_000;
@@ -415,6 +416,10 @@ fn errors_display_the_offending_field() {
     p.parts_mut()[3].vy = f64::NAN;
     let msg = p.validate(&l).expect_err("must be rejected").to_string();
     assert_eq!(msg, "part_states.parts[3].vy is not finite");
+    let mut p = good_part_states();
+    p.parts_mut()[3] = p.parts[3].with_disc(f64::NAN);
+    let msg = p.validate(&l).expect_err("must be rejected").to_string();
+    assert_eq!(msg, "part_states.parts[3].radius: radius must be a finite number > 0");
     let mut f = good_force_request();
     f.entries_mut()[2].part_id = 11;
     let msg = f.validate(&l).expect_err("must be rejected").to_string();
@@ -422,4 +427,230 @@ fn errors_display_the_offending_field() {
     // Errors are usable as `dyn Error`.
     let boxed: Box<dyn std::error::Error> = Box::new(ScheduleError::InvalidCondition);
     assert!(boxed.to_string().contains("schedule.condition"));
+}
+
+// --- Part outlines (protocol v5) ---------------------------------------
+
+const SQUARE: [[f64; 2]; 4] = [[0.01, 0.01], [-0.01, 0.01], [-0.01, -0.01], [0.01, -0.01]];
+const TRIANGLE: [[f64; 2]; 3] = [[0.02, 0.0], [-0.01, 0.015], [-0.01, -0.015]];
+
+/// good_part_states() with parts[3] changed by `f`.
+fn with_part_3(f: impl FnOnce(&mut PartState)) -> PartStates {
+    let mut m = good_part_states();
+    f(&mut m.parts_mut()[3]);
+    m
+}
+
+fn code(shape: u32) -> impl FnOnce(&mut PartState) {
+    move |p: &mut PartState| p.shape = shape
+}
+
+fn disc(radius: f64) -> impl FnOnce(&mut PartState) {
+    move |p: &mut PartState| *p = p.with_disc(radius)
+}
+
+fn polygon(vertices: &[[f64; 2]]) -> impl FnOnce(&mut PartState) + '_ {
+    move |p: &mut PartState| {
+        *p = p.with_polygon(vertices).expect("at most 8 vertices");
+    }
+}
+
+/// A square whose `vertex_count` is then overwritten with `n`.
+fn polygon_of_count(n: u32) -> impl FnOnce(&mut PartState) {
+    move |p: &mut PartState| {
+        *p = p.with_polygon(&SQUARE).expect("4 fit");
+        p.vertex_count = n;
+    }
+}
+
+/// A rejection of parts[3] must be a `Shape` error counted as `bad_shape`
+/// whose one line names `field` and reaches the sender whole.
+fn assert_bad_shape(m: &PartStates, error: ShapeError, field: &str, label: &str) {
+    let got = m.validate(&limits());
+    assert_eq!(got, Err(PartStatesError::Shape { index: 3, error }), "{label}");
+    let e = got.expect_err("checked above");
+    assert_eq!(e.reason(), RejectReason::BadShape, "{label}");
+    assert_eq!(e.reason().as_str(), "bad_shape");
+    let line = e.to_string();
+    assert_eq!(line, format!("part_states.parts[3].{field}: {error}"), "{label}");
+    assert!(!line.contains('\n'), "{label}: {line:?} is not one line");
+    let r = Rejection::new(RejectedKind::PartStates, 1, 2, 3, e.reason(), format_args!("{e}"));
+    assert_eq!(r.detail_str(), line, "{label}: cut in the Rejection");
+}
+
+#[test]
+fn every_shape_error_names_its_field_and_counts_as_bad_shape() {
+    let mut bowtie = SQUARE;
+    bowtie.swap(1, 2);
+    // A concave "dart": turns both ways.
+    let dart = [[0.02, 0.0], [-0.01, 0.015], [0.0, 0.0], [-0.01, -0.015]];
+    // A pentagram: turns one way only, but twice round.
+    let star: Vec<[f64; 2]> = (0..5)
+        .map(|k| {
+            let a = core::f64::consts::TAU * f64::from(2 * k) / 5.0;
+            [0.02 * a.cos(), 0.02 * a.sin()]
+        })
+        .collect();
+    let repeated = [[0.01, 0.01], [0.01, 0.01], [-0.01, 0.01], [-0.01, -0.01]];
+    let collinear = [[0.0, 0.0], [0.01, 0.0], [0.02, 0.0]];
+    let on_an_edge = [[0.01, 0.0], [0.0, 0.01], [-0.01, 0.0], [0.0, 0.0], [0.0, -0.01]];
+    let beyond_the_plate = [[0.31, 0.0], [0.0, 0.01], [0.0, -0.01]]; // limits(): extent 0.3
+
+    type Case<'a> = (&'a str, Box<dyn FnOnce(&mut PartState) + 'a>, ShapeError, &'a str);
+    let cases: Vec<Case> = vec![
+        ("shape 3", Box::new(code(3)), ShapeError::Code, "shape"),
+        ("shape u32::MAX", Box::new(code(u32::MAX)), ShapeError::Code, "shape"),
+        ("radius 0", Box::new(disc(0.0)), ShapeError::Radius, "radius"),
+        ("radius -0", Box::new(disc(-0.0)), ShapeError::Radius, "radius"),
+        ("radius < 0", Box::new(disc(-0.01)), ShapeError::Radius, "radius"),
+        ("radius NaN", Box::new(disc(f64::NAN)), ShapeError::Radius, "radius"),
+        ("radius inf", Box::new(disc(f64::INFINITY)), ShapeError::Radius, "radius"),
+        ("radius -inf", Box::new(disc(f64::NEG_INFINITY)), ShapeError::Radius, "radius"),
+        ("vertex_count 0", Box::new(polygon_of_count(0)), ShapeError::VertexCount, "vertex_count"),
+        ("vertex_count 2", Box::new(polygon_of_count(2)), ShapeError::VertexCount, "vertex_count"),
+        ("vertex_count 9", Box::new(polygon_of_count(9)), ShapeError::VertexCount, "vertex_count"),
+        ("vertex_count MAX", Box::new(polygon_of_count(u32::MAX)), ShapeError::VertexCount, "vertex_count"),
+        (
+            "a NaN vertex",
+            Box::new(|p: &mut PartState| {
+                *p = p.with_polygon(&SQUARE).expect("4 fit");
+                p.vertices[2][1] = f64::NAN;
+            }),
+            ShapeError::NonFinite,
+            "vertices",
+        ),
+        (
+            "an infinite vertex",
+            Box::new(|p: &mut PartState| {
+                *p = p.with_polygon(&TRIANGLE).expect("3 fit");
+                p.vertices[0][0] = f64::NEG_INFINITY;
+            }),
+            ShapeError::NonFinite,
+            "vertices",
+        ),
+        ("a bow-tie", Box::new(polygon(&bowtie)), ShapeError::NotConvex, "vertices"),
+        ("a dart", Box::new(polygon(&dart)), ShapeError::NotConvex, "vertices"),
+        ("a pentagram", Box::new(polygon(&star)), ShapeError::NotConvex, "vertices"),
+        ("a repeated vertex", Box::new(polygon(&repeated)), ShapeError::NotConvex, "vertices"),
+        ("three on a line", Box::new(polygon(&collinear)), ShapeError::NotConvex, "vertices"),
+        ("a vertex on an edge", Box::new(polygon(&on_an_edge)), ShapeError::NotConvex, "vertices"),
+        (
+            "a polygon beyond the plate",
+            Box::new(polygon(&beyond_the_plate)),
+            ShapeError::VertexTooFar,
+            "vertices",
+        ),
+    ];
+    for (label, spoil, error, field) in cases {
+        assert_bad_shape(&with_part_3(spoil), error, field, label);
+    }
+}
+
+/// A disc too large is about its `radius`, not its (unused) `vertices`.
+#[test]
+fn a_disc_larger_than_the_plate_names_its_radius() {
+    let m = with_part_3(disc(0.3 + 1e-9));
+    assert_bad_shape(&m, ShapeError::RadiusTooLarge, "radius", "a disc beyond the plate");
+}
+
+#[test]
+fn discs_squares_and_triangles_pass_in_either_winding() {
+    let l = limits();
+    assert_eq!(l.max_part_extent(), 0.3, "the larger half extent");
+    let mut cw_square = SQUARE;
+    cw_square.reverse();
+    let mut cw_triangle = TRIANGLE;
+    cw_triangle.reverse();
+    let octagon: Vec<[f64; 2]> = (0..MAX_SHAPE_VERTICES)
+        .map(|k| {
+            let a = core::f64::consts::TAU * k as f64 / MAX_SHAPE_VERTICES as f64;
+            [0.02 * a.cos(), 0.02 * a.sin()]
+        })
+        .collect();
+    // Off-centre: the position need not be inside the outline.
+    let off_centre = [[0.05, 0.05], [0.07, 0.05], [0.06, 0.07]];
+    let mut m = good_part_states();
+    let parts = m.parts_mut();
+    parts[0] = parts[0].with_disc(0.01);
+    parts[1] = parts[1].with_polygon(&SQUARE).expect("4 fit");
+    parts[2] = parts[2].with_polygon(&cw_square).expect("4 fit");
+    parts[3] = parts[3].with_polygon(&TRIANGLE).expect("3 fit");
+    parts[4] = parts[4].with_polygon(&cw_triangle).expect("3 fit");
+    assert_eq!(m.validate(&l), Ok(()));
+    let parts = m.parts_mut();
+    parts[0] = parts[0].with_polygon(&octagon).expect("8 fit");
+    // Larger than the y half extent (0.2), within the x one (0.3).
+    parts[1] = PartState { shape: SHAPE_DISC, radius: 0.25, ..parts[1] };
+    parts[2] = parts[2].with_disc(0.3); // exactly the bound
+    parts[3] = parts[3].with_polygon(&off_centre).expect("3 fit");
+    assert_eq!(m.validate(&l), Ok(()));
+    assert_eq!(m.parts()[0].polygon(), &octagon[..]);
+    assert_eq!((m.parts()[0].shape, m.parts()[0].vertex_count), (SHAPE_POLYGON, 8));
+}
+
+#[test]
+fn a_vertex_count_beyond_the_array_is_refused_without_panicking() {
+    let l = limits();
+    let nine = [[0.0; 2]; MAX_SHAPE_VERTICES + 1];
+    assert_eq!(PartState::ZERO.with_polygon(&nine), Err(ShapeError::VertexCount));
+    for n in [9, 64, 1 << 31, u32::MAX] {
+        let m = with_part_3(polygon_of_count(n));
+        assert_eq!(m.parts()[3].polygon().len(), MAX_SHAPE_VERTICES, "vertex_count {n} clamped");
+        assert_eq!(
+            m.validate(&l),
+            Err(PartStatesError::Shape { index: 3, error: ShapeError::VertexCount }),
+            "vertex_count {n}"
+        );
+    }
+}
+
+#[test]
+fn fields_a_shape_does_not_use_are_ignored() {
+    let l = limits();
+    let garbage = |p: &mut PartState| {
+        p.radius = f64::NAN;
+        p.vertex_count = u32::MAX;
+        p.vertices = [[f64::NAN, f64::INFINITY]; MAX_SHAPE_VERTICES];
+    };
+    // A point: radius, vertex_count and vertices are not read.
+    let m = with_part_3(garbage);
+    assert_eq!(m.parts()[3].shape, SHAPE_POINT);
+    assert_eq!(m.validate(&l), Ok(()));
+    // A disc: vertex_count and vertices are not read.
+    let m = with_part_3(|p| {
+        garbage(p);
+        *p = p.with_disc(0.02);
+    });
+    assert_eq!(m.validate(&l), Ok(()));
+    // A polygon: radius and the vertices past vertex_count are not read.
+    let m = with_part_3(|p| {
+        garbage(p);
+        *p = p.with_polygon(&TRIANGLE).expect("3 fit");
+    });
+    assert!(m.parts()[3].vertices[3][0].is_nan());
+    assert_eq!(m.validate(&l), Ok(()));
+    // Parts past count are not read at all.
+    let mut m = good_part_states();
+    m.parts[MAX_PARTS - 1].shape = u32::MAX;
+    assert_eq!(m.validate(&l), Ok(()));
+}
+
+#[test]
+fn the_outline_is_checked_after_classes_and_before_duplicate_ids() {
+    let l = limits();
+    let m = with_part_3(|p| {
+        p.shape = 7;
+        p.class = 4;
+    });
+    assert_eq!(m.validate(&l), Err(PartStatesError::UnknownClass { index: 3, class: 4 }));
+    let m = with_part_3(|p| {
+        p.shape = 7;
+        p.x = f64::NAN;
+    });
+    assert_eq!(m.validate(&l), Err(PartStatesError::NonFinite { index: 3, field: "x" }));
+    let m = with_part_3(|p| {
+        *p = p.with_disc(-1.0);
+        p.id = 10; // duplicates parts[0]
+    });
+    assert_eq!(m.validate(&l), Err(PartStatesError::Shape { index: 3, error: ShapeError::Radius }));
 }

@@ -1,10 +1,12 @@
 //! The cross-process contract: type names carry the protocol version and
 //! service names are valid iceoryx2 names.
 
+use core::mem::{align_of, offset_of, size_of};
+
 use iceoryx2::prelude::{ServiceName, ZeroCopySend};
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, PROTOCOL_VERSION, PartStates, Schedule, Telemetry,
-    service_names,
+    CoreCommand, ExplicitSchedule, ForceRequest, MAX_PARTS, MAX_SHAPE_VERTICES, PROTOCOL_VERSION, PartState,
+    PartStates, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ShapeError, Telemetry, service_names,
 };
 
 fn type_name<T: ZeroCopySend>() -> &'static str {
@@ -22,6 +24,7 @@ fn payload_type_names_carry_the_protocol_version() {
         type_name::<Schedule>(),
         type_name::<Telemetry>(),
         type_name::<CoreCommand>(),
+        type_name::<PartState>(),
     ];
     for name in names {
         assert!(name.starts_with("upm::") && name.ends_with(&suffix), "{name} lacks upm::…{suffix}");
@@ -50,4 +53,44 @@ fn monotonic_clock_moves_forward() {
     std::thread::sleep(std::time::Duration::from_millis(2));
     let b = ipc_types::monotonic_now_ns();
     assert!(a > 0 && b >= a + 1_000_000, "a={a} b={b}");
+}
+
+/// v5's outline: `shape` where v4 had `reserved`, the rest after `omega`.
+#[test]
+fn part_state_v5_carries_its_outline_where_the_contract_says() {
+    assert_eq!(PROTOCOL_VERSION, 5);
+    assert_eq!((SHAPE_POINT, SHAPE_DISC, SHAPE_POLYGON, MAX_SHAPE_VERTICES), (0, 1, 2, 8));
+    assert_eq!((size_of::<PartState>(), align_of::<PartState>()), (208, 8));
+    assert_eq!(size_of::<PartStates>(), 24 + MAX_PARTS * 208);
+    let offsets = [
+        offset_of!(PartState, shape),
+        offset_of!(PartState, omega),
+        offset_of!(PartState, radius),
+        offset_of!(PartState, vertex_count),
+        offset_of!(PartState, reserved),
+        offset_of!(PartState, vertices),
+    ];
+    assert_eq!(offsets, [12, 56, 64, 72, 76, 80]);
+}
+
+#[test]
+fn a_new_part_is_a_point_and_the_builders_keep_its_pose() {
+    let p = PartState::new(7, 1, 2, [0.1, -0.2, 0.3], [0.01, 0.02, 0.03]);
+    assert_eq!((p.shape, p.radius, p.vertex_count, p.reserved), (SHAPE_POINT, 0.0, 0, 0));
+    assert_eq!(p.vertices, [[0.0; 2]; MAX_SHAPE_VERTICES]);
+    assert!(p.polygon().is_empty());
+    assert_eq!(PartState::ZERO.shape, SHAPE_POINT);
+
+    let d = p.with_disc(0.02);
+    assert_eq!((d.shape, d.radius), (SHAPE_DISC, 0.02));
+    assert_eq!(PartState { shape: SHAPE_POINT, radius: 0.0, ..d }, p, "only the outline changed");
+
+    let tri = [[0.02, 0.0], [-0.01, 0.015], [-0.01, -0.015]];
+    let t = p.with_polygon(&tri).expect("3 fit");
+    assert_eq!((t.shape, t.vertex_count, t.polygon()), (SHAPE_POLYGON, 3, &tri[..]));
+    assert_eq!(t.vertices[3..], [[0.0; 2]; MAX_SHAPE_VERTICES - 3], "unused vertices stay 0");
+    assert_eq!((t.id, t.x, t.y, t.theta, t.omega), (7, 0.1, -0.2, 0.3, 0.03));
+    let all = [[0.0; 2]; MAX_SHAPE_VERTICES];
+    assert!(p.with_polygon(&all).is_ok(), "8 fit (validate judges them)");
+    assert_eq!(p.with_polygon(&[[0.0; 2]; MAX_SHAPE_VERTICES + 1]), Err(ShapeError::VertexCount));
 }

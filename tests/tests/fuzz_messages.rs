@@ -3,7 +3,8 @@
 //! breaking an invariant the core relies on.
 
 use ipc_types::{
-    ExplicitSchedule, ForceRequest, MAX_CURLS, PartStates, Schedule, Telemetry, ValidationLimits,
+    ExplicitSchedule, ForceRequest, MAX_CURLS, MAX_SHAPE_VERTICES, PartState, PartStates, PartStatesError,
+    RejectReason, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ShapeError, Telemetry, ValidationLimits,
 };
 use proptest::prelude::*;
 use upm_tests::{from_bytes, patch_header};
@@ -29,8 +30,61 @@ fn limits_strategy() -> impl Strategy<Value = ValidationLimits> {
         })
 }
 
+/// An accepted outline, checked by other means than `check_shape`: a disc
+/// of finite radius in (0, extent]; a polygon of 3..=8 finite vertices
+/// within `extent` of the position, with non-zero area and every vertex on
+/// the inner side of every edge (convex and simple).
+fn outline_is_sound(p: &PartState, extent: f64) -> bool {
+    match p.shape {
+        SHAPE_POINT => true,
+        SHAPE_DISC => p.radius.is_finite() && p.radius > 0.0 && p.radius <= extent,
+        SHAPE_POLYGON => {
+            let n = p.vertex_count as usize;
+            if !(3..=MAX_SHAPE_VERTICES).contains(&n) {
+                return false;
+            }
+            let v = &p.vertices[..n];
+            if !v
+                .iter()
+                .all(|q| q[0].is_finite() && q[1].is_finite() && q[0].hypot(q[1]) <= extent * (1.0 + 1e-12))
+            {
+                return false;
+            }
+            let area2: f64 = (0..n).map(|i| v[i][0] * v[(i + 1) % n][1] - v[(i + 1) % n][0] * v[i][1]).sum();
+            if area2 == 0.0 || !area2.is_finite() {
+                return false;
+            }
+            (0..n).all(|i| {
+                let (a, b) = (v[i], v[(i + 1) % n]);
+                let e = [b[0] - a[0], b[1] - a[1]];
+                v.iter().all(|c| {
+                    let d = [c[0] - a[0], c[1] - a[1]];
+                    let cross = e[0] * d[1] - e[1] * d[0];
+                    area2.signum() * cross >= -1e-9 * e[0].hypot(e[1]) * d[0].hypot(d[1])
+                })
+            })
+        }
+        _ => false,
+    }
+}
+
+/// A refused outline is counted as `bad_shape` and its line names the
+/// field; nothing else is counted as `bad_shape`.
+fn shape_error_is_named(e: &PartStatesError) -> bool {
+    let line = e.to_string();
+    match e {
+        PartStatesError::Shape { index, error } => {
+            e.reason() == RejectReason::BadShape
+                && line.starts_with(&format!("part_states.parts[{index}].{}: ", error.field()))
+        }
+        _ => e.reason() != RejectReason::BadShape && line.starts_with("part_states."),
+    }
+}
+
+/// Up to a whole `PartStates` (the largest inbound payload, 13336 bytes in
+/// v5); a shorter body is repeated.
 fn body() -> impl Strategy<Value = Vec<u8>> {
-    prop::collection::vec(any::<u8>(), 1..8192)
+    prop::collection::vec(any::<u8>(), 1..=size_of::<PartStates>())
 }
 
 proptest! {
@@ -49,10 +103,11 @@ proptest! {
                 prop_assert!([p.x, p.y, p.theta, p.vx, p.vy, p.omega].iter().all(|v| v.is_finite()));
                 prop_assert!(p.x.abs() <= l.plate_half_extent_m[0] && p.y.abs() <= l.plate_half_extent_m[1]);
                 prop_assert!(m.parts()[..i].iter().all(|q| q.id != p.id));
+                prop_assert!(outline_is_sound(p, l.max_part_extent()), "{p:?}");
             }
             prop_assert!(m.stamp_ns <= l.now_ns.saturating_add(l.max_future_skew_ns));
-        } else {
-            let _ = verdict.map_err(|e| e.to_string());
+        } else if let Err(e) = verdict {
+            prop_assert!(shape_error_is_named(&e), "{e}");
         }
         let _ = m.push(ipc_types::PartState::ZERO);
     }
@@ -128,6 +183,84 @@ proptest! {
     }
 }
 
+const SQUARE: [[f64; 2]; 4] = [[0.01, 0.01], [-0.01, 0.01], [-0.01, -0.01], [0.01, -0.01]];
+
+/// Floats a hostile outline may carry.
+fn wild_f64() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => -0.5..0.5f64,
+        2 => any::<f64>(),
+        1 => prop::sample::select(vec![
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MIN_POSITIVE,
+            1e-300,
+            1e300,
+            f64::MAX,
+            -f64::MAX,
+        ]),
+    ]
+}
+
+/// `k` vertices on a circle of `radius` about `centre`, at angles spaced by
+/// the normalised `gaps` (each ≥ 0.08 rad): convex and simple by
+/// construction, in either winding.
+fn on_a_circle(
+    k: usize,
+    radius: f64,
+    gaps: &[f64],
+    turn: f64,
+    clockwise: bool,
+    centre: [f64; 2],
+) -> Vec<[f64; 2]> {
+    let total: f64 = gaps[..k].iter().sum();
+    let mut angle = turn;
+    let mut v: Vec<[f64; 2]> = gaps[..k]
+        .iter()
+        .map(|g| {
+            angle += core::f64::consts::TAU * g / total;
+            [centre[0] + radius * angle.cos(), centre[1] + radius * angle.sin()]
+        })
+        .collect();
+    if clockwise {
+        v.reverse();
+    }
+    v
+}
+
+/// What `check_shape` must answer, worked out field by field; `None` when
+/// only convexity decides (then an accepted outline must be sound).
+fn expected_outline(p: &PartState, extent: f64) -> Option<Result<(), ShapeError>> {
+    match p.shape {
+        SHAPE_POINT => Some(Ok(())),
+        SHAPE_DISC if !(p.radius.is_finite() && p.radius > 0.0) => Some(Err(ShapeError::Radius)),
+        SHAPE_DISC if p.radius > extent => Some(Err(ShapeError::RadiusTooLarge)),
+        SHAPE_DISC => Some(Ok(())),
+        SHAPE_POLYGON => {
+            let n = p.vertex_count as usize;
+            if !(3..=MAX_SHAPE_VERTICES).contains(&n) {
+                return Some(Err(ShapeError::VertexCount));
+            }
+            let v = &p.vertices[..n];
+            if v.iter().any(|q| !(q[0].is_finite() && q[1].is_finite())) {
+                return Some(Err(ShapeError::NonFinite));
+            }
+            let far = v.iter().map(|q| q[0].hypot(q[1])).fold(0.0, f64::max);
+            if (far - extent).abs() <= 1e-12 * extent {
+                None // on the bound: rounding decides
+            } else if far > extent {
+                Some(Err(ShapeError::VertexTooFar))
+            } else {
+                None
+            }
+        }
+        _ => Some(Err(ShapeError::Code)),
+    }
+}
+
 /// Bytes of a payload, to corrupt a valid message in place.
 fn to_bytes<T: Copy>(value: &T) -> Vec<u8> {
     // SAFETY: payloads have no padding, so all size_of::<T>() bytes are initialised.
@@ -150,7 +283,13 @@ proptest! {
         let mut request = ForceRequest::new();
         request.deadline_ns = 10;
         for (i, id) in ids.iter().take(n).enumerate() {
-            let _ = parts.push(ipc_types::PartState::new(*id, 0, 0, [0.5, -0.5, 0.0], [0.0; 3]));
+            let point = PartState::new(*id, 0, 0, [0.5, -0.5, 0.0], [0.0; 3]);
+            let part = match i % 3 {
+                0 => point,
+                1 => point.with_disc(0.02),
+                _ => point.with_polygon(&SQUARE).unwrap_or(point),
+            };
+            let _ = parts.push(part);
             let entry = if i % 3 == 0 {
                 ipc_types::ForceEntry::force_and_curl(*id, [0.1, 0.0], 0.2)
             } else {
@@ -167,11 +306,15 @@ proptest! {
             rb[at % rl] = *value;
         }
         let parts: PartStates = from_bytes(&pb);
-        if parts.validate(&l).is_ok() {
-            for (i, p) in parts.parts().iter().enumerate() {
-                prop_assert!(parts.parts()[..i].iter().all(|q| q.id != p.id));
-                prop_assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0);
+        match parts.validate(&l) {
+            Ok(()) => {
+                for (i, p) in parts.parts().iter().enumerate() {
+                    prop_assert!(parts.parts()[..i].iter().all(|q| q.id != p.id));
+                    prop_assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0);
+                    prop_assert!(outline_is_sound(p, 1.0), "{p:?}");
+                }
             }
+            Err(e) => prop_assert!(shape_error_is_named(&e), "{e}"),
         }
         let request: ForceRequest = from_bytes(&rb);
         if request.validate(&l).is_ok() {
@@ -182,6 +325,103 @@ proptest! {
             }
         }
     }
+}
+
+proptest! {
+    #![proptest_config(upm_tests::fuzz_config(4096, 1))]
+
+    /// A part on the plate with any outline fields a hostile sender can
+    /// write: never a panic; refused exactly when a field is bad, as
+    /// `bad_shape` naming it; an outline on a circle within the plate
+    /// passes; whatever passes is sound.
+    #[test]
+    fn hostile_outlines_are_refused_as_bad_shape_and_sound_ones_pass(
+        shape in prop_oneof![4 => 0u32..3, 1 => any::<u32>()],
+        radius in wild_f64(),
+        vertex_count in prop_oneof![4 => 0u32..=10, 1 => any::<u32>()],
+        raw in prop::array::uniform8(prop::array::uniform2(wild_f64())),
+        circle in (3usize..=MAX_SHAPE_VERTICES, 1e-3..0.2f64, prop::collection::vec(1.0..10.0f64, 8)),
+        turn in 0.0..core::f64::consts::TAU,
+        clockwise in any::<bool>(),
+        centre in prop::array::uniform2(-0.1..0.1f64),
+        use_circle in any::<bool>(),
+        extent in prop_oneof![4 => 0.01..1.0f64, 1 => Just(f64::INFINITY)],
+        index in 0usize..4,
+        theta in wild_f64(),
+    ) {
+        let l = ValidationLimits::new([extent, extent / 2.0], 1_000);
+        let mut m = PartStates::new();
+        m.stamp_ns = 1_000;
+        for id in 0..4 {
+            m.push(PartState::new(id, 0, 0, [0.0, 0.0, 0.0], [0.0; 3])).expect("fits");
+        }
+        let p = &mut m.parts_mut()[index];
+        (p.shape, p.radius, p.vertex_count, p.vertices) = (shape, radius, vertex_count, raw);
+        // theta turns the outline; it must not change the verdict.
+        if theta.is_finite() { p.theta = theta; }
+        let (k, r, gaps) = circle;
+        let mut sound_circle = false;
+        if use_circle {
+            let v = on_a_circle(k, r, &gaps, turn, clockwise, centre);
+            p.shape = SHAPE_POLYGON;
+            p.vertex_count = k as u32;
+            p.vertices[..k].copy_from_slice(&v);
+            sound_circle = r + centre[0].hypot(centre[1]) < extent * (1.0 - 1e-9);
+        }
+        let part = *p;
+        let verdict = m.validate(&l);
+        let got = match verdict {
+            Ok(()) => Ok(()),
+            Err(PartStatesError::Shape { index: i, error }) => {
+                prop_assert_eq!(i, index);
+                Err(error)
+            }
+            Err(e) => return Err(TestCaseError::fail(format!("not an outline error: {e}"))),
+        };
+        if let Err(e) = verdict {
+            prop_assert!(shape_error_is_named(&e), "{}", e);
+        }
+        match expected_outline(&part, extent) {
+            Some(want) => prop_assert_eq!(got, want, "{:?}", part),
+            None => prop_assert!(
+                matches!(got, Ok(()) | Err(ShapeError::NotConvex | ShapeError::VertexTooFar)),
+                "{:?}: {:?}", part, got
+            ),
+        }
+        if sound_circle {
+            prop_assert_eq!(got, Ok(()), "a convex polygon within the plate was refused: {:?}", part);
+        }
+        if got.is_ok() {
+            prop_assert!(outline_is_sound(&part, extent), "{:?}", part);
+        }
+    }
+}
+
+/// Random bytes must reach the outline check too (an unknown `shape` code
+/// is all but certain once a part's pose passes).
+#[test]
+fn patched_random_bodies_reach_the_outline_check() {
+    let l = ValidationLimits::new([1.0, 1.0], u64::MAX);
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut shape_errors = 0;
+    for _ in 0..256 {
+        let mut bytes: Vec<u8> = (0..size_of::<PartStates>())
+            .map(|_| {
+                // xorshift64: reproducible, no dependency.
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                state as u8
+            })
+            .collect();
+        patch_header(&mut bytes, 1);
+        let m: PartStates = from_bytes(&bytes);
+        if let Err(e @ PartStatesError::Shape { .. }) = m.validate(&l) {
+            assert!(shape_error_is_named(&e), "{e}");
+            shape_errors += 1;
+        }
+    }
+    assert!(shape_errors > 0, "random bodies never reached the outline check");
 }
 
 /// The patched path must really reach the per-entry checks, otherwise the

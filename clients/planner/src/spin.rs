@@ -1,5 +1,7 @@
 //! `spin` (paper §3.3): one part turns in place to an angle; every part,
-//! that one included, holds its start position.
+//! that one included, holds its start position. With a `goal` the turning
+//! part moves there while it turns (orienting parts on the way, as a
+//! feeder does): force and curl asked of it together.
 
 use ipc_types::{ForceEntry, ForceRequest, PartStates};
 use serde::{Deserialize, Serialize};
@@ -15,6 +17,9 @@ pub struct SpinParams {
     /// The part that turns, and the angle (rad) it turns to.
     pub part: u32,
     pub angle: f64,
+    /// Where the turning part goes while it turns (m); None: it holds its
+    /// start.
+    pub goal: Option<[f64; 2]>,
     /// Curl per radian of angle error (N/m/rad), and its limit.
     pub gain: f64,
     pub max_curl: f64,
@@ -26,6 +31,7 @@ impl Default for SpinParams {
             drive: DriveParams::default(),
             part: 1,
             angle: std::f64::consts::FRAC_PI_2,
+            goal: None,
             gain: 0.2,
             max_curl: 0.05,
         }
@@ -49,6 +55,11 @@ impl SpinPlanner {
         {
             return Err("planner: spin needs a finite angle and a positive gain and max_curl".into());
         }
+        if let Some(g) = p.goal
+            && !g.iter().all(|x| x.is_finite())
+        {
+            return Err(format!("planner.goal must be finite, got {g:?}"));
+        }
         Ok(Self { p, starts: PartPoints::default() })
     }
 }
@@ -62,8 +73,13 @@ impl Planner for SpinPlanner {
         out.clear();
         for part in parts.parts() {
             let start = self.starts.get_or_remember(part);
-            let f = self.p.drive.force_to(part, start, [0.0; 2]);
-            let entry = if part.id == self.p.part {
+            let turning = part.id == self.p.part;
+            let target = match self.p.goal {
+                Some(goal) if turning => goal,
+                _ => start,
+            };
+            let f = self.p.drive.force_to(part, target, [0.0; 2]);
+            let entry = if turning {
                 let err = self.p.angle - part.theta;
                 let curl = (self.p.gain * err).clamp(-self.p.max_curl, self.p.max_curl);
                 ForceEntry::force_and_curl(part.id, f, curl)

@@ -7,10 +7,16 @@ import ctypes
 import time
 
 # ipc-types/src/lib.rs and capacity.rs
-PROTOCOL_VERSION = 4
+PROTOCOL_VERSION = 5
 MAX_PARTS = 64
 MAX_CURLS = 16
 MAX_SLOTS = 192
+
+# ipc-types/src/part_shape.rs: PartState.shape codes
+SHAPE_POINT = 0  # the paper's point part (the field at its position)
+SHAPE_DISC = 1  # a disc of `radius`
+SHAPE_POLYGON = 2  # a convex polygon of `vertex_count` `vertices`
+MAX_SHAPE_VERTICES = 8
 
 # How long a request stays valid (the Rust planners' REQUEST_LIFETIME_NS):
 # the core holds the plate if no newer one arrives.
@@ -49,19 +55,55 @@ def monotonic_now_ns():
 # --- payloads (ipc-types/src/*.rs); every field named, no padding ---------
 
 class PartState(ctypes.Structure):
-    """One part as seen by vision: pose (m, rad), velocity (m/s, rad/s)."""
+    """One part as seen by vision: pose (m, rad), velocity (m/s, rad/s) and
+    contact outline: a point, a disc of `radius` (m), or a convex polygon of
+    `vertex_count` `vertices` (m, in the part's own frame: relative to its
+    position, turned by `theta` into plate axes). Fields a shape does not
+    use are ignored. The core checks the outline (reject code bad_shape)."""
     _fields_ = [
         ("id", ctypes.c_uint32),
         ("class_", ctypes.c_uint32),  # `class` in Rust (a Python keyword)
         ("friction_class", ctypes.c_uint32),
-        ("reserved", ctypes.c_uint32),
+        ("shape", ctypes.c_uint32),  # SHAPE_POINT, SHAPE_DISC or SHAPE_POLYGON
         ("x", ctypes.c_double), ("y", ctypes.c_double), ("theta", ctypes.c_double),
         ("vx", ctypes.c_double), ("vy", ctypes.c_double), ("omega", ctypes.c_double),
+        ("radius", ctypes.c_double),
+        ("vertex_count", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("vertices", (ctypes.c_double * 2) * MAX_SHAPE_VERTICES),
     ]
 
     @staticmethod
     def type_name():
-        return "upm::PartState.v4"
+        return "upm::PartState.v5"
+
+    @classmethod
+    def point(cls, id, class_, friction_class, pose, velocity=(0.0, 0.0, 0.0)):
+        """A point part (as PartState::new): pose (x, y, theta), velocity (vx, vy, omega)."""
+        p = cls()
+        p.id, p.class_, p.friction_class, p.shape = id, class_, friction_class, SHAPE_POINT
+        p.x, p.y, p.theta = pose
+        p.vx, p.vy, p.omega = velocity
+        return p
+
+    def with_disc(self, radius):
+        """Make this part a disc of `radius` (m), in place; returns it. The core checks it."""
+        self.shape, self.radius = SHAPE_DISC, radius
+        return self
+
+    def with_polygon(self, vertices):
+        """Make this part a polygon of [(x, y), ...] in its own frame (m), in place;
+        returns it. More than MAX_SHAPE_VERTICES raises ValueError; the core checks the rest."""
+        if len(vertices) > MAX_SHAPE_VERTICES:
+            raise ValueError(f"{len(vertices)} vertices, at most {MAX_SHAPE_VERTICES}")
+        for i, (vx, vy) in enumerate(vertices):
+            self.vertices[i][0], self.vertices[i][1] = vx, vy
+        self.shape, self.vertex_count = SHAPE_POLYGON, len(vertices)
+        return self
+
+    def polygon(self):
+        """The used vertices as (x, y) tuples (vertex_count clamped, as in Rust)."""
+        return [tuple(v) for v in self.vertices[: min(self.vertex_count, MAX_SHAPE_VERTICES)]]
 
 
 class PartStates(ctypes.Structure):
@@ -76,11 +118,23 @@ class PartStates(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartStates.v4"
+        return "upm::PartStates.v5"
+
+    def __init__(self):
+        super().__init__()
+        self.protocol_version = PROTOCOL_VERSION
 
     def used(self):
         """The used entries (count clamped to the capacity, as in Rust)."""
         return self.parts[: min(self.count, MAX_PARTS)]
+
+    def push(self, part):
+        """Append a PartState; False when full."""
+        if self.count >= MAX_PARTS:
+            return False
+        self.parts[self.count] = part
+        self.count += 1
+        return True
 
 
 class ForceEntry(ctypes.Structure):
@@ -95,7 +149,7 @@ class ForceEntry(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceEntry.v4"
+        return "upm::ForceEntry.v5"
 
 
 class ForceRequest(ctypes.Structure):
@@ -111,7 +165,7 @@ class ForceRequest(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceRequest.v4"
+        return "upm::ForceRequest.v5"
 
     def __init__(self):
         super().__init__()
@@ -138,7 +192,7 @@ class ScheduleSlot(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ScheduleSlot.v4"
+        return "upm::ScheduleSlot.v5"
 
 
 class Schedule(ctypes.Structure):
@@ -162,7 +216,7 @@ class Schedule(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Schedule.v4"
+        return "upm::Schedule.v5"
 
 
 # Rejection.kind codes and the reject reasons (docs/protocol.md).
@@ -172,7 +226,7 @@ REJECT_REASONS = (
     "out_of_order", "duplicate", "non_finite", "off_plate", "unknown_class", "duplicate_id",
     "not_a_flag", "constrains_nothing", "too_many_curls", "deadline_before_stamp", "unknown_center",
     "k_out_of_range", "no_part_states", "unknown_part", "unsolvable", "motion_limits",
-    "actuator_limits", "overflow", "receive_error", "unknown_command",
+    "actuator_limits", "overflow", "receive_error", "unknown_command", "bad_shape",
 )
 DETAIL_BYTES = 120
 
@@ -194,7 +248,7 @@ class Rejection(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Rejection.v4"
+        return "upm::Rejection.v5"
 
     def __str__(self):
         kind = REJECTED_KINDS[self.kind] if self.kind < len(REJECTED_KINDS) else "unknown"
@@ -220,11 +274,11 @@ class FrameHeader(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::FrameHeader.v4"
+        return "upm::FrameHeader.v5"
 
 
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
-assert ctypes.sizeof(PartState) == 4 * 4 + 6 * 8
+assert ctypes.sizeof(PartState) == 4 * 4 + 7 * 8 + 2 * 4 + MAX_SHAPE_VERTICES * 16
 assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(PartState)
 assert ctypes.sizeof(ForceEntry) == 4 * 4 + 3 * 8
 assert ctypes.sizeof(ForceRequest) == 4 + 4 + 3 * 8 + MAX_PARTS * ctypes.sizeof(ForceEntry)

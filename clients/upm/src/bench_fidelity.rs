@@ -82,7 +82,9 @@ fn summary(v: &mut [f64]) -> (Option<f64>, Option<f64>) {
     (crate::bench_sort::percentile(v, 0.5), v.last().copied())
 }
 
-pub fn run(cases: usize, seed: u64) -> anyhow::Result<Value> {
+/// `cases` random geometries played open-loop, then the closed-loop
+/// scenarios on `loop_seeds` seeds from `seed` (`bench_fidelity_loop`).
+pub fn run(cases: usize, seed: u64, loop_seeds: u64) -> anyhow::Result<Value> {
     if cases == 0 {
         anyhow::bail!("--cases must be at least 1");
     }
@@ -141,6 +143,7 @@ pub fn run(cases: usize, seed: u64) -> anyhow::Result<Value> {
         "baseline_curl_err_median": bcm,
         "baseline_curl_err_worst": bcw,
         "cycles": CYCLES,
+        "closed_loop": crate::bench_fidelity_loop::run(&(seed..seed + loop_seeds).collect::<Vec<_>>())?,
     }))
 }
 
@@ -150,7 +153,7 @@ pub fn to_text(v: &Value) -> String {
         "{} cases ({} forces, {} curls; {} saturated draws skipped), {} within the targets\n\
          per-shape model, part dynamics: force error median {}, worst {}; curl error median {}, worst {}\n\
          per-shape model, parts at rest: force error median {}, worst {}; curl error median {}, worst {}\n\
-         point model (the paper's):      force error median {}, worst {}; curl error median {}, worst {}\n",
+         point model (the paper's):      force error median {}, worst {}; curl error median {}, worst {}\n{}",
         v["cases"],
         v["forces"],
         v["curls"],
@@ -168,5 +171,6 @@ pub fn to_text(v: &Value) -> String {
         pct(&v["baseline_force_err_worst"]),
         pct(&v["baseline_curl_err_median"]),
         pct(&v["baseline_curl_err_worst"]),
+        crate::bench_fidelity_loop::to_text(&v["closed_loop"]),
     )
 }

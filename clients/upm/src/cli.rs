@@ -523,7 +523,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 }
                 (BenchTarget::Fidelity, None) => {
                     let cases = if quick { cases.min(3) } else { cases };
-                    (crate::bench_fidelity::run(cases, seed)?, crate::bench_fidelity::to_text)
+                    let loop_seeds = if quick { 1 } else { 3 };
+                    (crate::bench_fidelity::run(cases, seed, loop_seeds)?, crate::bench_fidelity::to_text)
                 }
                 (BenchTarget::Sort, None) => {
                     // --quick: 30 simulated seconds per seed.

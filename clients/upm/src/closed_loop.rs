@@ -113,7 +113,7 @@ fn run_on<D: SimulatedPlant>(
 ) -> anyhow::Result<LoopResult> {
     let params = config.core_params("scenario")?;
     let mut core = Lockstep::new(&params, driver, 1_000_000_000).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut fill = crate::core_process::truth_fill::<D>(parts.ids, parts.classes);
+    let mut fill = crate::core_process::truth_fill::<D>(&parts);
     let tick_hz = params.motion.tick_hz;
     let frame_ticks = (tick_hz / config.vision.frame_hz).round().max(1.0) as u64;
     let total = (seconds * tick_hz) as u64;

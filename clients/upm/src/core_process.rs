@@ -27,22 +27,41 @@ pub struct CoreArgs {
     pub truth_hz: f64,
 }
 
-/// Ground truth of the simulator's parts as PartStates (world frame, ids
-/// and classes as configured). The closure only reads preallocated data.
-pub fn truth_fill<D: SimulatedPlant>(ids: Vec<u32>, classes: Vec<u32>) -> TruthFill<D> {
+/// Ground truth of the simulator's parts as PartStates (world frame, ids,
+/// classes and outlines as configured). The closure only reads
+/// preallocated data.
+pub fn truth_fill<D: SimulatedPlant>(parts: &crate::config::SimParts) -> TruthFill<D> {
+    let templates: Vec<ipc_types::PartState> = (0..parts.specs.len().max(parts.ids.len()))
+        .map(|i| {
+            let id = parts.ids.get(i).copied().unwrap_or(i as u32 + 1);
+            let class = parts.classes.get(i).copied().unwrap_or(0);
+            let point = ipc_types::PartState::new(id, class, 0, [0.0; 3], [0.0; 3]);
+            parts.specs.get(i).map_or(point, |s| with_outline(point, &s.shape))
+        })
+        .collect();
     Box::new(move |driver: &D, out: &mut PartStates| {
         out.clear();
         driver.with_simulator(&mut |sim| {
             for (i, p) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
-                let id = ids.get(i).copied().unwrap_or(i as u32 + 1);
-                let class = classes.get(i).copied().unwrap_or(0);
-                let pose = [p.position[0], p.position[1], p.angle];
-                let vel = [p.velocity[0], p.velocity[1], p.angular_velocity];
+                let mut s = templates.get(i).copied().unwrap_or(ipc_types::PartState::ZERO);
+                [s.x, s.y, s.theta] = [p.position[0], p.position[1], p.angle];
+                [s.vx, s.vy, s.omega] = [p.velocity[0], p.velocity[1], p.angular_velocity];
                 // Capacity equals the simulator's part limit or more.
-                let _ = out.push(ipc_types::PartState::new(id, class, 0, pose, vel));
+                let _ = out.push(s);
             }
         });
     })
+}
+
+/// A part's outline in its body frame, as the simulator keeps it.
+fn with_outline(state: ipc_types::PartState, shape: &drivers::sim::Shape) -> ipc_types::PartState {
+    use drivers::sim::Shape;
+    match shape.body_frame() {
+        Shape::Point { .. } => state,
+        Shape::Disc { radius } => state.with_disc(radius),
+        // The simulator takes at most as many vertices as the wire.
+        Shape::Polygon { vertices, count } => state.with_polygon(&vertices[..count]).unwrap_or(state),
+    }
 }
 
 fn run_simulated<D: SimulatedPlant>(
@@ -51,7 +70,7 @@ fn run_simulated<D: SimulatedPlant>(
     parts: crate::config::SimParts,
     options: &RunOptions,
 ) -> anyhow::Result<RunReport> {
-    let fill = truth_fill::<D>(parts.ids, parts.classes);
+    let fill = truth_fill::<D>(&parts);
     run_core_with_truth(params, driver, Some(fill), options).context("upm-core")
 }
 

@@ -199,7 +199,10 @@ impl Scenario {
                     }
                     None => true,
                 },
-                PlannerConfig::Spin(p) if *id == p.part => (last[3] - p.angle).abs() <= 5f64.to_radians(),
+                PlannerConfig::Spin(p) if *id == p.part => {
+                    let there = p.goal.is_none_or(|g| (last[1] - g[0]).hypot(last[2] - g[1]) <= 0.02);
+                    there && (last[3] - p.angle).abs() <= 5f64.to_radians()
+                }
                 PlannerConfig::Local(p) if *id == p.part => {
                     (last[1] - p.goal[0]).hypot(last[2] - p.goal[1]) <= 0.02
                 }
@@ -228,8 +231,17 @@ impl Scenario {
                 v["path_length_m"] = json!(path);
             }
             PlannerConfig::Spin(p) => {
-                if let Some(t) = trails.parts.get(&p.part).and_then(|t| t.points.last()) {
-                    v["spin_angle_error_deg"] = json!((t[3] - p.angle).to_degrees());
+                if let Some(t) = trails.parts.get(&p.part) {
+                    if let Some(last) = t.points.last() {
+                        v["spin_angle_error_deg"] = json!((last[3] - p.angle).to_degrees());
+                    }
+                    // From when on the angle stayed within 2° (null: never).
+                    let settled =
+                        match t.points.iter().rposition(|q| (q[3] - p.angle).abs() > 2f64.to_radians()) {
+                            None => t.points.first(),
+                            Some(i) => t.points.get(i + 1),
+                        };
+                    v["spin_settled_s"] = json!(settled.map(|q| q[0]));
                 }
             }
             PlannerConfig::Local(p) => {

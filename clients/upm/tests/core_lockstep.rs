@@ -188,6 +188,9 @@ fn bad_messages_are_rejected_and_counted_and_the_core_keeps_running() {
     let mut m = good;
     m.stamp_ns = now + 10_000_000_000;
     bad_parts.push(m);
+    let mut m = good;
+    m.parts_mut()[1] = m.parts()[1].with_disc(-0.01);
+    bad_parts.push(m);
 
     let good_req = request(100, now, &PAPER_PARTS, 1.0);
     let mut bad_reqs = Vec::new();
@@ -293,4 +296,71 @@ fn each_center_is_bounded_by_what_it_can_play() {
             assert!(slot.k.abs() <= u, "slot k {} beyond center {}'s {u}", slot.k, slot.center_index);
         }
     }
+}
+
+/// The k the core publishes for the paper's §3.1 request when part 1 (at
+/// (0.5, 0), 0.5 m from the nearest corner center) is `part_1` and the
+/// core's `part_shapes` is as given.
+fn published_k(part_1: PartState, part_shapes: bool) -> Vec<u64> {
+    let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
+    let params = CoreParams { part_shapes, ..CoreParams::default() };
+    let mut c = Lockstep::new(&params, sim, START_NS).expect("core");
+    let now = c.now_ns();
+    let mut parts = part_states(1, now, &PAPER_PARTS);
+    parts.parts_mut()[0] = part_1;
+    c.inbox().push_parts(&parts);
+    c.inbox().push_request(&request(1, now, &PAPER_PARTS, 1.0));
+    c.run_ticks(10, |_| {});
+    assert!(c.rejections().is_empty(), "{:?}", c.rejections().first().map(|r| r.detail_str().to_owned()));
+    let s = c.published().first().expect("a schedule");
+    let mut k = vec![0; 4];
+    for slot in s.slots() {
+        k[slot.center_index as usize] = slot.k.to_bits();
+    }
+    k
+}
+
+#[test]
+fn a_parts_outline_reaches_the_solver() {
+    use rt_core::solver::{ForceConstraint, PartShape, Problem, Solver, SolverCapacity, SolverParams};
+    let point = PartState::new(1, 0, 0, [0.5, 0.0, 0.3], [0.0; 3]);
+    // A large disc and a turned square: their patches feel the rotations
+    // differently from a point at their centre.
+    let disc = point.with_disc(0.3);
+    let square =
+        point.with_polygon(&[[0.2, 0.2], [-0.2, 0.2], [-0.2, -0.2], [0.2, -0.2]]).expect("4 vertices");
+    let at_point = published_k(point, true);
+    for shaped in [disc, square] {
+        assert_ne!(published_k(shaped, true), at_point, "the outline changed nothing");
+        assert_eq!(published_k(shaped, false), at_point, "part_shapes = false is the point model");
+    }
+    // What the core played is the solver's answer for the outline, turned
+    // by the part's angle into plate axes.
+    let params = CoreParams::default();
+    let bounds = params.playable_k_bounds().expect("bounds");
+    let k_max = bounds.iter().copied().fold(0.0, f64::max);
+    let constraints: Vec<ForceConstraint> = PAPER_PARTS
+        .iter()
+        .map(|&(id, p, f)| ForceConstraint {
+            position: p,
+            force: Some(f),
+            shape: if id == 1 { PartShape::from_wire(&square) } else { PartShape::Point },
+        })
+        .collect();
+    let problem = Problem {
+        mu_m_g: params.mu_m_g,
+        k_max,
+        centers: &params.centers,
+        parts: &constraints,
+        curls: &[],
+        k_bounds: &bounds,
+    };
+    let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
+    let mut out = solver.new_solution();
+    solver.solve(&problem, &mut out).expect("solve");
+    let want: Vec<u64> = out.k().iter().map(|k| k.to_bits()).collect();
+    assert_eq!(published_k(square, true), want);
+    let PartShape::Polygon { vertices, .. } = PartShape::from_wire(&square) else { panic!("a polygon") };
+    let (s, c) = 0.3f64.sin_cos();
+    assert!((vertices[0][0] - (0.2 * c - 0.2 * s)).abs() < 1e-15, "{vertices:?}");
 }

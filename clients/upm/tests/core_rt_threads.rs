@@ -56,7 +56,12 @@ fn rt_threads_allocate_nothing(cycle_slots: usize) {
         .map(|&position| PartSpec { shape: Shape::Disc { radius: 0.02 }, mass: 0.01, position, angle: 0.0 })
         .collect();
     let sim = Simulator::new(SimConfig::default(), &parts).expect("sim");
-    let fill = upm_cli::core_process::truth_fill(vec![1, 2, 3], vec![0, 1, 0]);
+    let fill = upm_cli::core_process::truth_fill(&upm_cli::config::SimParts {
+        specs: parts.clone(),
+        ids: vec![1, 2, 3],
+        classes: vec![0, 1, 0],
+        ..Default::default()
+    });
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
         let (prefix, stop) = (prefix.clone(), stop.clone());

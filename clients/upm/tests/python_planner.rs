@@ -119,8 +119,95 @@ while rig.wait(0.01):
     let r = upm_run("local", "4", &planner, "refused");
     let _ = std::fs::remove_file(&script_path);
     assert!(r.out.status.success(), "{}", String::from_utf8_lossy(&r.out.stderr));
-    let why = "force_request seq 42 rejected: wrong_protocol_version \
-               (force_request.protocol_version is 2, expected 4)";
+    let why = format!(
+        "force_request seq 42 rejected: wrong_protocol_version \
+         (force_request.protocol_version is 2, expected {})",
+        ipc_types::PROTOCOL_VERSION
+    );
     assert!(r.planner_log.contains(&format!("told: {why}")), "planner.log:\n{}", r.planner_log);
-    assert!(r.core_log.contains(why), "core.log:\n{}", r.core_log);
+    assert!(r.core_log.contains(&why), "core.log:\n{}", r.core_log);
+}
+
+/// Protocol v5's outlines from Python: a vision of its own (`--vision-cmd`)
+/// sends a disc, a square and a clockwise triangle, which are taken and
+/// solved for the Rust planner, and four malformed outlines, each refused
+/// as `bad_shape` with a line naming the field.
+#[test]
+fn a_python_vision_sends_outlines_and_is_told_which_field_is_malformed() {
+    let py = python();
+    let script = r#"
+import ctypes, os, sys, upm_ipc
+from upm_ipc import PartState, PartStates
+rig = upm_ipc.connect(os.environ["UPM_PREFIX"], name="upm-vision-py")
+pub = upm_ipc.open_pub_sub(rig.node, upm_ipc.PART_STATES, PartStates).publisher_builder().create()
+wake = upm_ipc.open_inbox_event(rig.node).notifier_builder().create()
+SQUARE = [(0.01, 0.01), (-0.01, 0.01), (-0.01, -0.01), (0.01, -0.01)]
+
+def states():
+    m = PartStates()
+    m.push(PartState.point(1, 0, 0, (-0.3, -0.2, 0.0)).with_disc(0.015))
+    m.push(PartState.point(2, 0, 0, (0.2, -0.25, 0.3)).with_polygon(SQUARE))
+    m.push(PartState.point(3, 0, 0, (-0.5, 0.25, -1.0)).with_polygon([(0.02, 0.0), (-0.01, -0.015), (-0.01, 0.015)]))
+    return m
+
+def bow_tie(m): m.parts[1].with_polygon([SQUARE[0], SQUARE[2], SQUARE[1], SQUARE[3]])
+def nan_radius(m): m.parts[0].radius = float("nan")
+def nine_vertices(m): m.parts[2].vertex_count = 9
+def shape_7(m): m.parts[0].shape = 7
+BAD = [bow_tie, nan_radius, nine_vertices, shape_7]
+
+seq, bad_seqs, start = 0, {}, upm_ipc.monotonic_now_ns()
+while rig.wait(0.03):
+    m = states()
+    due = (upm_ipc.monotonic_now_ns() - start) / 1e9 > 0.5 + 1.2 * len(bad_seqs)
+    if due and len(bad_seqs) < len(BAD):
+        BAD[len(bad_seqs)](m)
+        bad_seqs[seq + 1] = BAD[len(bad_seqs)].__name__
+    seq += 1
+    m.seq, m.stamp_ns = seq, upm_ipc.monotonic_now_ns()
+    sample = pub.loan_uninit()
+    ctypes.memmove(sample.payload_ptr, ctypes.byref(m), ctypes.sizeof(PartStates))
+    sample.assume_init().send()
+    wake.notify()
+    for r in rig.rejections():
+        if r.kind != 0:
+            continue  # not part states
+        if r.seq in bad_seqs:
+            print(f"told: {r}", flush=True)
+        else:
+            print(f"UNEXPECTED: {r}", flush=True)
+print(f"vision.py: {seq} sent, {len(bad_seqs)} malformed", flush=True)
+"#;
+    let script_path = std::env::temp_dir().join(format!("upm_outlines_{}.py", std::process::id()));
+    std::fs::write(&script_path, script).expect("script");
+    let vision = format!("exec '{}' '{}'", py.display(), script_path.display());
+    let dir = std::env::temp_dir().join(format!("upm_run_outlines_{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_upm"))
+        .args(["run", "local", "--duration", "7", "--quiet", "--vision-cmd", &vision, "--out"])
+        .arg(&dir)
+        .env("PYTHONPATH", Path::new(ROOT).join("clients/python"))
+        .current_dir(ROOT)
+        .output()
+        .expect("upm run");
+    let read = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap_or_default();
+    let (log, core_log) = (read("logs/vision.log"), read("logs/core.log"));
+    let m: serde_json::Value = serde_json::from_str(&read("metrics.json")).unwrap_or_default();
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_file(&script_path);
+    assert!(out.status.success(), "{}\nvision.log:\n{log}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(m["restarts"]["vision"], 0, "the Python vision died: {m}\n{log}");
+    assert!(!log.contains("UNEXPECTED"), "a good outline was refused:\n{log}");
+    for why in [
+        "part_states.parts[1].vertices: the polygon must be convex, simple and of non-zero area",
+        "part_states.parts[0].radius: radius must be a finite number > 0",
+        "part_states.parts[2].vertex_count: a polygon needs 3 to 8 vertices",
+        "part_states.parts[0].shape: must be 0 (point), 1 (disc) or 2 (polygon)",
+    ] {
+        assert!(log.contains(&format!(" rejected: bad_shape ({why})")), "not told {why:?}:\n{log}");
+    }
+    assert!(core_log.contains(" rejected: bad_shape (part_states.parts["), "core.log:\n{core_log}");
+    assert_eq!(m["core"]["rejected_by_reason"]["bad_shape"], 4, "{m}");
+    assert_eq!(m["core"]["rejected_parts"], 4, "{m}");
+    // The shaped parts were taken and solved: the Rust planner was answered.
+    assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no request answered: {m}\n{log}");
 }

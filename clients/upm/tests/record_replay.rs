@@ -336,7 +336,7 @@ fn a_damaged_foreign_or_other_version_file_is_refused_in_one_line() {
     // An MCAP file from elsewhere, and one claiming another protocol version.
     for (name, metadata, want) in [
         ("foreign.mcap", None, "not a UPM recording"),
-        ("v3.mcap", Some("3"), "recorded with protocol version 3; this upm speaks protocol version 4"),
+        ("v3.mcap", Some("3"), "recorded with protocol version 3; this upm speaks protocol version 5"),
     ] {
         let f = out.join(name);
         let mut w = mcap::Writer::new(std::io::BufWriter::new(std::fs::File::create(&f).expect("create")))

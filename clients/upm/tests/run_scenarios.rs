@@ -51,6 +51,21 @@ fn spin_turns_in_place_to_within_five_degrees() {
     }
 }
 
+/// Force and curl asked of one square at once while it crosses the plate
+/// (issue 25's case), the core solving on the outline vision reports.
+#[test]
+fn orient_turns_a_square_while_it_crosses_the_plate() {
+    for seed in [1, 2] {
+        let (m, r) = lockstep("orient", seed, 30.0);
+        let err = m["spin_angle_error_deg"].as_f64().expect("error");
+        eprintln!("orient seed {seed}: angle error {err:.3}°, settled at {} s", m["spin_settled_s"]);
+        assert_eq!(m["parts"][0]["goal_met"], true, "seed {seed}: {m}");
+        assert!(m["spin_settled_s"].as_f64().is_some(), "seed {seed}: never settled within 2°");
+        assert_eq!(r.hold_events, 0);
+        assert_eq!(r.rejected_requests, 0);
+    }
+}
+
 #[test]
 fn local_moves_one_part_to_its_goal() {
     let (m, r) = lockstep("local", 1, 45.0);

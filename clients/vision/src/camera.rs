@@ -1,5 +1,6 @@
 //! The simulated camera: samples the simulator's ground truth at a frame
 //! rate, adds seeded noise, drops frames, and delays them by a latency.
+//! Each part's outline passes through unchanged.
 
 use std::collections::VecDeque;
 
@@ -8,6 +9,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
+use crate::shape::BodyOutline;
 use crate::tracker::Detection;
 
 /// Tunables of the simulated camera (`[vision]` in the config).
@@ -104,6 +106,8 @@ impl Camera {
                 class: p.class,
                 // The truth is unwrapped; so stays the estimate.
                 period: 0.0,
+                // The simulator's outline, as it is: noise moves the pose only.
+                outline: BodyOutline::of(p),
             })
             .collect();
         self.queue.push_back(Frame { stamp_ns: truth.stamp_ns, detections });

@@ -7,11 +7,12 @@
 //! A polygon's angle comes from the phase of the blob's complex moment of
 //! its symmetry order (3 for a triangle, 4 for a square: the lower ones
 //! vanish by symmetry), turned into a direction on the plate through the
-//! calibration; a disc's angle is 0.
+//! calibration; a disc's angle is 0. A detection carries its class's
+//! outline.
 
 use crate::blobs::{Blob, binomial};
 use crate::lens::CameraModel;
-use crate::shape::PartShape;
+use crate::shape::{BodyOutline, PartShape};
 use crate::tracker::Detection;
 
 /// What vision knows about a part class: its brightness relative to the
@@ -26,6 +27,11 @@ pub struct PartLook {
 impl PartLook {
     pub fn area(&self) -> f64 {
         self.shape.area(self.radius)
+    }
+
+    /// The class's contact outline in a part's own frame.
+    pub fn outline(&self) -> BodyOutline {
+        self.shape.body_outline(self.radius)
     }
 }
 
@@ -102,9 +108,11 @@ pub fn detect(
         }
         counts.detected += 1;
         counts.split += u64::from(b.split);
-        let shape = looks.get(class as usize).map_or(PartShape::Disc, |l| l.shape);
+        let look = looks.get(class as usize);
+        let shape = look.map_or(PartShape::Disc, |l| l.shape);
         let theta = plate_angle(b, shape, model);
-        out.push(Detection { x, y, theta, class, period: shape.period() });
+        let outline = look.map_or(BodyOutline::POINT, PartLook::outline);
+        out.push(Detection { x, y, theta, class, period: shape.period(), outline });
     }
 }
 
@@ -145,4 +153,49 @@ fn plate_angle(b: &Blob, shape: PartShape, model: &CameraModel) -> f64 {
     // moment (`shape` tests it): phase / n is a vertex direction.
     let vertex = c[1].atan2(c[0]) / n as f64;
     shape.wrap(vertex - shape.first_vertex())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lens::Mount;
+    use ipc_types::{SHAPE_DISC, SHAPE_POLYGON};
+
+    /// Each detection carries its class's outline: a disc of the class
+    /// radius, a polygon of its corners at the circumradius.
+    #[test]
+    fn detections_carry_their_class_outline() {
+        let mount = Mount { x: 0.0, y: 0.0, height: 1.5, yaw: 0.0, tilt_x: 0.0, tilt_y: 0.0 };
+        let model = CameraModel::mounted(1001, 501, 1000.0, [0.0; 4], mount);
+        let looks = [
+            PartLook { ratio: 0.2, radius: 0.015, shape: PartShape::Disc },
+            PartLook { ratio: 0.5, radius: 0.02, shape: PartShape::Square },
+            PartLook { ratio: 0.8, radius: 0.025, shape: PartShape::Triangle },
+        ];
+        let mpp = model.metres_per_pixel(0.0, 0.0).expect("mpp");
+        let blobs: Vec<Blob> = looks
+            .iter()
+            .enumerate()
+            .map(|(i, l)| Blob {
+                area: l.area() / (mpp * mpp),
+                u: 300.0 + 200.0 * i as f64,
+                v: 250.0,
+                ratio: l.ratio,
+                ..Blob::default()
+            })
+            .collect();
+        let mut out = Vec::with_capacity(8);
+        let mut counts = BlobCounts::default();
+        detect(&blobs, &model, &looks, &mut out, &mut counts);
+        assert_eq!(out.iter().map(|d| d.class).collect::<Vec<_>>(), [0, 1, 2]);
+        let disc = out[0].outline;
+        assert_eq!((disc.shape, disc.radius), (SHAPE_DISC, 0.015));
+        for (d, look) in out[1..].iter().zip(&looks[1..]) {
+            let o = d.outline;
+            assert_eq!((o.shape, o.vertex_count), (SHAPE_POLYGON, look.shape.corners()), "{o:?}");
+            let used = &o.vertices[..o.vertex_count as usize];
+            assert!(used.iter().all(|v| (v[0].hypot(v[1]) - look.radius).abs() < 1e-12), "{o:?}");
+            assert_eq!(o, look.shape.body_outline(look.radius));
+        }
+    }
 }

@@ -8,8 +8,8 @@
 
 use std::time::{Duration, Instant};
 
-use ipc_types::monotonic_now_ns;
 use ipc_types::wake_event::{WakeEvent, wake_listener};
+use ipc_types::{PartState, monotonic_now_ns};
 use serde::Serialize;
 
 use crate::blobs::BadFrame;
@@ -87,6 +87,13 @@ pub fn run_frames(
 ) -> anyhow::Result<FrameStats> {
     let cal = Calibration::load(&params.calibration).map_err(anyhow::Error::msg)?;
     let (width, height) = (cal.camera.width, cal.camera.height);
+    // The core refuses every message with an outline wider than the plate.
+    let extent = cal.plate_half_extent[0].max(cal.plate_half_extent[1]);
+    for (i, look) in params.looks.iter().enumerate() {
+        if let Err(e) = look.outline().put_on(PartState::ZERO).check_shape(extent) {
+            anyhow::bail!("vision.classes[{i}].radius_mm {}: {e}", look.radius * 1e3);
+        }
+    }
     let mut pipeline = FramePipeline::new(&cal, params, tracker);
     let mut out = Outputs::open(prefix)?;
     let frames = ipc_types::ports::frame_subscriber(out.node())?;

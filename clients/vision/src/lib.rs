@@ -24,4 +24,5 @@ pub use camera::{Camera, CameraParams};
 pub use config::{FrameParams, VisionClass, VisionSection};
 pub use outputs::part_states;
 pub use run::run;
+pub use shape::BodyOutline;
 pub use tracker::{Detection, Track, Tracker, TrackerParams};

@@ -14,14 +14,15 @@ use ipc_types::{PartState, PartStates, service_names};
 
 use crate::Track;
 
-/// Turn a frame's tracks into the PartStates message.
+/// Turn a frame's tracks into the PartStates message, each part with its
+/// track's outline.
 pub fn part_states(tracks: &[Track], seq: u64, stamp_ns: u64, out: &mut PartStates) {
     out.clear();
     out.seq = seq;
     out.stamp_ns = stamp_ns;
     for t in tracks.iter().filter(|t| t.missed == 0) {
         // More tracks than capacity: the rest are not reported this frame.
-        let _ = out.push(PartState::new(t.id, t.class, 0, t.pose, t.velocity));
+        let _ = out.push(t.outline.put_on(PartState::new(t.id, t.class, 0, t.pose, t.velocity)));
     }
 }
 

@@ -8,6 +8,7 @@
 
 use core::f64::consts::{PI, TAU};
 
+use ipc_types::{MAX_SHAPE_VERTICES, PartState, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
@@ -87,6 +88,59 @@ impl PartShape {
     pub fn wrap(self, angle: f64) -> f64 {
         wrap_period(angle, self.period())
     }
+
+    /// The contact outline of circumradius `r` (m) in the part's own frame,
+    /// as `PartStates` carries it: a disc, or the polygon at θ = 0 (first
+    /// vertex at [`Self::first_vertex`]), counter-clockwise.
+    pub fn body_outline(self, r: f64) -> BodyOutline {
+        let n = self.corners() as usize;
+        if n == 0 {
+            return BodyOutline { shape: SHAPE_DISC, radius: r, ..BodyOutline::POINT };
+        }
+        let mut vertices = [[0.0; 2]; MAX_SHAPE_VERTICES];
+        for (k, v) in vertices.iter_mut().take(n).enumerate() {
+            let a = self.first_vertex() + k as f64 * TAU / n as f64;
+            *v = [r * a.cos(), r * a.sin()];
+        }
+        BodyOutline { shape: SHAPE_POLYGON, vertex_count: n as u32, vertices, ..BodyOutline::POINT }
+    }
+}
+
+/// A part's contact outline in its own frame (m, about its position),
+/// exactly the outline fields of a `PartState`: carried from a detection
+/// through the tracker to the published part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyOutline {
+    /// `SHAPE_POINT`, `SHAPE_DISC` or `SHAPE_POLYGON`.
+    pub shape: u32,
+    pub radius: f64,
+    pub vertex_count: u32,
+    pub vertices: [[f64; 2]; MAX_SHAPE_VERTICES],
+}
+
+impl BodyOutline {
+    /// No outline: the paper's point part.
+    pub const POINT: Self =
+        Self { shape: SHAPE_POINT, radius: 0.0, vertex_count: 0, vertices: [[0.0; 2]; MAX_SHAPE_VERTICES] };
+
+    /// The outline `part` carries, as it is (checking is the core's).
+    pub const fn of(part: &PartState) -> Self {
+        Self {
+            shape: part.shape,
+            radius: part.radius,
+            vertex_count: part.vertex_count,
+            vertices: part.vertices,
+        }
+    }
+
+    /// `part` with this outline.
+    pub const fn put_on(&self, mut part: PartState) -> PartState {
+        part.shape = self.shape;
+        part.radius = self.radius;
+        part.vertex_count = self.vertex_count;
+        part.vertices = self.vertices;
+        part
+    }
 }
 
 /// A placed outline: a disc, or a convex polygon by its edge normals.
@@ -162,6 +216,43 @@ mod tests {
             }
             // The grid breaks the symmetry a little at the edges.
             assert!(re > 0.0 && im.abs() < 1e-2 * re, "{shape:?}: {re} {im}");
+        }
+    }
+
+    /// The outline published for a class is the one rendered and detected:
+    /// its vertices, turned by θ, are the corners of [`PartShape::outline`].
+    #[test]
+    fn body_outline_is_the_class_polygon_at_zero_counter_clockwise() {
+        let r = 0.02;
+        let disc = PartShape::Disc.body_outline(r);
+        let part = PartState::new(1, 0, 0, [0.0; 3], [0.0; 3]);
+        assert_eq!(disc.put_on(part), part.with_disc(r));
+        for (shape, first) in [(PartShape::Square, PI / 4.0), (PartShape::Triangle, 0.0)] {
+            let o = shape.body_outline(r);
+            let p = o.put_on(part);
+            assert_eq!(p.check_shape(1.0), Ok(()), "{shape:?}");
+            assert_eq!(p.polygon().len(), shape.corners() as usize);
+            assert_eq!(BodyOutline::of(&p), o);
+            let v = p.polygon();
+            assert_eq!(Ok(p), part.with_polygon(v));
+            assert!((v[0][1].atan2(v[0][0]) - first).abs() < 1e-12, "{shape:?}: {v:?}");
+            let area2: f64 = (0..v.len())
+                .map(|i| {
+                    let (a, b) = (v[i], v[(i + 1) % v.len()]);
+                    a[0] * b[1] - b[0] * a[1]
+                })
+                .sum();
+            assert!((0.5 * area2 - shape.area(r)).abs() < 1e-15, "{shape:?}: counter-clockwise");
+            for theta in [0.0, 0.3, -2.0] {
+                let outline = shape.outline(r, theta);
+                for q in v {
+                    assert!((q[0].hypot(q[1]) - r).abs() < 1e-15);
+                    let (c, s) = (theta.cos(), theta.sin());
+                    let turned = [c * q[0] - s * q[1], s * q[0] + c * q[1]];
+                    assert!(outline.contains(0.999 * turned[0], 0.999 * turned[1]), "{shape:?} {theta}");
+                    assert!(!outline.contains(1.001 * turned[0], 1.001 * turned[1]), "{shape:?} {theta}");
+                }
+            }
         }
     }
 

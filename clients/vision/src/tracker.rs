@@ -2,9 +2,10 @@
 //! associated to the nearest predicted track within a gate; an alpha-beta
 //! filter per track smooths position and estimates velocity. A polygon's
 //! angle is seen modulo its symmetry; its track's angle is continuous from
-//! the first sighting on.
+//! the first sighting on. A track carries the outline of its latest
+//! detection.
 
-use crate::shape::wrap_period;
+use crate::shape::{BodyOutline, wrap_period};
 
 /// One detection in a frame (what a camera sees: where, which class).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -16,6 +17,8 @@ pub struct Detection {
     /// The angle after which the part looks the same (rad): 90° for a
     /// square; 0 when the angle is not wrapped.
     pub period: f64,
+    /// The part's contact outline in its own frame.
+    pub outline: BodyOutline,
 }
 
 /// One tracked part.
@@ -28,6 +31,8 @@ pub struct Track {
     pub velocity: [f64; 3],
     /// Consecutive frames without a matching detection.
     pub missed: u32,
+    /// The outline of the latest matched detection.
+    pub outline: BodyOutline,
 }
 
 /// Tunables of the tracker.
@@ -137,6 +142,7 @@ impl Tracker {
                 }
             }
             t.missed = 0;
+            t.outline = d.outline;
         }
         for (ti, used) in self.track_used.iter().enumerate() {
             if !used {
@@ -158,6 +164,7 @@ impl Tracker {
                     pose: [d.x, d.y, d.theta],
                     velocity: [0.0; 3],
                     missed: 0,
+                    outline: d.outline,
                 });
                 self.next_id += 1;
             }

@@ -6,9 +6,24 @@
 use std::process::Command;
 use std::time::Duration;
 
-use ipc_types::{PartState, PartStates, service_names};
+use ipc_types::{PartState, PartStates, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, service_names};
 use upm_test_harness::{Running, TestRig};
-use upm_vision::{Detection, Tracker, TrackerParams};
+use upm_vision::shape::PartShape;
+use upm_vision::{BodyOutline, Camera, CameraParams, Detection, Tracker, TrackerParams, part_states};
+
+/// A point detection (no outline) at rest.
+fn at(x: f64, y: f64, class: u32) -> Detection {
+    Detection { x, y, theta: 0.0, class, period: 0.0, outline: BodyOutline::POINT }
+}
+
+/// A part of each outline: a point, a disc and a (not regular) polygon.
+fn outlined_truth() -> [PartState; 3] {
+    let point = PartState::new(1, 0, 0, [0.5, 0.0, 0.0], [0.0; 3]);
+    let disc = PartState::new(2, 1, 0, [-0.5, 0.2, 0.3], [0.0; 3]).with_disc(0.021);
+    let quad = [[0.03, -0.01], [0.02, 0.02], [-0.02, 0.015], [-0.01, -0.02]];
+    let polygon = PartState::new(3, 2, 0, [0.0, -0.3, -1.0], [0.0; 3]).with_polygon(&quad).expect("4 fit");
+    [point, disc, polygon]
+}
 
 #[test]
 fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
@@ -17,8 +32,8 @@ fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
     let v = [0.05, -0.02];
     for frame in 0..60 {
         let time = frame as f64 * dt;
-        let a = Detection { x: 0.1 + v[0] * time, y: 0.2 + v[1] * time, theta: 0.0, class: 0, period: 0.0 };
-        let b = Detection { x: -0.3, y: 0.1, theta: 0.0, class: 1, period: 0.0 };
+        let a = at(0.1 + v[0] * time, 0.2 + v[1] * time, 0);
+        let b = at(-0.3, 0.1, 1);
         // The camera reports parts in any order.
         let dets = if frame % 2 == 0 { vec![a, b] } else { vec![b, a] };
         t.update(&dets, if frame == 0 { 0.0 } else { dt });
@@ -36,7 +51,7 @@ fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
 fn tracker_drops_lost_tracks_and_starts_new_ones() {
     let params = TrackerParams { max_missed: 2, ..TrackerParams::default() };
     let mut t = Tracker::new(params);
-    let d = Detection { x: 0.0, y: 0.0, theta: 0.0, class: 0, period: 0.0 };
+    let d = at(0.0, 0.0, 0);
     t.update(&[d], 0.0);
     for _ in 0..3 {
         t.update(&[], 0.03);
@@ -44,6 +59,61 @@ fn tracker_drops_lost_tracks_and_starts_new_ones() {
     assert!(t.tracks().is_empty());
     t.update(&[d], 0.03);
     assert_eq!(t.tracks()[0].id, 2);
+}
+
+#[test]
+fn a_track_publishes_the_outline_of_its_latest_detection() {
+    let mut t = Tracker::new(TrackerParams::default());
+    let square = PartShape::Square.body_outline(0.02);
+    let disc = PartShape::Disc.body_outline(0.015);
+    let d = Detection { outline: square, ..at(0.1, 0.1, 0) };
+    t.update(&[d, Detection { outline: disc, ..at(-0.2, 0.1, 1) }], 0.0);
+    assert_eq!(t.tracks().iter().map(|t| t.outline).collect::<Vec<_>>(), [square, disc]);
+    // The same track, now seen with another outline: the newest wins.
+    let bigger = PartShape::Square.body_outline(0.025);
+    t.update(&[Detection { outline: bigger, ..d }], 0.03);
+    assert_eq!((t.tracks()[0].id, t.tracks()[0].outline), (1, bigger));
+    assert_eq!(t.tracks()[1].outline, disc, "an unseen track keeps its outline");
+    let mut out = PartStates::new();
+    part_states(t.tracks(), 1, 5, &mut out);
+    assert_eq!(out.parts().len(), 1, "only tracks seen this frame");
+    let p = out.parts()[0];
+    assert_eq!((p.shape, p.vertex_count), (SHAPE_POLYGON, 4));
+    assert!(p.polygon().iter().all(|v| (v[0].hypot(v[1]) - 0.025).abs() < 1e-12), "{p:?}");
+    assert_eq!(p.check_shape(1.0), Ok(()));
+    t.update(&[Detection { outline: bigger, ..d }, Detection { outline: disc, ..at(-0.2, 0.1, 1) }], 0.03);
+    part_states(t.tracks(), 2, 6, &mut out);
+    assert_eq!((out.parts()[1].shape, out.parts()[1].radius), (SHAPE_DISC, 0.015));
+}
+
+#[test]
+fn the_simulated_camera_and_tracker_pass_truth_outlines_through() {
+    let params = CameraParams { noise_m: 0.001, noise_rad: 0.01, ..CameraParams::default() };
+    let mut cam = Camera::new(params).expect("camera");
+    let mut tracker = Tracker::new(TrackerParams::default());
+    let parts = outlined_truth();
+    let mut out = PartStates::new();
+    for frame in 0..3u64 {
+        let mut truth = PartStates::new();
+        truth.stamp_ns = 1_000_000_000 + frame * 33_000_000;
+        for p in parts {
+            truth.push(p).expect("capacity");
+        }
+        cam.capture(&truth);
+        let seen = cam.ready(truth.stamp_ns).expect("no latency");
+        for (d, p) in seen.detections.iter().zip(&parts) {
+            assert_eq!(d.outline, BodyOutline::of(p));
+            assert!(d.x != p.x, "the pose is seen with noise");
+        }
+        tracker.update(&seen.detections, if frame == 0 { 0.0 } else { 0.033 });
+        part_states(tracker.tracks(), frame + 1, truth.stamp_ns, &mut out);
+    }
+    assert_eq!(out.parts().len(), parts.len());
+    for p in parts {
+        let q = out.parts().iter().find(|q| q.class == p.class).expect("tracked");
+        assert_eq!(BodyOutline::of(q), BodyOutline::of(&p), "class {}", p.class);
+    }
+    assert_eq!(out.parts()[0].shape, SHAPE_POINT);
 }
 
 #[test]
@@ -66,23 +136,25 @@ fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
             .spawn()
             .expect("vision"),
     );
-    let truth_parts = [(1, 0, [0.5, 0.0]), (2, 1, [-0.75, 0.25])];
+    let truth_parts = outlined_truth();
     let frames = TestRig::exchange(&sub, 20, Duration::from_secs(30), Duration::from_millis(1), || {
         let mut m = PartStates::new();
         m.stamp_ns = ipc_types::monotonic_now_ns();
-        for (id, class, [x, y]) in truth_parts {
-            m.push(PartState::new(id, class, 0, [x, y, 0.0], [0.0; 3])).expect("capacity");
+        for p in truth_parts {
+            m.push(p).expect("capacity");
         }
         truth.send_copy(m).expect("truth");
     });
     assert!(frames.len() >= 20, "got {} frames", frames.len());
     let last = frames.last().expect("frame");
-    assert_eq!(last.len(), 2);
-    for (_, class, pos) in truth_parts {
-        // The tracker numbers parts itself; find each by where it is.
-        let p = last.parts().iter().find(|p| p.class == class).expect("class tracked");
+    assert_eq!(last.len(), truth_parts.len());
+    for t in truth_parts {
+        // The tracker numbers parts itself; find each by its class.
+        let p = last.parts().iter().find(|p| p.class == t.class).expect("class tracked");
         // Resting parts: within a few noise sigmas.
-        assert!((p.x - pos[0]).hypot(p.y - pos[1]) < 0.003, "{p:?}");
+        assert!((p.x - t.x).hypot(p.y - t.y) < 0.003, "{p:?}");
+        // The outline as the simulator gave it.
+        assert_eq!(BodyOutline::of(p), BodyOutline::of(&t), "{p:?}");
     }
     // Frames are ordered and stamped.
     assert!(frames.windows(2).all(|w| w[0].seq < w[1].seq && w[0].stamp_ns < w[1].stamp_ns));

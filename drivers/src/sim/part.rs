@@ -22,6 +22,25 @@ pub enum Shape {
     Polygon { vertices: [[f64; 2]; MAX_POLYGON_VERTICES], count: usize },
 }
 
+impl Shape {
+    /// The outline in the part's body frame, as the simulator keeps it: a
+    /// polygon re-centred on its centroid (where the part's position is).
+    pub fn body_frame(&self) -> Shape {
+        match *self {
+            Shape::Polygon { vertices, count } => {
+                let n = count.min(MAX_POLYGON_VERTICES);
+                let (_, cen) = area2_and_centroid(&vertices[..n]);
+                let mut out = vertices;
+                for v in &mut out[..n] {
+                    *v = [v[0] - cen[0], v[1] - cen[1]];
+                }
+                Shape::Polygon { vertices: out, count: n }
+            }
+            other => other,
+        }
+    }
+}
+
 /// A part to put on the plate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartSpec {
@@ -128,15 +147,10 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-fn polygon(
-    mut b: Body,
-    v: &[[f64; 2]; MAX_POLYGON_VERTICES],
-    n: usize,
-) -> Result<(Body, [f64; 2]), PartError> {
-    if !(3..=MAX_POLYGON_VERTICES).contains(&n) || !v[..n].iter().flatten().all(|x| x.is_finite()) {
-        return Err(PartError::Polygon);
-    }
-    // Centroid by the shoelace formula.
+/// Twice the signed area and the centroid (the origin for no area), by
+/// the shoelace formula.
+fn area2_and_centroid(v: &[[f64; 2]]) -> (f64, [f64; 2]) {
+    let n = v.len();
     let (mut area2, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for i in 0..n {
         let (p, q) = (v[i], v[(i + 1) % n]);
@@ -145,10 +159,22 @@ fn polygon(
         cx += (p[0] + q[0]) * c;
         cy += (p[1] + q[1]) * c;
     }
+    let cen = if area2 != 0.0 { [cx / (3.0 * area2), cy / (3.0 * area2)] } else { [0.0; 2] };
+    (area2, cen)
+}
+
+fn polygon(
+    mut b: Body,
+    v: &[[f64; 2]; MAX_POLYGON_VERTICES],
+    n: usize,
+) -> Result<(Body, [f64; 2]), PartError> {
+    if !(3..=MAX_POLYGON_VERTICES).contains(&n) || !v[..n].iter().flatten().all(|x| x.is_finite()) {
+        return Err(PartError::Polygon);
+    }
+    let (area2, cen) = area2_and_centroid(&v[..n]);
     if !(area2 > 0.0) {
         return Err(PartError::Polygon);
     }
-    let cen = [cx / (3.0 * area2), cy / (3.0 * area2)];
     let rel: [[f64; 2]; MAX_POLYGON_VERTICES] =
         core::array::from_fn(|i| [v[i][0] - cen[0], v[i][1] - cen[1]]);
     let total = 0.5 * area2;

@@ -23,7 +23,7 @@ pub struct Field {
 pub struct Layout {
     /// The Rust name (`PartStates`).
     pub rust: &'static str,
-    /// The iceoryx2 type name (`upm::PartStates.v4`).
+    /// The iceoryx2 type name (`upm::PartStates.v5`).
     pub type_name: &'static str,
     pub size: usize,
     pub align: usize,
@@ -71,7 +71,22 @@ macro_rules! layout {
 pub fn all() -> Vec<Layout> {
     let all = vec![
         layout!(PartStates { protocol_version, count, seq, stamp_ns, parts }),
-        layout!(PartState { id, class, friction_class, reserved, x, y, theta, vx, vy, omega }),
+        layout!(PartState {
+            id,
+            class,
+            friction_class,
+            shape,
+            x,
+            y,
+            theta,
+            vx,
+            vy,
+            omega,
+            radius,
+            vertex_count,
+            reserved,
+            vertices
+        }),
         layout!(ForceRequest { protocol_version, count, seq, stamp_ns, deadline_ns, entries }),
         layout!(ForceEntry { part_id, force_flag, curl_flag, reserved, fx, fy, curl }),
         layout!(ExplicitSchedule { protocol_version, count, seq, stamp_ns, slots }),

@@ -75,6 +75,10 @@ pub struct CoreParams {
     /// are candidates and a cycle is N slots, allocated sparsely to the
     /// centers each request needs (`solver::sparse`).
     pub cycle_slots: usize,
+    /// true: a part's rows are the friction wrench over the outline its
+    /// `PartState` carries (`solver::shape`); false: every part is a point,
+    /// the paper's model.
+    pub part_shapes: bool,
     /// μ·m·g of the parts (N): the scale of every requested force.
     pub mu_m_g: f64,
     /// PartStates older than this (by their stamp) put the core in hold.
@@ -105,6 +109,7 @@ impl Default for CoreParams {
             twist_correction: None,
             centers: vec![[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]],
             cycle_slots: 0,
+            part_shapes: true,
             mu_m_g: 0.1,
             parts_max_age_ns: 200_000_000,
             request_max_age_ns: 200_000_000,

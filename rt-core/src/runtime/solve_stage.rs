@@ -170,6 +170,8 @@ pub struct SolveStage {
     solution: Solution,
     centers: Vec<[f64; 2]>,
     mu_m_g: f64,
+    /// Whether parts keep the outline their states carry (`CoreParams::part_shapes`).
+    part_shapes: bool,
     /// Per center, the |k| it can play on this rig.
     k_bounds: Vec<f64>,
     /// The largest of them.
@@ -241,6 +243,7 @@ impl SolveStage {
             solution,
             centers: params.centers.clone(),
             mu_m_g: params.mu_m_g,
+            part_shapes: params.part_shapes,
             k_bounds,
             k_max,
             rig,
@@ -424,12 +427,12 @@ impl SolveStage {
                 return Err(RequestError::UnknownPart { id: e.part_id });
             };
             let position = [p.x, p.y];
-            self.forces[np] =
-                ForceConstraint { position, force: e.requested_force(), shape: PartShape::Point };
+            let shape = if self.part_shapes { PartShape::from_wire(p) } else { PartShape::Point };
+            self.forces[np] = ForceConstraint { position, force: e.requested_force(), shape };
             np += 1;
             if let Some(curl) = e.requested_curl() {
                 // validate() caps curl entries at MAX_CURLS.
-                self.curls[nc] = CurlConstraint { position, curl, shape: PartShape::Point };
+                self.curls[nc] = CurlConstraint { position, curl, shape };
                 nc += 1;
             }
         }

@@ -188,14 +188,16 @@ impl Solver {
             let r = 2.0 + 0.5 * ((j as f64) * 0.37).sin();
             *c = [r * a.cos(), r * a.sin()];
         }
+        // The disc table is only read near a center (within 64 radii), which
+        // the parts below never are: build it here, not on a real frame.
+        shape::build_tables();
         let mut ok = true;
         for force in [1e-4, 10.0] {
             let parts: Vec<_> = (0..cap.parts)
                 .map(|i| {
                     let a = i as f64 * 2.399_963;
                     let r = 0.8 * ((i as f64 + 0.5) / cap.parts as f64).sqrt();
-                    // Every other part a disc: the disc table is built here,
-                    // not on the first real frame.
+                    // Every other part a disc: the shaped rows on the warm path.
                     let shape = if i % 2 == 0 { PartShape::Point } else { PartShape::Disc { radius: 0.01 } };
                     ForceConstraint {
                         position: [r * a.cos(), r * a.sin()],

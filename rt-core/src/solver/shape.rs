@@ -27,8 +27,7 @@
 
 use std::sync::OnceLock;
 
-/// Most vertices a polygon may have (as the simulator's parts).
-pub const MAX_SHAPE_VERTICES: usize = 8;
+pub use ipc_types::part_shape::{MAX_SHAPE_VERTICES, ShapeError};
 
 /// The contact patch of a part, relative to its position.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -47,33 +46,24 @@ pub enum PartShape {
     },
 }
 
-/// Why a shape is refused.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ShapeError {
-    /// A disc's radius is not a finite number > 0.
-    Radius,
-    /// Fewer than 3 or more than [`MAX_SHAPE_VERTICES`] vertices.
-    VertexCount,
-    /// A vertex is not finite.
-    NonFinite,
-    /// The polygon turns both ways, crosses itself or has no area.
-    NotConvex,
-}
-
-impl core::fmt::Display for ShapeError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            Self::Radius => write!(f, "radius must be a finite number > 0"),
-            Self::VertexCount => write!(f, "a polygon needs 3 to {MAX_SHAPE_VERTICES} vertices"),
-            Self::NonFinite => write!(f, "vertices must be finite numbers"),
-            Self::NotConvex => write!(f, "the polygon must be convex, simple and of non-zero area"),
+impl PartShape {
+    /// A part's outline as the wire carries it, turned by its `theta` into
+    /// plate axes (a validated `PartState`; an unknown code is a point).
+    pub fn from_wire(p: &ipc_types::PartState) -> Self {
+        match p.shape {
+            ipc_types::SHAPE_DISC => Self::Disc { radius: p.radius },
+            ipc_types::SHAPE_POLYGON => {
+                let (sin, cos) = p.theta.sin_cos();
+                let mut vertices = [[0.0; 2]; MAX_SHAPE_VERTICES];
+                for (out, v) in vertices.iter_mut().zip(p.polygon()) {
+                    *out = [cos * v[0] - sin * v[1], sin * v[0] + cos * v[1]];
+                }
+                Self::Polygon { vertices, count: p.polygon().len() }
+            }
+            _ => Self::Point,
         }
     }
-}
 
-impl core::error::Error for ShapeError {}
-
-impl PartShape {
     /// A polygon from its vertices (relative to the part's position).
     pub fn polygon(vertices: &[[f64; 2]]) -> Result<Self, ShapeError> {
         if !(3..=MAX_SHAPE_VERTICES).contains(&vertices.len()) {
@@ -86,44 +76,15 @@ impl PartShape {
         Ok(s)
     }
 
-    /// Whether the shape is one the model can integrate.
+    /// Whether the shape is one the model can integrate (the wire's
+    /// check, without its size bound).
     pub fn check(&self) -> Result<(), ShapeError> {
         match *self {
             Self::Point => Ok(()),
-            Self::Disc { radius } => {
-                if radius.is_finite() && radius > 0.0 {
-                    Ok(())
-                } else {
-                    Err(ShapeError::Radius)
-                }
-            }
+            Self::Disc { radius } => ipc_types::part_shape::check_disc(radius, f64::INFINITY),
             Self::Polygon { vertices, count } => {
-                if !(3..=MAX_SHAPE_VERTICES).contains(&count) {
-                    return Err(ShapeError::VertexCount);
-                }
-                let v = &vertices[..count];
-                if v.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
-                    return Err(ShapeError::NonFinite);
-                }
-                // Every turn the same way and the turns adding to one full
-                // circle: convex and simple (a star turns one way too, but
-                // twice round).
-                let (mut sign, mut turned) = (0.0f64, 0.0f64);
-                for i in 0..count {
-                    let (a, b, c) = (v[i], v[(i + 1) % count], v[(i + 2) % count]);
-                    let e1 = [b[0] - a[0], b[1] - a[1]];
-                    let e2 = [c[0] - b[0], c[1] - b[1]];
-                    let cross = e1[0] * e2[1] - e1[1] * e2[0];
-                    if cross == 0.0 || (sign != 0.0 && cross.signum() != sign) {
-                        return Err(ShapeError::NotConvex);
-                    }
-                    sign = cross.signum();
-                    turned += cross.atan2(e1[0] * e2[0] + e1[1] * e2[1]);
-                }
-                if (turned.abs() - core::f64::consts::TAU).abs() > 1e-6 || area_and_centroid(v).0 <= 0.0 {
-                    return Err(ShapeError::NotConvex);
-                }
-                Ok(())
+                let v = vertices.get(..count).ok_or(ShapeError::VertexCount)?;
+                ipc_types::part_shape::check_polygon(v, f64::INFINITY)
             }
         }
     }
@@ -273,6 +234,11 @@ fn disc_gh(d: f64) -> (f64, f64) {
     let t = x - i as f64;
     let (a, b) = (table[i], table[i + 1]);
     (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+}
+
+/// Build the per-process tables now (they allocate once, on first use).
+pub(crate) fn build_tables() {
+    disc_table();
 }
 
 fn disc_table() -> &'static [(f64, f64)] {

@@ -2,7 +2,7 @@
 //! iceoryx2 alone (see README.md). Every message is followed by a good
 //! request that must be answered with a Schedule carrying its `seq`.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
@@ -12,8 +12,8 @@ use ipc_types::ports::{Pub, Sub, config_with_prefix};
 use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, HealthSource,
-    MAX_PARTS, MAX_SLOTS, PartState, PartStates, RejectReason, RejectedKind, Rejection, Schedule, Telemetry,
-    monotonic_now_ns, service_names,
+    MAX_PARTS, MAX_SHAPE_VERTICES, MAX_SLOTS, PartState, PartStates, RejectReason, RejectedKind, Rejection,
+    Schedule, Telemetry, monotonic_now_ns, service_names,
 };
 
 /// The workspace's upm-core (next to this test's own build), or `UPM_CORE_EXE`.
@@ -79,6 +79,8 @@ struct Client {
     telemetry: Sub<Telemetry>,
     rejections: Sub<Rejection>,
     answered: HashSet<u64>,
+    /// Request seq → `parts_seq` of the part states its schedule was solved against.
+    solved_against: HashMap<u64, u64>,
     /// Every rejection the core sent back, in order.
     refusals: Vec<Rejection>,
     /// What was sent last: its kind and seq (a refusal must name them).
@@ -160,6 +162,7 @@ impl Client {
             telemetry: subscriber(&node, service_names::TELEMETRY),
             rejections: subscriber(&node, service_names::REJECTION),
             answered: HashSet::new(),
+            solved_against: HashMap::new(),
             refusals: Vec::new(),
             last_sent: (RejectedKind::PartStates, 0),
             newest_telemetry: None,
@@ -212,6 +215,7 @@ impl Client {
     fn poll(&mut self) {
         while let Some(s) = self.schedules.receive().expect("receive schedule") {
             self.answered.insert(s.payload().seq);
+            self.solved_against.insert(s.payload().seq, s.payload().parts_seq);
         }
         while let Some(r) = self.rejections.receive().expect("receive rejection") {
             self.refusals.push(*r.payload());
@@ -307,6 +311,24 @@ impl Client {
         self.round_trip(label);
     }
 
+    /// Good part states changed by `shape` must be taken, and a request with
+    /// their seq solved against them and played.
+    fn taken_and_solved(&mut self, label: &str, shape: impl FnOnce(&mut PartStates)) {
+        let before = self.fresh_telemetry();
+        let seq = self.next_seq();
+        let mut m = good_parts(seq, monotonic_now_ns());
+        shape(&mut m);
+        self.send_parts(m);
+        self.send_request(good_request(seq, monotonic_now_ns()));
+        let played = self.wait_for(|c| c.answered.contains(&seq));
+        let t = self.fresh_telemetry();
+        assert!(self.core.alive(), "upm-core died after {label}");
+        assert_eq!(rejected(&t), rejected(&before), "{label}: rejected, expected it to be taken");
+        assert!(played, "{label}: the request against it was not played");
+        assert_eq!(self.solved_against.get(&seq), Some(&seq), "{label}: solved against other part states");
+        self.round_trip(label);
+    }
+
     /// Send one message that must be played (a Schedule with its seq) or
     /// rejected and counted: never silence.
     fn played_or_rejected(&mut self, label: &str, seq: u64, send: impl FnOnce(&mut Self)) -> bool {
@@ -325,6 +347,23 @@ impl Client {
 
 fn unique_prefix(tag: &str) -> String {
     ipc_types::rig_node::unique_prefix(&format!("upmh_{tag}"))
+}
+
+const SQUARE: [[f64; 2]; 4] = [[0.01, 0.01], [-0.01, 0.01], [-0.01, -0.01], [0.01, -0.01]];
+/// Clockwise.
+const TRIANGLE: [[f64; 2]; 3] = [[0.02, 0.0], [-0.01, -0.015], [-0.01, 0.015]];
+
+fn octagon(radius: f64) -> [[f64; 2]; MAX_SHAPE_VERTICES] {
+    core::array::from_fn(|k| {
+        let a = core::f64::consts::TAU * k as f64 / MAX_SHAPE_VERTICES as f64;
+        [radius * a.cos(), radius * a.sin()]
+    })
+}
+
+/// Part `i` of good part states as a polygon with `vertices`.
+fn with_polygon(m: &mut PartStates, i: usize, vertices: &[[f64; 2]]) {
+    let p = &mut m.parts_mut()[i];
+    *p = p.with_polygon(vertices).expect("at most 8 vertices");
 }
 
 /// A named way to spoil a good message, and the reason it must be rejected for.
@@ -393,6 +432,117 @@ fn every_value_the_types_allow_is_played_or_rejected_and_counted() {
             c.send_parts(m);
         });
     }
+
+    // --- PartState outlines (v5): good ones are taken and solved against.
+    c.taken_and_solved("a disc and a square", |m| {
+        m.parts_mut()[0] = m.parts[0].with_disc(0.015);
+        with_polygon(m, 1, &SQUARE);
+    });
+    c.taken_and_solved("a clockwise triangle and an octagon, turned", |m| {
+        with_polygon(m, 0, &TRIANGLE);
+        with_polygon(m, 1, &octagon(0.03));
+        m.parts_mut()[0].theta = 2.0;
+        m.parts_mut()[1].theta = -7.0;
+    });
+    c.taken_and_solved("a point with garbage in its unused outline fields", |m| {
+        let p = &mut m.parts_mut()[0];
+        (p.radius, p.vertex_count) = (f64::NAN, u32::MAX);
+        p.vertices = [[f64::NAN, f64::NEG_INFINITY]; MAX_SHAPE_VERTICES];
+    });
+    c.taken_and_solved("a disc with garbage vertices, a triangle with garbage after it", |m| {
+        let p = &mut m.parts_mut()[0];
+        p.vertices = [[1e308, f64::NAN]; MAX_SHAPE_VERTICES];
+        p.vertex_count = u32::MAX;
+        *p = p.with_disc(0.02);
+        let q = &mut m.parts_mut()[1];
+        q.vertices = [[f64::INFINITY; 2]; MAX_SHAPE_VERTICES];
+        q.radius = f64::NAN;
+        with_polygon(m, 1, &TRIANGLE);
+    });
+    c.taken_and_solved("64 octagons", |m| {
+        *m = many_parts(64, m.seq, m.stamp_ns);
+        for i in 0..MAX_PARTS {
+            with_polygon(m, i, &octagon(0.02));
+        }
+    });
+    // As large as allowed (the plate's larger half extent, 1 m): solved or
+    // refused and counted, never silence.
+    for (label, disc) in [("a disc of radius 1 m", true), ("an octagon of radius 1 m", false)] {
+        let seq = c.next_seq();
+        c.played_or_rejected(label, seq, |c| {
+            let mut m = good_parts(seq, monotonic_now_ns());
+            if disc {
+                m.parts_mut()[0] = m.parts[0].with_disc(1.0);
+            } else {
+                with_polygon(&mut m, 1, &octagon(1.0));
+            }
+            c.send_parts(m);
+            c.send_request(good_request(seq, monotonic_now_ns()));
+        });
+    }
+
+    // Malformed outlines on parts[1], each with the field its line must name.
+    type BadOutline = (String, &'static str, Box<dyn Fn(&mut PartState)>);
+    let mut bad: Vec<BadOutline> = Vec::new();
+    for code in [3, 7, 1 << 31, u32::MAX] {
+        bad.push((format!("shape {code}"), "shape", Box::new(move |p| p.shape = code)));
+    }
+    for r in FLOATS.into_iter().chain([0.0, -0.0, -0.01, -f64::MIN_POSITIVE, 1.0 + 1e-9]) {
+        bad.push((format!("disc radius {r:?}"), "radius", Box::new(move |p| *p = p.with_disc(r))));
+    }
+    for n in [0, 1, 2, 9, 64, u32::MAX] {
+        let spoil = move |p: &mut PartState| {
+            *p = p.with_polygon(&SQUARE).expect("4 fit");
+            p.vertex_count = n;
+        };
+        bad.push((format!("polygon vertex_count {n}"), "vertex_count", Box::new(spoil)));
+    }
+    for (at, xy, v) in
+        [0, 3].into_iter().flat_map(|at| (0..2).flat_map(move |xy| FLOATS.map(|v| (at, xy, v))))
+    {
+        let spoil = move |p: &mut PartState| {
+            *p = p.with_polygon(&SQUARE).expect("4 fit");
+            p.vertices[at][xy] = v;
+        };
+        bad.push((format!("polygon vertices[{at}][{xy}] = {v:?}"), "vertices", Box::new(spoil)));
+    }
+    let pentagram: Vec<[f64; 2]> = (0..5)
+        .map(|k| {
+            let a = core::f64::consts::TAU * f64::from(2 * k) / 5.0;
+            [0.02 * a.cos(), 0.02 * a.sin()]
+        })
+        .collect();
+    for (label, vertices) in [
+        ("a bow-tie", vec![SQUARE[0], SQUARE[2], SQUARE[1], SQUARE[3]]),
+        ("a dart", vec![[0.02, 0.0], [-0.01, 0.015], [0.0, 0.0], [-0.01, -0.015]]),
+        ("a pentagram", pentagram),
+        ("three on a line", vec![[0.0, 0.0], [0.01, 0.0], [0.02, 0.0]]),
+        ("a repeated vertex", vec![SQUARE[0], SQUARE[0], SQUARE[1], SQUARE[2]]),
+        ("all at the position", vec![[0.0; 2]; MAX_SHAPE_VERTICES]),
+        ("the square twice round", [SQUARE, SQUARE].concat()),
+        ("beyond the plate", vec![[1.01, 0.0], [0.0, 0.01], [0.0, -0.01]]),
+    ] {
+        let spoil = move |p: &mut PartState| *p = p.with_polygon(&vertices).expect("at most 8 vertices");
+        bad.push((format!("polygon: {label}"), "vertices", Box::new(spoil)));
+    }
+    // A misnamed field is collected and reported at the end, so it does not
+    // hide the checks that follow.
+    let mut misnamed = Vec::new();
+    for (label, field, spoil) in &bad {
+        let mut sent = 0;
+        c.expect(&format!("part_states {label}"), Some(RejectReason::BadShape), |c| {
+            let (seq, now) = (c.next_seq(), monotonic_now_ns());
+            let mut m = good_parts(seq, now);
+            spoil(&mut m.parts_mut()[1]);
+            sent = seq;
+            c.send_parts(m);
+        });
+        let told = c.refusals.iter().rev().find(|r| r.seq == sent).map(|r| r.detail_str().to_owned());
+        if !told.as_deref().is_some_and(|t| t.starts_with(&format!("part_states.parts[1].{field}: "))) {
+            misnamed.push(format!("{label}: told {told:?}, expected the field {field}"));
+        }
+    }
+
     c.expect("part_states repeated", Some(RejectReason::Duplicate), |c| {
         let m = good_parts(c.seq, c.parts_stamp);
         c.send_parts(m);
@@ -550,6 +700,11 @@ fn every_value_the_types_allow_is_played_or_rejected_and_counted() {
         .map(|r| format!("{r} {}", t.rejected_by_reason[r.index()]))
         .collect();
     eprintln!("rejected by reason: {}", by_reason.join(", "));
+    assert!(
+        t.rejected_by_reason[RejectReason::BadShape.index()] >= bad.len() as u64,
+        "bad_shape undercounted"
+    );
+    assert!(misnamed.is_empty(), "rejections that do not name the field:\n{}", misnamed.join("\n"));
 }
 
 #[test]

@@ -86,6 +86,7 @@ impl Config {
             twist_correction,
             centers: self.plate.centers.clone(),
             cycle_slots: self.motion.cycle_slots,
+            part_shapes: self.motion.part_shapes,
             mu_m_g: self.plate.mu_m_g,
             parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
             request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,

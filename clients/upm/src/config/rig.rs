@@ -23,6 +23,9 @@ pub struct MotionSection {
     /// 0: one slot per center (the paper); N: centers are candidates, N
     /// slots per cycle.
     pub cycle_slots: usize,
+    /// true: the solver integrates each part's outline (disc, polygon) as
+    /// vision reports it; false: every part is a point (the paper).
+    pub part_shapes: bool,
     pub max_angle: f64,
     pub max_angular_velocity: f64,
     pub max_angular_acceleration: f64,
@@ -46,6 +49,7 @@ impl Default for MotionSection {
             displacement_mm: m.displacement * 1e3,
             k_max: m.k_max,
             cycle_slots: 0,
+            part_shapes: true,
             max_angle: m.limits.max_angle,
             max_angular_velocity: m.limits.max_angular_velocity,
             max_angular_acceleration: m.limits.max_angular_acceleration,
