@@ -55,14 +55,22 @@ fn install_python() -> PathBuf {
 struct Run {
     out: std::process::Output,
     metrics: serde_json::Value,
-    planner_log: String,
+    /// The log of the process replaced (`logs/planner.log` or `logs/vision.log`).
+    client_log: String,
     core_log: String,
 }
 
+/// `upm run` with a planner of our own.
 fn upm_run(scenario: &str, seconds: &str, planner: &str, tag: &str) -> Run {
+    upm_run_as("planner", scenario, seconds, planner, tag)
+}
+
+/// `upm run` with `role` ("planner" or "vision") replaced by `cmd`.
+fn upm_run_as(role: &str, scenario: &str, seconds: &str, cmd: &str, tag: &str) -> Run {
     let dir = std::env::temp_dir().join(format!("upm_run_{tag}_{}", std::process::id()));
+    let flag = format!("--{role}-cmd");
     let out = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", scenario, "--duration", seconds, "--quiet", "--planner-cmd", planner, "--out"])
+        .args(["run", scenario, "--duration", seconds, "--quiet", &flag, cmd, "--out"])
         .arg(&dir)
         .env("PYTHONPATH", Path::new(ROOT).join("clients/python"))
         .current_dir(ROOT)
@@ -70,7 +78,8 @@ fn upm_run(scenario: &str, seconds: &str, planner: &str, tag: &str) -> Run {
         .expect("upm run");
     let read = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap_or_default();
     let metrics = serde_json::from_str(&read("metrics.json")).unwrap_or(serde_json::Value::Null);
-    let run = Run { out, metrics, planner_log: read("logs/planner.log"), core_log: read("logs/core.log") };
+    let client_log = read(&format!("logs/{role}.log"));
+    let run = Run { out, metrics, client_log, core_log: read("logs/core.log") };
     let _ = std::fs::remove_dir_all(&dir);
     run
 }
@@ -80,7 +89,7 @@ fn a_python_planner_drives_the_rig_through_upm_run() {
     let py = python();
     let planner = format!("exec '{}' clients/python/examples/gather.py", py.display());
     let r = upm_run("local", "6", &planner, "python");
-    let (m, log) = (&r.metrics, &r.planner_log);
+    let (m, log) = (&r.metrics, &r.client_log);
     assert!(r.out.status.success(), "{}\nplanner.log:\n{log}", String::from_utf8_lossy(&r.out.stderr));
     assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no request answered: {m}\n{log}");
     assert_eq!(m["core"]["rejected_requests"], 0, "{m}\n{log}");
@@ -124,7 +133,7 @@ while rig.wait(0.01):
          (force_request.protocol_version is 2, expected {})",
         ipc_types::PROTOCOL_VERSION
     );
-    assert!(r.planner_log.contains(&format!("told: {why}")), "planner.log:\n{}", r.planner_log);
+    assert!(r.client_log.contains(&format!("told: {why}")), "planner.log:\n{}", r.client_log);
     assert!(r.core_log.contains(&why), "core.log:\n{}", r.core_log);
 }
 
@@ -181,18 +190,8 @@ print(f"vision.py: {seq} sent, {len(bad_seqs)} malformed", flush=True)
     let script_path = std::env::temp_dir().join(format!("upm_outlines_{}.py", std::process::id()));
     std::fs::write(&script_path, script).expect("script");
     let vision = format!("exec '{}' '{}'", py.display(), script_path.display());
-    let dir = std::env::temp_dir().join(format!("upm_run_outlines_{}", std::process::id()));
-    let out = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", "local", "--duration", "7", "--quiet", "--vision-cmd", &vision, "--out"])
-        .arg(&dir)
-        .env("PYTHONPATH", Path::new(ROOT).join("clients/python"))
-        .current_dir(ROOT)
-        .output()
-        .expect("upm run");
-    let read = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap_or_default();
-    let (log, core_log) = (read("logs/vision.log"), read("logs/core.log"));
-    let m: serde_json::Value = serde_json::from_str(&read("metrics.json")).unwrap_or_default();
-    let _ = std::fs::remove_dir_all(&dir);
+    let Run { out, metrics: m, client_log: log, core_log } =
+        upm_run_as("vision", "local", "7", &vision, "outlines");
     let _ = std::fs::remove_file(&script_path);
     assert!(out.status.success(), "{}\nvision.log:\n{log}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(m["restarts"]["vision"], 0, "the Python vision died: {m}\n{log}");
