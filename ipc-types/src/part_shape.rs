@@ -6,6 +6,12 @@ use core::fmt;
 
 /// Most vertices of a polygon outline.
 pub const MAX_SHAPE_VERTICES: usize = 8;
+/// The smallest outline (m): a disc's radius, a polygon's √area. Smaller
+/// ones are numerically a point and would overflow the solver's rows.
+pub const MIN_OUTLINE_M: f64 = 1e-4;
+/// The smallest turn (rad) at a polygon's vertex: nearly straight corners
+/// could turn the other way once the outline is rotated into plate axes.
+const MIN_TURN: f64 = 1e-9;
 
 /// `PartState::shape`: the paper's point part (the field at its position).
 pub const SHAPE_POINT: u32 = 0;
@@ -19,14 +25,17 @@ pub const SHAPE_POLYGON: u32 = 2;
 pub enum ShapeError {
     /// The shape code is none of [`SHAPE_POINT`], [`SHAPE_DISC`], [`SHAPE_POLYGON`].
     Code,
-    /// A disc's radius is not a finite number > 0.
+    /// A disc's radius is not a finite number ≥ [`MIN_OUTLINE_M`].
     Radius,
     /// Fewer than 3 or more than [`MAX_SHAPE_VERTICES`] vertices.
     VertexCount,
     /// A vertex is not finite.
     NonFinite,
-    /// The polygon turns both ways, crosses itself or has no area.
+    /// The polygon turns both ways (or not at all at a vertex), crosses
+    /// itself or has no area.
     NotConvex,
+    /// The polygon's area is below [`MIN_OUTLINE_M`]².
+    TooSmall,
     /// A disc's radius is larger than the plate's larger half-extent.
     RadiusTooLarge,
     /// A vertex lies farther from the part's position than the plate's
@@ -40,10 +49,11 @@ impl fmt::Display for ShapeError {
             Self::Code => {
                 write!(f, "must be {SHAPE_POINT} (point), {SHAPE_DISC} (disc) or {SHAPE_POLYGON} (polygon)")
             }
-            Self::Radius => write!(f, "radius must be a finite number > 0"),
+            Self::Radius => write!(f, "radius must be a finite number ≥ {MIN_OUTLINE_M} m"),
             Self::VertexCount => write!(f, "a polygon needs 3 to {MAX_SHAPE_VERTICES} vertices"),
             Self::NonFinite => write!(f, "vertices must be finite numbers"),
             Self::NotConvex => write!(f, "the polygon must be convex, simple and of non-zero area"),
+            Self::TooSmall => write!(f, "the polygon's area must be at least ({MIN_OUTLINE_M} m)²"),
             Self::RadiusTooLarge => write!(f, "the disc is larger than the plate"),
             Self::VertexTooFar => write!(f, "a vertex lies farther out than the plate reaches"),
         }
@@ -59,14 +69,14 @@ impl ShapeError {
             Self::Code => "shape",
             Self::Radius | Self::RadiusTooLarge => "radius",
             Self::VertexCount => "vertex_count",
-            Self::NonFinite | Self::NotConvex | Self::VertexTooFar => "vertices",
+            Self::NonFinite | Self::NotConvex | Self::TooSmall | Self::VertexTooFar => "vertices",
         }
     }
 }
 
-/// A disc's radius: finite, > 0 and at most `max_extent` (m).
+/// A disc's radius: finite, ≥ [`MIN_OUTLINE_M`] and at most `max_extent` (m).
 pub fn check_disc(radius: f64, max_extent: f64) -> Result<(), ShapeError> {
-    if !(radius.is_finite() && radius > 0.0) {
+    if !(radius.is_finite() && radius >= MIN_OUTLINE_M) {
         return Err(ShapeError::Radius);
     }
     if radius > max_extent || max_extent.is_nan() {
@@ -76,8 +86,9 @@ pub fn check_disc(radius: f64, max_extent: f64) -> Result<(), ShapeError> {
 }
 
 /// A polygon: 3 to [`MAX_SHAPE_VERTICES`] finite vertices, in order (either
-/// winding), convex, simple and of non-zero area, none farther than
-/// `max_extent` (m) from the origin. Allocation-free.
+/// winding), convex (every vertex turning by more than 1e-9 rad), simple,
+/// of area ≥ [`MIN_OUTLINE_M`]², none farther than `max_extent` (m) from
+/// the origin. Allocation-free.
 pub fn check_polygon(v: &[[f64; 2]], max_extent: f64) -> Result<(), ShapeError> {
     let n = v.len();
     if !(3..=MAX_SHAPE_VERTICES).contains(&n) {
@@ -97,15 +108,19 @@ pub fn check_polygon(v: &[[f64; 2]], max_extent: f64) -> Result<(), ShapeError> 
         let e1 = [b[0] - a[0], b[1] - a[1]];
         let e2 = [c[0] - b[0], c[1] - b[1]];
         let cross = e1[0] * e2[1] - e1[1] * e2[0];
-        if cross == 0.0 || !cross.is_finite() || (sign != 0.0 && cross.signum() != sign) {
+        let scale = e1[0].hypot(e1[1]) * e2[0].hypot(e2[1]);
+        if !(cross.abs() > MIN_TURN * scale) || (sign != 0.0 && cross.signum() != sign) {
             return Err(ShapeError::NotConvex);
         }
         sign = cross.signum();
         turned += cross.atan2(e1[0] * e2[0] + e1[1] * e2[1]);
         area2 += a[0] * b[1] - b[0] * a[1];
     }
-    if (turned.abs() - core::f64::consts::TAU).abs() > 1e-6 || area2 == 0.0 || !area2.is_finite() {
+    if (turned.abs() - core::f64::consts::TAU).abs() > 1e-6 || !area2.is_finite() {
         return Err(ShapeError::NotConvex);
+    }
+    if 0.5 * area2.abs() < MIN_OUTLINE_M * MIN_OUTLINE_M {
+        return Err(ShapeError::TooSmall);
     }
     Ok(())
 }
@@ -141,6 +156,14 @@ mod tests {
         assert_eq!(check_polygon(&square, f64::NAN), Err(ShapeError::VertexTooFar));
         assert_eq!(check_disc(0.01, 1.0), Ok(()));
         assert_eq!(check_disc(0.0, 1.0), Err(ShapeError::Radius));
+        assert_eq!(check_disc(0.99 * MIN_OUTLINE_M, 1.0), Err(ShapeError::Radius));
+        let tiny = square.map(|v| [v[0] * 1e-3, v[1] * 1e-3]);
+        assert_eq!(check_polygon(&tiny, 1.0), Err(ShapeError::TooSmall));
+        // A corner that barely turns is refused: turned into plate axes it
+        // could round the other way.
+        let up = f64::from_bits((-0.01f64).to_bits() - 1);
+        let flat = [[-0.01, -0.01], [0.01, -0.01], [0.02, up], [0.01, 0.01], [-0.01, 0.01]];
+        assert_eq!(check_polygon(&flat, 1.0), Err(ShapeError::NotConvex));
         assert_eq!(check_disc(f64::INFINITY, 1.0), Err(ShapeError::Radius));
         assert_eq!(check_disc(2.0, 1.0), Err(ShapeError::RadiusTooLarge));
         assert_eq!(check_disc(0.5, f64::NAN), Err(ShapeError::RadiusTooLarge));

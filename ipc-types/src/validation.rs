@@ -73,7 +73,9 @@ impl ValidationLimits {
     /// How far (m) a part's outline may reach from its position: the
     /// larger half-extent of the plate.
     pub fn max_part_extent(&self) -> f64 {
-        self.plate_half_extent_m[0].max(self.plate_half_extent_m[1])
+        let [x, y] = self.plate_half_extent_m;
+        // NaN stays NaN (f64::max would drop it), so it rejects.
+        if x.is_nan() || y.is_nan() { f64::NAN } else { x.max(y) }
     }
 
     /// True if |k| ≤ min(k_max, 1) (false for NaN k or a NaN k_max).

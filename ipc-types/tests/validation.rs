@@ -419,7 +419,7 @@ fn errors_display_the_offending_field() {
     let mut p = good_part_states();
     p.parts_mut()[3] = p.parts[3].with_disc(f64::NAN);
     let msg = p.validate(&l).expect_err("must be rejected").to_string();
-    assert_eq!(msg, "part_states.parts[3].radius: radius must be a finite number > 0");
+    assert_eq!(msg, "part_states.parts[3].radius: radius must be a finite number ≥ 0.0001 m");
     let mut f = good_force_request();
     f.entries_mut()[2].part_id = 11;
     let msg = f.validate(&l).expect_err("must be rejected").to_string();

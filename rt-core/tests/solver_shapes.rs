@@ -85,7 +85,7 @@ fn bad_shapes_are_refused_by_name() {
     let bad = ForceConstraint { shape: PartShape::Disc { radius: -1.0 }, ..good };
     let e = solve(&[good, bad], &[], &c).expect_err("refused");
     assert_eq!(e, SolveError::PartShape { part: 1, error: ShapeError::Radius });
-    assert_eq!(e.to_string(), "parts[1].shape: radius must be a finite number > 0");
+    assert_eq!(e.to_string(), "parts[1].shape: radius must be a finite number ≥ 0.0001 m");
     let star = PartShape::Polygon {
         vertices: [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0], [0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]],
         count: 4,

@@ -236,7 +236,9 @@ fn on_a_circle(
 fn expected_outline(p: &PartState, extent: f64) -> Option<Result<(), ShapeError>> {
     match p.shape {
         SHAPE_POINT => Some(Ok(())),
-        SHAPE_DISC if !(p.radius.is_finite() && p.radius > 0.0) => Some(Err(ShapeError::Radius)),
+        SHAPE_DISC if !(p.radius.is_finite() && p.radius >= ipc_types::MIN_OUTLINE_M) => {
+            Some(Err(ShapeError::Radius))
+        }
         SHAPE_DISC if p.radius > extent => Some(Err(ShapeError::RadiusTooLarge)),
         SHAPE_DISC => Some(Ok(())),
         SHAPE_POLYGON => {
@@ -357,7 +359,8 @@ proptest! {
         }
         let p = &mut m.parts_mut()[index];
         (p.shape, p.radius, p.vertex_count, p.vertices) = (shape, radius, vertex_count, raw);
-        // theta turns the outline; it must not change the verdict.
+        // theta does not change the verdict (it turns the outline only
+        // once the core reads it; checked below).
         if theta.is_finite() { p.theta = theta; }
         let (k, r, gaps) = circle;
         let mut sound_circle = false;
@@ -366,7 +369,9 @@ proptest! {
             p.shape = SHAPE_POLYGON;
             p.vertex_count = k as u32;
             p.vertices[..k].copy_from_slice(&v);
-            sound_circle = r + centre[0].hypot(centre[1]) < extent * (1.0 - 1e-9);
+            let area = 0.5 * (0..k).map(|i| v[i][0] * v[(i + 1) % k][1] - v[(i + 1) % k][0] * v[i][1]).sum::<f64>().abs();
+            let min_area = ipc_types::MIN_OUTLINE_M * ipc_types::MIN_OUTLINE_M;
+            sound_circle = r + centre[0].hypot(centre[1]) < extent * (1.0 - 1e-9) && area > 1.01 * min_area;
         }
         let part = *p;
         let verdict = m.validate(&l);
@@ -384,7 +389,7 @@ proptest! {
         match expected_outline(&part, extent) {
             Some(want) => prop_assert_eq!(got, want, "{:?}", part),
             None => prop_assert!(
-                matches!(got, Ok(()) | Err(ShapeError::NotConvex | ShapeError::VertexTooFar)),
+                matches!(got, Ok(()) | Err(ShapeError::NotConvex | ShapeError::TooSmall | ShapeError::VertexTooFar)),
                 "{:?}: {:?}", part, got
             ),
         }
@@ -393,6 +398,10 @@ proptest! {
         }
         if got.is_ok() {
             prop_assert!(outline_is_sound(&part, extent), "{:?}", part);
+            // Accepted means solvable: turned by any theta into plate axes,
+            // the outline still passes the solver's own check.
+            let turned = rt_core::solver::PartShape::from_wire(&part);
+            prop_assert_eq!(turned.check(), Ok(()), "{:?} turned by {}", part, part.theta);
         }
     }
 }

@@ -28,8 +28,16 @@ impl Decoded for PartStates {
             .parts()
             .iter()
             .map(|p| {
-                json!({"id": p.id, "class": p.class, "friction_class": p.friction_class, "x": p.x, "y": p.y,
-                       "theta": p.theta, "vx": p.vx, "vy": p.vy, "omega": p.omega})
+                let mut v = json!({"id": p.id, "class": p.class, "friction_class": p.friction_class,
+                       "x": p.x, "y": p.y, "theta": p.theta, "vx": p.vx, "vy": p.vy, "omega": p.omega,
+                       "shape": p.shape});
+                // Only the fields the outline uses.
+                match p.shape {
+                    ipc_types::SHAPE_DISC => v["radius"] = json!(p.radius),
+                    ipc_types::SHAPE_POLYGON => v["vertices"] = json!(p.polygon()),
+                    _ => {}
+                }
+                v
             })
             .collect();
         json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,

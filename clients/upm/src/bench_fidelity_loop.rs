@@ -8,6 +8,7 @@
 use serde_json::{Value, json};
 
 use crate::scenario::{Scenario, resolve};
+use upm_planner::PlannerConfig;
 
 /// The scenarios measured: turn in place (disc, square), turn while
 /// crossing the plate, move one part past others.
@@ -20,10 +21,14 @@ fn one(sc: &Scenario, seed: u64, shapes: bool) -> anyhow::Result<Value> {
     let mut planner = config.planner.build().map_err(anyhow::Error::msg)?;
     let r = crate::closed_loop::run(&config, planner.as_mut(), sc.duration_s)?;
     let mut m = sc.evaluate(&config, &r.trails);
-    let first = r.trails.parts.values().next();
-    // The first part is the one that turns or moves: how far it strays from
-    // the straight line between where it began and where it ended.
-    m["path_deviation_m"] = json!(first.map(|t| path_deviation(&t.points)));
+    let part = match &sc.planner {
+        PlannerConfig::Spin(p) => p.part,
+        PlannerConfig::Local(p) => p.part,
+        _ => anyhow::bail!("{}: not a spin or local scenario", sc.name),
+    };
+    // How far the part that turns or moves strays from the straight line
+    // between where it began and where it ended.
+    m["path_deviation_m"] = json!(r.trails.parts.get(&part).map(|t| path_deviation(&t.points)));
     m["hold_events"] = json!(r.hold_events);
     m["rejected_requests"] = json!(r.rejected_requests);
     Ok(m)

@@ -43,7 +43,8 @@ pub fn truth_fill<D: SimulatedPlant>(parts: &crate::config::SimParts) -> TruthFi
         out.clear();
         driver.with_simulator(&mut |sim| {
             for (i, p) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
-                let mut s = templates.get(i).copied().unwrap_or(ipc_types::PartState::ZERO);
+                let fallback = ipc_types::PartState::new(i as u32 + 1, 0, 0, [0.0; 3], [0.0; 3]);
+                let mut s = templates.get(i).copied().unwrap_or(fallback);
                 [s.x, s.y, s.theta] = [p.position[0], p.position[1], p.angle];
                 [s.vx, s.vy, s.omega] = [p.velocity[0], p.velocity[1], p.angular_velocity];
                 // Capacity equals the simulator's part limit or more.
@@ -53,13 +54,15 @@ pub fn truth_fill<D: SimulatedPlant>(parts: &crate::config::SimParts) -> TruthFi
     })
 }
 
+// Every simulator polygon fits the wire.
+const _: () = assert!(drivers::sim::MAX_POLYGON_VERTICES <= ipc_types::MAX_SHAPE_VERTICES);
+
 /// A part's outline in its body frame, as the simulator keeps it.
 fn with_outline(state: ipc_types::PartState, shape: &drivers::sim::Shape) -> ipc_types::PartState {
     use drivers::sim::Shape;
     match shape.body_frame() {
         Shape::Point { .. } => state,
         Shape::Disc { radius } => state.with_disc(radius),
-        // The simulator takes at most as many vertices as the wire.
         Shape::Polygon { vertices, count } => state.with_polygon(&vertices[..count]).unwrap_or(state),
     }
 }

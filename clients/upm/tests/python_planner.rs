@@ -198,7 +198,7 @@ print(f"vision.py: {seq} sent, {len(bad_seqs)} malformed", flush=True)
     assert!(!log.contains("UNEXPECTED"), "a good outline was refused:\n{log}");
     for why in [
         "part_states.parts[1].vertices: the polygon must be convex, simple and of non-zero area",
-        "part_states.parts[0].radius: radius must be a finite number > 0",
+        "part_states.parts[0].radius: radius must be a finite number ≥ 0.0001 m",
         "part_states.parts[2].vertex_count: a polygon needs 3 to 8 vertices",
         "part_states.parts[0].shape: must be 0 (point), 1 (disc) or 2 (polygon)",
     ] {

@@ -5,7 +5,7 @@
 //! (m rows × n centers), which is Aᵀ column-major: what the QR wants.
 //! A shaped part's entries are its patch averages (`shape.rs`).
 
-use super::shape::{PartShape, wrench_row};
+use super::shape::{PartShape, for_each_wrench_row};
 use super::{Problem, SolveError};
 
 /// Fills `rows[..m*n]` and `b[..m]`; returns m. `b` is scaled by N/μmg.
@@ -50,11 +50,10 @@ pub(crate) fn assemble(
             min_dist[j] = min_dist[j].min(r);
         }
         if part.shape != PartShape::Point {
-            for (j, c) in problem.centers.iter().enumerate() {
-                let (t, _) = wrench_row(&part.shape, part.position, *c);
+            for_each_wrench_row(&part.shape, part.position, problem.centers, |j, t, _| {
                 x_row[j] = t[0];
                 y_row[j] = t[1];
-            }
+            });
         }
         b[i] = scale * f[0];
         b[mf + i] = scale * f[1];
@@ -71,9 +70,7 @@ pub(crate) fn assemble(
             min_dist[j] = min_dist[j].min(r);
         }
         if q.shape != PartShape::Point {
-            for (j, c) in problem.centers.iter().enumerate() {
-                row[j] = wrench_row(&q.shape, q.position, *c).1;
-            }
+            for_each_wrench_row(&q.shape, q.position, problem.centers, |j, _, curl| row[j] = curl);
         }
         b[i] = scale * q.curl;
         i += 1;

@@ -525,11 +525,11 @@ impl Solver {
                 ));
             } else {
                 let mut f = [0.0; 2];
-                for (w, c) in weights.iter().zip(problem.centers) {
-                    let (t, _) = shape::wrench_row(&p.shape, p.position, *c);
+                shape::for_each_wrench_row(&p.shape, p.position, problem.centers, |j, t, _| {
+                    let w = weights.get(j).copied().unwrap_or(0.0);
                     f[0] += w * t[0];
                     f[1] += w * t[1];
-                }
+                });
                 out.achieved_forces.push([f[0] * unscale, f[1] * unscale]);
             }
         }

@@ -108,7 +108,7 @@ pub fn wrench_row(shape: &PartShape, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64
             let t = if r > 0.0 { [-dy / r, dx / r] } else { [0.0, 0.0] };
             ([g * t[0], g * t[1]], 4.0 * h / radius)
         }
-        PartShape::Polygon { .. } => polygon_row(shape, p, c),
+        PartShape::Polygon { .. } => patch_row(&shape.patch_points(), p, c),
     }
 }
 
@@ -199,8 +199,29 @@ fn area_and_centroid(v: &[[f64; 2]]) -> (f64, [f64; 2]) {
     (0.5 * a2.abs(), [cx / (3.0 * a2), cy / (3.0 * a2)])
 }
 
-fn polygon_row(shape: &PartShape, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
-    let patch = shape.patch_points();
+/// [`wrench_row`] for each of `centers` in turn, a polygon's patch built
+/// once for all of them.
+pub fn for_each_wrench_row(
+    shape: &PartShape,
+    p: [f64; 2],
+    centers: &[[f64; 2]],
+    mut each: impl FnMut(usize, [f64; 2], f64),
+) {
+    if let PartShape::Polygon { .. } = shape {
+        let patch = shape.patch_points();
+        for (j, &c) in centers.iter().enumerate() {
+            let (t, curl) = patch_row(&patch, p, c);
+            each(j, t, curl);
+        }
+    } else {
+        for (j, &c) in centers.iter().enumerate() {
+            let (t, curl) = wrench_row(shape, p, c);
+            each(j, t, curl);
+        }
+    }
+}
+
+fn patch_row(patch: &PatchPoints, p: [f64; 2], c: [f64; 2]) -> ([f64; 2], f64) {
     let g = [p[0] + patch.centroid[0], p[1] + patch.centroid[1]];
     let (mut f, mut tau) = ([0.0; 2], 0.0);
     for &(q, w) in &patch.points[..patch.count] {
