@@ -12,7 +12,7 @@ use rt_core::runtime::alloc_count;
 use rt_core::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
 use serde_json::{Value, json};
 
-const MU_M_G: f64 = 0.1;
+pub(crate) const MU_M_G: f64 = 0.1;
 
 /// One benchmark system: parts on the plate, centers around it, and forces
 /// `A·k0` with small k0, so the system is consistent and its minimum-norm
@@ -432,6 +432,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
         "timed": "UPM: Solver::solve (validation, assembly, Householder QR (pivoted only when needed), condition estimate, bounded path, ordering, achieved forces); cold and warm time the same 32 consecutive frames (every part moved 1 mm from the frame before): cold with the warm start forgotten before each solve, warm in sequence. objective, saturated and active are those of the base frame. nalgebra: DMatrix::pseudo_inverse(1e-12) (SVD) times b, plus one matrix clone. Clarabel (reference): set-up and solve of the same box-constrained QP (tolerances 1e-12), AᵀA formed outside the timing.",
         "cases": cases,
         "bounded_cases": bounded,
+        "outline_rows": crate::bench_solver_shapes::run(budget)?,
     }))
 }
 
@@ -470,7 +471,12 @@ pub fn to_text(v: &Value) -> String {
         s += "exact path: times in µs; speedup = nalgebra p50 / UPM p50 in warm A B A B batches; \
               interleaved = the same ratio with single calls alternating (both cold)\n\n";
     }
-    s + &bounded_text(v.get("bounded_cases").unwrap_or(v))
+    s += &bounded_text(v.get("bounded_cases").unwrap_or(v));
+    if v["outline_rows"].is_array() {
+        s += "\n\n";
+        s += &crate::bench_solver_shapes::to_text(&v["outline_rows"]);
+    }
+    s
 }
 
 /// The bounded rows (the built-in ones, or a `--problems` array).

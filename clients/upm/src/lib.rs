@@ -12,6 +12,7 @@ pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_record;
 pub mod bench_solver;
+pub mod bench_solver_shapes;
 pub mod bench_sort;
 pub mod bench_vision;
 pub mod bench_vision_latency;
