@@ -109,7 +109,9 @@ pub fn check_polygon(v: &[[f64; 2]], max_extent: f64) -> Result<(), ShapeError> 
         let e2 = [c[0] - b[0], c[1] - b[1]];
         let cross = e1[0] * e2[1] - e1[1] * e2[0];
         let scale = e1[0].hypot(e1[1]) * e2[0].hypot(e2[1]);
-        if !(cross.abs() > MIN_TURN * scale) || (sign != 0.0 && cross.signum() != sign) {
+        // False for NaN too (an overflowed cross product).
+        let turns = cross.abs() > MIN_TURN * scale;
+        if !turns || (sign != 0.0 && cross.signum() != sign) {
             return Err(ShapeError::NotConvex);
         }
         sign = cross.signum();
