@@ -73,7 +73,7 @@ pub fn bench_case(rows: usize, n: usize, seed: u64, k_scale: f64) -> BenchCase {
     BenchCase { centers, parts }
 }
 
-fn percentile(sorted: &[f64], q: f64) -> f64 {
+pub(crate) fn percentile(sorted: &[f64], q: f64) -> f64 {
     if sorted.is_empty() {
         return f64::NAN;
     }
@@ -82,7 +82,7 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 
 /// One `Solver::solve`, timed (µs); the allocations it made on this thread
 /// are added to `allocations`.
-fn timed_solve(
+pub(crate) fn timed_solve(
     solver: &mut Solver,
     p: &Problem<'_>,
     sol: &mut rt_core::Solution,

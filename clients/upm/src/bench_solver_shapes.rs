@@ -6,7 +6,7 @@
 use rt_core::{PartShape, Problem, Solver, SolverCapacity, SolverParams};
 use serde_json::{Value, json};
 
-use crate::bench_solver::{MU_M_G, bench_case};
+use crate::bench_solver::{MU_M_G, bench_case, percentile, timed_solve};
 
 /// (parts, centers): `sort`'s size and the solver's capacity.
 const SIZES: [(usize, usize); 2] = [(10, 96), (64, 192)];
@@ -37,17 +37,16 @@ fn time_shape(parts: usize, centers: usize, shape: PartShape, budget_s: f64) -> 
         curls: &[],
         k_bounds: &[],
     };
-    let mut us = Vec::new();
+    let (mut us, mut allocations) = (Vec::new(), 0);
     let started = std::time::Instant::now();
     while started.elapsed().as_secs_f64() < budget_s || us.len() < 20 {
         solver.forget_warm_start();
-        let t = std::time::Instant::now();
-        solver.solve(&problem, &mut sol).map_err(|e| anyhow::anyhow!("solve: {e}"))?;
-        us.push(t.elapsed().as_secs_f64() * 1e6);
+        let (r, t) = timed_solve(&mut solver, &problem, &mut sol, &mut allocations);
+        r.map_err(|e| anyhow::anyhow!("solve: {e}"))?;
+        us.push(t);
     }
     us.sort_by(f64::total_cmp);
-    let at = |q: f64| us[((us.len() - 1) as f64 * q).round() as usize];
-    Ok((at(0.5), at(0.99)))
+    Ok((percentile(&us, 0.5), percentile(&us, 0.99)))
 }
 
 /// Per size: points, 15 mm discs and 20 mm octagons, interleaved per size.
