@@ -88,7 +88,7 @@ pub fn run_frames(
     let cal = Calibration::load(&params.calibration).map_err(anyhow::Error::msg)?;
     let (width, height) = (cal.camera.width, cal.camera.height);
     // The core refuses every message with an outline wider than the plate.
-    let extent = cal.plate_half_extent[0].max(cal.plate_half_extent[1]);
+    let extent = ipc_types::ValidationLimits::new(cal.plate_half_extent, 0).max_part_extent();
     for (i, look) in params.looks.iter().enumerate() {
         if let Err(e) = look.outline().put_on(PartState::ZERO).check_shape(extent) {
             anyhow::bail!("vision.classes[{i}].radius_mm {}: {e}", look.radius * 1e3);
