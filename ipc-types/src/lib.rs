@@ -57,7 +57,9 @@ pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
 pub use header::HeaderError;
 pub use health::{DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};
 pub use latency_percentiles::LatencyPercentiles;
-pub use part_shape::{MAX_SHAPE_VERTICES, MIN_OUTLINE_M, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, ShapeError};
+pub use part_shape::{
+    MAX_OUTLINE_M, MAX_SHAPE_VERTICES, MIN_OUTLINE_M, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, ShapeError,
+};
 pub use part_states::{PartState, PartStates, PartStatesError};
 pub use reject_reason::{REJECT_REASONS, RejectReason};
 pub use rejection::{RejectedKind, Rejection};

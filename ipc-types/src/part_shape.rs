@@ -9,6 +9,10 @@ pub const MAX_SHAPE_VERTICES: usize = 8;
 /// The smallest outline (m): a disc's radius, a polygon's √area. Smaller
 /// ones are numerically a point and would overflow the solver's rows.
 pub const MIN_OUTLINE_M: f64 = 1e-4;
+/// The farthest an outline may reach (m) from its part's position, on
+/// any plate: it keeps every product of two coordinates finite however
+/// the outline is turned (an unbounded plate would let 1e308 through).
+pub const MAX_OUTLINE_M: f64 = 1e3;
 /// The smallest turn (rad) at a polygon's vertex: nearly straight corners
 /// could turn the other way once the outline is rotated into plate axes.
 const MIN_TURN: f64 = 1e-9;
@@ -36,10 +40,11 @@ pub enum ShapeError {
     NotConvex,
     /// The polygon's area is below [`MIN_OUTLINE_M`]².
     TooSmall,
-    /// A disc's radius is larger than the plate's larger half-extent.
+    /// A disc's radius is larger than the plate's larger half-extent (or
+    /// [`MAX_OUTLINE_M`]).
     RadiusTooLarge,
     /// A vertex lies farther from the part's position than the plate's
-    /// larger half-extent.
+    /// larger half-extent (or [`MAX_OUTLINE_M`]).
     VertexTooFar,
 }
 
@@ -54,8 +59,10 @@ impl fmt::Display for ShapeError {
             Self::NonFinite => write!(f, "vertices must be finite numbers"),
             Self::NotConvex => write!(f, "the polygon must be convex, simple and of non-zero area"),
             Self::TooSmall => write!(f, "the polygon's area must be at least ({MIN_OUTLINE_M} m)²"),
-            Self::RadiusTooLarge => write!(f, "the disc is larger than the plate"),
-            Self::VertexTooFar => write!(f, "a vertex lies farther out than the plate reaches"),
+            Self::RadiusTooLarge => write!(f, "the disc is larger than the plate (or {MAX_OUTLINE_M} m)"),
+            Self::VertexTooFar => {
+                write!(f, "a vertex lies farther out than the plate reaches (or {MAX_OUTLINE_M} m)")
+            }
         }
     }
 }
@@ -74,12 +81,13 @@ impl ShapeError {
     }
 }
 
-/// A disc's radius: finite, ≥ [`MIN_OUTLINE_M`] and at most `max_extent` (m).
+/// A disc's radius: finite, ≥ [`MIN_OUTLINE_M`] and at most `max_extent`
+/// and [`MAX_OUTLINE_M`] (m).
 pub fn check_disc(radius: f64, max_extent: f64) -> Result<(), ShapeError> {
     if !(radius.is_finite() && radius >= MIN_OUTLINE_M) {
         return Err(ShapeError::Radius);
     }
-    if radius > max_extent || max_extent.is_nan() {
+    if radius > max_extent.min(MAX_OUTLINE_M) || max_extent.is_nan() {
         return Err(ShapeError::RadiusTooLarge);
     }
     Ok(())
@@ -87,8 +95,8 @@ pub fn check_disc(radius: f64, max_extent: f64) -> Result<(), ShapeError> {
 
 /// A polygon: 3 to [`MAX_SHAPE_VERTICES`] finite vertices, in order (either
 /// winding), convex (every vertex turning by more than 1e-9 rad), simple,
-/// of area ≥ [`MIN_OUTLINE_M`]², none farther than `max_extent` (m) from
-/// the origin. Allocation-free.
+/// of area ≥ [`MIN_OUTLINE_M`]², none farther than `max_extent` or
+/// [`MAX_OUTLINE_M`] (m) from the origin. Allocation-free.
 pub fn check_polygon(v: &[[f64; 2]], max_extent: f64) -> Result<(), ShapeError> {
     let n = v.len();
     if !(3..=MAX_SHAPE_VERTICES).contains(&n) {
@@ -97,7 +105,8 @@ pub fn check_polygon(v: &[[f64; 2]], max_extent: f64) -> Result<(), ShapeError> 
     if v.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
         return Err(ShapeError::NonFinite);
     }
-    if max_extent.is_nan() || v.iter().any(|p| (p[0] * p[0] + p[1] * p[1]).sqrt() > max_extent) {
+    let reach = max_extent.min(MAX_OUTLINE_M);
+    if max_extent.is_nan() || v.iter().any(|p| p[0].hypot(p[1]) > reach) {
         return Err(ShapeError::VertexTooFar);
     }
     // Every turn the same way and the turns adding to one full circle:
@@ -169,5 +178,11 @@ mod tests {
         assert_eq!(check_disc(f64::INFINITY, 1.0), Err(ShapeError::Radius));
         assert_eq!(check_disc(2.0, 1.0), Err(ShapeError::RadiusTooLarge));
         assert_eq!(check_disc(0.5, f64::NAN), Err(ShapeError::RadiusTooLarge));
+        // Found by the fuzz test: on an unbounded plate, a triangle out at
+        // 1e308 passed and overflowed once turned.
+        let huge = [[f64::MAX, 0.0], [f64::MAX, -0.26], [0.0, 0.0], [0.0, 0.17]];
+        assert_eq!(check_polygon(&huge, f64::INFINITY), Err(ShapeError::VertexTooFar));
+        assert_eq!(check_disc(2.0 * MAX_OUTLINE_M, f64::INFINITY), Err(ShapeError::RadiusTooLarge));
+        assert_eq!(check_disc(MAX_OUTLINE_M, f64::INFINITY), Ok(()));
     }
 }

@@ -234,6 +234,7 @@ fn on_a_circle(
 /// What `check_shape` must answer, worked out field by field; `None` when
 /// only convexity decides (then an accepted outline must be sound).
 fn expected_outline(p: &PartState, extent: f64) -> Option<Result<(), ShapeError>> {
+    let extent = extent.min(ipc_types::MAX_OUTLINE_M);
     match p.shape {
         SHAPE_POINT => Some(Ok(())),
         SHAPE_DISC if !(p.radius.is_finite() && p.radius >= ipc_types::MIN_OUTLINE_M) => {
