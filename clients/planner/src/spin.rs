@@ -23,6 +23,10 @@ pub struct SpinParams {
     /// Curl per radian of angle error (N/m/rad), and its limit.
     pub gain: f64,
     pub max_curl: f64,
+    /// Curl per rad/s of the part's spin, taken off (N/m·s/rad): the damping
+    /// a core that corrects for the part's own spin (`[motion.part_dynamics]`)
+    /// no longer gives by itself. 0: none.
+    pub damping: f64,
 }
 
 impl Default for SpinParams {
@@ -34,6 +38,7 @@ impl Default for SpinParams {
             goal: None,
             gain: 0.2,
             max_curl: 0.05,
+            damping: 0.0,
         }
     }
 }
@@ -51,9 +56,13 @@ impl SpinPlanner {
             && p.gain.is_finite()
             && p.gain > 0.0
             && p.max_curl.is_finite()
-            && p.max_curl > 0.0)
+            && p.max_curl > 0.0
+            && p.damping.is_finite()
+            && p.damping >= 0.0)
         {
-            return Err("planner: spin needs a finite angle and a positive gain and max_curl".into());
+            return Err(
+                "planner: spin needs a finite angle, a positive gain and max_curl, and a damping ≥ 0".into(),
+            );
         }
         if let Some(g) = p.goal
             && !g.iter().all(|x| x.is_finite())
@@ -81,7 +90,8 @@ impl Planner for SpinPlanner {
             let f = self.p.drive.force_to(part, target, [0.0; 2]);
             let entry = if turning {
                 let err = self.p.angle - part.theta;
-                let curl = (self.p.gain * err).clamp(-self.p.max_curl, self.p.max_curl);
+                let curl = (self.p.gain * err - self.p.damping * part.omega)
+                    .clamp(-self.p.max_curl, self.p.max_curl);
                 ForceEntry::force_and_curl(part.id, f, curl)
             } else {
                 ForceEntry::force(part.id, f)

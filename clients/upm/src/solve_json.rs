@@ -319,12 +319,13 @@ fn predict(input: &SolveInput, out: &SolveOutput, setup: &ValidateSetup) -> Resu
             PlateFollow::Servo { bandwidth_hz, damping }
         }
     };
+    let drift = rt_core::motion::DriftParams { follow, ..Default::default() };
     let (mut forces, mut curls) = (Vec::new(), Vec::new());
     for (i, p) in input.parts.iter().enumerate() {
         let shape = part_shape(p, i)?;
         let patch = shape.patch_points();
         let at = [p.position[0] + patch.centroid[0], p.position[1] + patch.centroid[1]];
-        let (a, alpha) = rt_core::motion::cycle_mean_twist(&motion, follow, at, &patch, [0.0; 2], 0.0, mu_g);
+        let (a, alpha) = rt_core::motion::cycle_mean_twist(&motion, drift, at, &patch, [0.0; 2], 0.0, mu_g);
         forces.push([a[0] * scale, a[1] * scale]);
         if p.curl.is_some() {
             // The curl whose torque gives this spin-up: 2τ/(mρ²) = 2α·m.

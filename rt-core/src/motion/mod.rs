@@ -29,7 +29,7 @@ mod rig;
 mod setpoint;
 
 pub use params::{MotionLimits, MotionParams, ParamsError};
-pub use part_drift::{cycle_mean_acceleration, cycle_mean_twist};
+pub use part_drift::{DriftParams, PlateTrace, TraceTooLong, cycle_mean_acceleration, cycle_mean_twist};
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};
 pub use plate_follow::PlateFollow;
 pub use playable::playable_k;

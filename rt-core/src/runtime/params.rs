@@ -3,6 +3,7 @@
 
 use core::fmt;
 
+use super::part_dynamics::{PartDynamicsError, PartDynamicsParams};
 use crate::motion::{MotionParams, ParamsError, RigError, RigParams};
 
 /// Real-time placement of the threads.
@@ -79,6 +80,9 @@ pub struct CoreParams {
     /// `PartState` carries (`solver::shape`); false: every part is a point,
     /// the paper's model.
     pub part_shapes: bool,
+    /// The solve stage's correction for each part's own velocity and spin
+    /// (`part_dynamics.rs`); `steps = 0` turns it off.
+    pub part_dynamics: PartDynamicsParams,
     /// μ·m·g of the parts (N): the scale of every requested force.
     pub mu_m_g: f64,
     /// PartStates older than this (by their stamp) put the core in hold.
@@ -110,6 +114,7 @@ impl Default for CoreParams {
             centers: vec![[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]],
             cycle_slots: 0,
             part_shapes: true,
+            part_dynamics: PartDynamicsParams::default(),
             mu_m_g: 0.1,
             parts_max_age_ns: 200_000_000,
             request_max_age_ns: 200_000_000,
@@ -128,6 +133,7 @@ impl Default for CoreParams {
 pub enum CoreParamsError {
     Motion(ParamsError),
     Rig(RigError),
+    PartDynamics(PartDynamicsError),
     NoCenters,
     TooManyCenters {
         given: usize,
@@ -159,6 +165,7 @@ impl fmt::Display for CoreParamsError {
         match self {
             Self::Motion(e) => write!(f, "{e}"),
             Self::Rig(e) => write!(f, "rig: {e}"),
+            Self::PartDynamics(e) => write!(f, "{e}"),
             Self::NoCenters => f.write_str("plate.centers: at least one rotation center is needed"),
             Self::TooManyCenters { given, capacity } => {
                 write!(f, "plate.centers: {given} centers, capacity is {capacity}")
@@ -196,6 +203,7 @@ impl CoreParams {
     pub fn validate(&self) -> Result<(), CoreParamsError> {
         self.motion.validate().map_err(CoreParamsError::Motion)?;
         self.rig.validate().map_err(CoreParamsError::Rig)?;
+        self.part_dynamics.validate().map_err(CoreParamsError::PartDynamics)?;
         if self.twist_correction.is_some_and(|m| m.iter().flatten().any(|v| !v.is_finite())) {
             return Err(CoreParamsError::TwistCorrection);
         }

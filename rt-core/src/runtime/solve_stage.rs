@@ -18,6 +18,7 @@ use super::clock::Clock;
 use super::handoff::MotionWriter;
 use super::inbox::{Inbox, InboxBuffers, drain};
 use super::params::CoreParams;
+use super::part_dynamics::{PartDynamics, PartMotion, fill_entries};
 use super::samples::{SolverSample, StageOutputs};
 use super::shared::CoreShared;
 use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry, playable_k};
@@ -188,6 +189,10 @@ pub struct SolveStage {
     have_parts: bool,
     forces: [ForceConstraint; MAX_PARTS],
     curls: [CurlConstraint; MAX_CURLS],
+    /// How each of `forces` moves, and the part each of `curls` is.
+    motions: [PartMotion; MAX_PARTS],
+    curl_parts: [usize; MAX_CURLS],
+    dynamics: PartDynamics,
     entries: [ScheduleEntry; MAX_SLOTS],
     schedule: Box<Schedule>,
     out: StageOutputs,
@@ -234,6 +239,9 @@ impl SolveStage {
         // stage is built on the thread that will use it.
         solver.warm_up();
         let solution = solver.new_solution();
+        let probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
+        let dynamics = PartDynamics::new(params.part_dynamics, probe, solver.new_solution())
+            .map_err(super::params::CoreParamsError::PartDynamics)?;
         let mut limits = ValidationLimits::new(params.motion.plate_half_extent, 0);
         limits.max_future_skew_ns = params.max_future_skew_ns;
         limits.center_count = params.centers.len() as u32;
@@ -258,6 +266,9 @@ impl SolveStage {
             have_parts: false,
             forces: [ForceConstraint { position: [0.0; 2], force: None, shape: PartShape::Point }; MAX_PARTS],
             curls: [CurlConstraint { position: [0.0; 2], curl: 0.0, shape: PartShape::Point }; MAX_CURLS],
+            motions: [PartMotion::default(); MAX_PARTS],
+            curl_parts: [0; MAX_CURLS],
+            dynamics,
             entries: [ScheduleEntry::default(); MAX_SLOTS],
             schedule: Box::new(Schedule::new()),
             out,
@@ -429,12 +440,14 @@ impl SolveStage {
             let position = [p.x, p.y];
             let shape = if self.part_shapes { PartShape::from_wire(p) } else { PartShape::Point };
             self.forces[np] = ForceConstraint { position, force: e.requested_force(), shape };
-            np += 1;
+            self.motions[np] = PartMotion { velocity: [p.vx, p.vy], spin: p.omega };
             if let Some(curl) = e.requested_curl() {
                 // validate() caps curl entries at MAX_CURLS.
                 self.curls[nc] = CurlConstraint { position, curl, shape };
+                self.curl_parts[nc] = np;
                 nc += 1;
             }
+            np += 1;
         }
         let problem = Problem {
             mu_m_g: self.mu_m_g,
@@ -445,19 +458,13 @@ impl SolveStage {
             k_bounds: &self.k_bounds,
         };
         self.solver.solve(&problem, &mut self.solution).map_err(RequestError::Solve)?;
+        if self.dynamics.enabled() {
+            let (motions, curl_parts) = (&self.motions[..np], &self.curl_parts[..nc]);
+            self.dynamics.correct(&mut self.solver, &problem, motions, curl_parts, &mut self.solution);
+        }
         // A center fills counts[j] consecutive slots (1 each in the paper's
         // cycle); the solver keeps the total within the entries' capacity.
-        let mut n = 0;
-        for &j in self.solution.order() {
-            let j = usize::from(j);
-            let entry = ScheduleEntry { center: self.centers[j], k: self.solution.k()[j] };
-            for _ in 0..self.solution.counts()[j] {
-                if let Some(e) = self.entries.get_mut(n) {
-                    *e = entry;
-                    n += 1;
-                }
-            }
-        }
+        let n = fill_entries(&self.solution, &self.centers, &mut self.entries);
         self.stage_motion(n, msg.seq, self.parts.stamp_ns)?;
         let solve_ns = clock_ns().saturating_sub(started).max(1);
         let s = &self.solution;

@@ -23,7 +23,7 @@ use upm_vision::{CameraParams, TrackerParams, VisionSection};
 
 pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
 pub use driver::{DriverChoice, DriverSection, SubDeviceSection};
-pub use rig::{MotionSection, PlateSection};
+pub use rig::{AboutSection, MotionSection, PartDynamicsSection, PlateSection};
 pub use sim::{SimPartSection, SimParts, SimSection};
 
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
@@ -87,6 +87,7 @@ impl Config {
             centers: self.plate.centers.clone(),
             cycle_slots: self.motion.cycle_slots,
             part_shapes: self.motion.part_shapes,
+            part_dynamics: self.motion.part_dynamics.params(),
             mu_m_g: self.plate.mu_m_g,
             parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
             request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,

@@ -2,7 +2,7 @@
 //! simulator.
 
 use rt_core::motion::{MotionLimits, MotionParams};
-use rt_core::runtime::CoreParams;
+use rt_core::runtime::{CoreParams, LinearizeAbout, PartDynamicsParams};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -26,6 +26,8 @@ pub struct MotionSection {
     /// true: the solver integrates each part's outline (disc, polygon) as
     /// vision reports it; false: every part is a point (the paper).
     pub part_shapes: bool,
+    /// The core's correction for each part's own velocity and spin.
+    pub part_dynamics: PartDynamicsSection,
     pub max_angle: f64,
     pub max_angular_velocity: f64,
     pub max_angular_acceleration: f64,
@@ -50,12 +52,52 @@ impl Default for MotionSection {
             k_max: m.k_max,
             cycle_slots: 0,
             part_shapes: true,
+            part_dynamics: PartDynamicsSection::default(),
             max_angle: m.limits.max_angle,
             max_angular_velocity: m.limits.max_angular_velocity,
             max_angular_acceleration: m.limits.max_angular_acceleration,
             max_point_speed: m.limits.max_point_speed,
             max_point_acceleration: m.limits.max_point_acceleration,
         }
+    }
+}
+
+/// `[motion.part_dynamics]`: rt-core's `PartDynamicsParams`.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct PartDynamicsSection {
+    /// Correction steps per request; 0: the solver's answer as it is.
+    pub steps: u32,
+    /// "reported": each part's cycle from its velocity and spin as vision
+    /// reports them; "rest": from rest.
+    pub about: AboutSection,
+    /// μ·g of the parts, m/s².
+    pub mu_g: f64,
+    /// Integration steps per motor tick.
+    pub substeps: u32,
+}
+
+impl Default for PartDynamicsSection {
+    fn default() -> Self {
+        let p = PartDynamicsParams::default();
+        Self { steps: p.steps, about: AboutSection::Reported, mu_g: p.mu_g, substeps: p.substeps }
+    }
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum AboutSection {
+    Reported,
+    Rest,
+}
+
+impl PartDynamicsSection {
+    pub fn params(&self) -> PartDynamicsParams {
+        let about = match self.about {
+            AboutSection::Reported => LinearizeAbout::Reported,
+            AboutSection::Rest => LinearizeAbout::Rest,
+        };
+        PartDynamicsParams { steps: self.steps, about, mu_g: self.mu_g, substeps: self.substeps }
     }
 }
 
