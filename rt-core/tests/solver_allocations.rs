@@ -132,6 +132,74 @@ fn sparse_solves_allocate_nothing() {
     assert_eq!(sparse, cases.len(), "every solve took the sparse path and filled its cycle");
 }
 
+/// The solve stage's part-dynamics correction: plate trace, per-part
+/// integration (points and patches, moving and spinning), re-solves and
+/// the kept answer's swap, on the paper's cycle and on sparse ones.
+#[test]
+fn part_dynamics_corrections_allocate_nothing() {
+    use rt_core::motion::{MotionParams, PlateMotion};
+    use rt_core::runtime::{LinearizeAbout, PartDynamics, PartDynamicsParams, PartMotion};
+    let cases: Vec<_> = (0..40u64)
+        .map(|seed| {
+            let parts = 1 + (seed as usize * 5) % 12;
+            let curls = (seed as usize) % 4;
+            let centers = (2 * parts + curls + 4).clamp(3, 48);
+            let mut case = random_case(seed, parts, curls, centers, 0.05);
+            let gain = if seed % 2 == 0 { 400.0 } else { 0.002 };
+            case.parts.iter_mut().for_each(|p| p.force = p.force.map(|f| [f[0] * gain, f[1] * gain]));
+            // Curls on discs and squares: the patch path.
+            for (c, q) in case.curls.iter_mut().enumerate() {
+                q.shape = if c % 2 == 0 {
+                    rt_core::PartShape::Disc { radius: 0.02 }
+                } else {
+                    let mut v = [[0.0; 2]; ipc_types::MAX_SHAPE_VERTICES];
+                    v[..4].copy_from_slice(&[[0.02, 0.02], [-0.02, 0.02], [-0.02, -0.02], [0.02, -0.02]]);
+                    rt_core::PartShape::Polygon { vertices: v, count: 4 }
+                };
+            }
+            let motions: Vec<PartMotion> = (0..parts)
+                .map(|i| PartMotion { velocity: [0.01 * (i as f64).sin(), -0.02], spin: 0.3 * i as f64 })
+                .collect();
+            let curl_parts: Vec<usize> = (0..curls).map(|c| c % parts).collect();
+            (case, motions, curl_parts)
+        })
+        .collect();
+    let motion = MotionParams::default();
+    let mut runs: Vec<(Solver, PartDynamics)> = [(0, LinearizeAbout::Reported), (8, LinearizeAbout::Rest)]
+        .iter()
+        .map(|&(cycle_slots, about)| {
+            let mut s =
+                Solver::new(SolverCapacity::DEFAULT, SolverParams { cycle_slots, ..SolverParams::default() });
+            assert!(s.warm_up());
+            let params = PartDynamicsParams { steps: 3, about, ..PartDynamicsParams::default() };
+            let dynamics =
+                PartDynamics::new(params, PlateMotion::new(motion).expect("motion"), 48, s.new_solution())
+                    .expect("params");
+            (s, dynamics)
+        })
+        .collect();
+    let mut out = runs[0].0.new_solution();
+    let (mut corrected, mut kept_worse, mut steps) = (0, 0, 0);
+    let ((), allocations) = allocations_in(|| {
+        for (i, (case, motions, curl_parts)) in cases.iter().enumerate() {
+            let problem = problem(case, i);
+            let (solver, dynamics) = &mut runs[i % 2];
+            if solver.solve(&problem, &mut out).is_ok() {
+                let c = dynamics.correct(solver, &problem, motions, curl_parts, &mut out);
+                // The guarantee: never worse than the uncorrected answer.
+                kept_worse += usize::from(!(c.lack <= c.lack_before));
+                corrected += usize::from(c.lack < c.lack_before);
+                steps += c.steps;
+            }
+        }
+    });
+    assert_eq!(allocations, 0, "part-dynamics corrections allocated {allocations} times");
+    assert_eq!(kept_worse, 0, "an answer the model says is worse was kept");
+    // Every path ran: re-solves, and kept answers other than the first
+    // (how much they gain is the unit tests' and the bench's business).
+    assert!(corrected > 0 && steps as usize >= cases.len(), "{corrected} improved, {steps} steps");
+}
+
 #[test]
 fn the_counter_sees_allocations() {
     // Guard against a counter that can never fail.

@@ -302,9 +302,12 @@ fn each_center_is_bounded_by_what_it_can_play() {
 /// (0.5, 0), 0.5 m from the nearest corner center) is `part_1` and the
 /// core's `part_shapes` is as given.
 fn published_k(part_1: PartState, part_shapes: bool) -> Vec<u64> {
+    published_k_with(part_1, &CoreParams { part_shapes, ..CoreParams::default() })
+}
+
+fn published_k_with(part_1: PartState, params: &CoreParams) -> Vec<u64> {
     let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
-    let params = CoreParams { part_shapes, ..CoreParams::default() };
-    let mut c = Lockstep::new(&params, sim, START_NS).expect("core");
+    let mut c = Lockstep::new(params, sim, START_NS).expect("core");
     let now = c.now_ns();
     let mut parts = part_states(1, now, &PAPER_PARTS);
     parts.parts_mut()[0] = part_1;
@@ -318,6 +321,36 @@ fn published_k(part_1: PartState, part_shapes: bool) -> Vec<u64> {
         k[slot.center_index as usize] = slot.k.to_bits();
     }
     k
+}
+
+/// `[motion.part_dynamics]`: the core's answer depends on the velocity and
+/// spin vision reports exactly when it is linearized about them; off, it
+/// is the solver's answer as before; and it is deterministic.
+#[test]
+fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
+    use rt_core::runtime::LinearizeAbout;
+    let still = PartState::new(1, 0, 0, [0.5, 0.0, 0.0], [0.0; 3]);
+    let sliding = PartState::new(1, 0, 0, [0.5, 0.0, 0.0], [0.01, -0.004, 0.0]);
+    let with = |steps, about| {
+        let mut p = CoreParams::default();
+        p.part_dynamics.steps = steps;
+        p.part_dynamics.about = about;
+        p
+    };
+    let off = with(0, LinearizeAbout::Reported);
+    let reported = with(2, LinearizeAbout::Reported);
+    let rest = with(2, LinearizeAbout::Rest);
+    let uncorrected = published_k_with(still, &off);
+    assert_eq!(published_k_with(sliding, &off), uncorrected, "off: the velocity is not read");
+    assert_ne!(published_k_with(still, &rest), uncorrected, "the correction changed nothing");
+    assert_eq!(
+        published_k_with(sliding, &rest),
+        published_k_with(still, &rest),
+        "from rest: velocity ignored"
+    );
+    let moving = published_k_with(sliding, &reported);
+    assert_ne!(moving, published_k_with(still, &reported), "the reported velocity changed nothing");
+    assert_eq!(moving, published_k_with(sliding, &reported), "deterministic");
 }
 
 #[test]

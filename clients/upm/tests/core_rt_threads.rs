@@ -42,10 +42,22 @@ fn rt_threads_make_no_allocations_with_sparse_cycles() {
     rt_threads_allocate_nothing(4);
 }
 
+/// The same with the solve stage's part-dynamics correction on: a plate
+/// trace, part integrations and re-solves per request.
+#[test]
+fn rt_threads_make_no_allocations_with_part_dynamics() {
+    let mut params = CoreParams { cycle_slots: 4, ..CoreParams::default() };
+    params.part_dynamics.steps = 2;
+    rt_threads_allocate_nothing_with(params);
+}
+
 fn rt_threads_allocate_nothing(cycle_slots: usize) {
+    rt_threads_allocate_nothing_with(CoreParams { cycle_slots, ..CoreParams::default() });
+}
+
+fn rt_threads_allocate_nothing_with(mut params: CoreParams) {
     counter_catches_an_allocation_on_a_marked_thread();
     let prefix = common::unique_prefix("rtalloc");
-    let mut params = CoreParams { cycle_slots, ..CoreParams::default() };
     params.motion.slot_ticks = 20;
     let cycle_s = 4.0 * params.motion.slot_duration();
     let duration = Duration::from_secs_f64(1500.0 * cycle_s);

@@ -200,6 +200,11 @@ impl fmt::Display for CoreParamsError {
 impl core::error::Error for CoreParamsError {}
 
 impl CoreParams {
+    /// Slots of the longest cycle a request can be given.
+    pub fn longest_cycle(&self) -> usize {
+        if self.cycle_slots > 0 { self.cycle_slots } else { self.centers.len() }
+    }
+
     pub fn validate(&self) -> Result<(), CoreParamsError> {
         self.motion.validate().map_err(CoreParamsError::Motion)?;
         self.rig.validate().map_err(CoreParamsError::Rig)?;
@@ -223,6 +228,9 @@ impl CoreParams {
         if self.cycle_slots > capacity {
             return Err(CoreParamsError::CycleSlots { given: self.cycle_slots, capacity });
         }
+        self.part_dynamics
+            .trace_pieces(&self.motion, self.longest_cycle())
+            .map_err(CoreParamsError::PartDynamics)?;
         if self.parts_max_age_ns == 0 || self.request_max_age_ns == 0 {
             return Err(CoreParamsError::MaxAge);
         }

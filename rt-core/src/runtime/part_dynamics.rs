@@ -68,6 +68,8 @@ impl Default for PartDynamicsParams {
 /// Most correction steps and substeps a configuration may ask for.
 pub const MAX_DYNAMICS_STEPS: u32 = 8;
 pub const MAX_DYNAMICS_SUBSTEPS: u32 = 32;
+/// Most pieces of a plate trace (cycle ticks × substeps): 12 MB.
+pub const MAX_TRACE_PIECES: u64 = 1 << 18;
 
 /// Why [`PartDynamicsParams`] are refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,6 +77,10 @@ pub enum PartDynamicsError {
     Steps,
     MuG,
     Substeps,
+    /// The longest cycle, finely cut, is more than [`MAX_TRACE_PIECES`].
+    TraceTooLong {
+        pieces: u64,
+    },
 }
 
 impl fmt::Display for PartDynamicsError {
@@ -85,6 +91,11 @@ impl fmt::Display for PartDynamicsError {
             Self::Substeps => {
                 write!(f, "motion.part_dynamics.substeps must be 1 to {MAX_DYNAMICS_SUBSTEPS}")
             }
+            Self::TraceTooLong { pieces } => write!(
+                f,
+                "motion.part_dynamics.substeps: the longest cycle is {pieces} pieces (slots × slot_ticks × \
+                 substeps), at most {MAX_TRACE_PIECES}"
+            ),
         }
     }
 }
@@ -105,9 +116,18 @@ impl PartDynamicsParams {
         Ok(())
     }
 
-    /// Plate-trace pieces the longest cycle needs; 0 when off.
-    fn trace_pieces(&self, motion: &MotionParams) -> usize {
-        if self.steps == 0 { 0 } else { MAX_SLOTS * motion.slot_ticks as usize * self.substeps as usize }
+    /// Plate-trace pieces a cycle of `slots` needs; 0 when off.
+    pub fn trace_pieces(&self, motion: &MotionParams, slots: usize) -> Result<usize, PartDynamicsError> {
+        if self.steps == 0 {
+            return Ok(0);
+        }
+        let pieces = (slots.min(MAX_SLOTS) as u64)
+            .saturating_mul(u64::from(motion.slot_ticks))
+            .saturating_mul(u64::from(self.substeps));
+        if pieces > MAX_TRACE_PIECES {
+            return Err(PartDynamicsError::TraceTooLong { pieces });
+        }
+        Ok(pieces as usize)
     }
 }
 
@@ -145,23 +165,29 @@ pub struct PartDynamics {
     asked_curls: [CurlConstraint; MAX_CURLS],
     predicted_forces: [[f64; 2]; MAX_PARTS],
     predicted_curls: [Option<f64>; MAX_CURLS],
+    /// The first answer's play order and slot counts, held through the
+    /// steps.
+    first_order: Vec<u16>,
+    first_counts: Vec<u16>,
     best: Solution,
 }
 
 impl PartDynamics {
     /// `probe` is a motion of the rig's parameters to play answers on,
-    /// `spare` a solution of the solver's capacity (the kept answer is
-    /// swapped through it).
+    /// `slots` the longest cycle's, `spare` a solution of the solver's
+    /// capacity (the kept answer is swapped through it).
     pub fn new(
         params: PartDynamicsParams,
         probe: PlateMotion,
+        slots: usize,
         spare: Solution,
     ) -> Result<Self, PartDynamicsError> {
         params.validate()?;
+        let pieces = params.trace_pieces(probe.params(), slots)?;
         Ok(Self {
             params,
             drift: DriftParams { follow: PlateFollow::Exact, substeps: u64::from(params.substeps) },
-            trace: PlateTrace::with_capacity(params.trace_pieces(probe.params())),
+            trace: PlateTrace::with_capacity(pieces),
             probe,
             entries: [ScheduleEntry::default(); MAX_SLOTS],
             asked_forces: [ForceConstraint { position: [0.0; 2], force: None, shape: PartShape::Point };
@@ -170,6 +196,8 @@ impl PartDynamics {
                 MAX_CURLS],
             predicted_forces: [[0.0; 2]; MAX_PARTS],
             predicted_curls: [None; MAX_CURLS],
+            first_order: Vec::with_capacity(spare.order.capacity()),
+            first_counts: Vec::with_capacity(spare.counts.capacity()),
             best: spare,
         })
     }
@@ -202,6 +230,11 @@ impl PartDynamics {
             let lack = self.predict(problem, motions, curl_parts, solution);
             if step == 0 {
                 out.lack_before = lack;
+                // Within capacity: both are the solver's.
+                self.first_order.clear();
+                self.first_order.extend_from_slice(&solution.order);
+                self.first_counts.clear();
+                self.first_counts.extend_from_slice(&solution.counts);
             }
             if step == 0 || lack < best_lack {
                 core::mem::swap(solution, &mut self.best);
@@ -227,6 +260,13 @@ impl PartDynamics {
             if solver.solve(&asked, solution).is_err() {
                 break;
             }
+            // The first answer's play order, held: with the order free the
+            // model being corrected changes from step to step and the
+            // steps wander.
+            solution.order.clear();
+            solution.order.extend_from_slice(&self.first_order);
+            solution.counts.clear();
+            solution.counts.extend_from_slice(&self.first_counts);
         }
         core::mem::swap(solution, &mut self.best);
         out.lack = best_lack;
@@ -327,4 +367,128 @@ pub(crate) fn fill_entries(
         }
     }
     n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::motion::cycle_mean_twist;
+    use crate::solver::{SolverCapacity, SolverParams};
+
+    const CENTERS: [[f64; 2]; 6] =
+        [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5], [0.0, 0.6], [0.0, -0.6]];
+    const MU_M_G: f64 = 0.1;
+
+    /// Each part's force error (issue 25's measure) under `solution`,
+    /// played finely (32 substeps) from `start`.
+    fn played_errors(
+        problem: &Problem<'_>,
+        solution: &Solution,
+        start: &[PartMotion],
+        mu_g: f64,
+    ) -> Vec<f64> {
+        let mut entries = [ScheduleEntry::default(); MAX_SLOTS];
+        let n = fill_entries(solution, problem.centers, &mut entries);
+        let mut motion = PlateMotion::new(MotionParams::default()).expect("motion");
+        motion.set_schedule(&entries[..n]).expect("playable");
+        let point = PartShape::Point.patch_points();
+        problem
+            .parts
+            .iter()
+            .zip(start)
+            .map(|(p, m)| {
+                let (a, _) = cycle_mean_twist(
+                    &motion,
+                    DriftParams::default(),
+                    p.position,
+                    &point,
+                    m.velocity,
+                    m.spin,
+                    mu_g,
+                );
+                let mass = MU_M_G / mu_g;
+                relative_force_error(p.force.expect("asked"), [a[0] * mass, a[1] * mass], MU_M_G)
+            })
+            .collect()
+    }
+
+    fn corrected(about: LinearizeAbout, start: &[PartMotion]) -> (Vec<f64>, Vec<f64>, Correction) {
+        let parts = [
+            ForceConstraint { position: [0.5, 0.0], force: Some([0.003, 0.003]), shape: PartShape::Point },
+            ForceConstraint { position: [-0.6, 0.2], force: Some([-0.003, 0.0012]), shape: PartShape::Point },
+        ];
+        let problem = Problem {
+            mu_m_g: MU_M_G,
+            k_max: 0.5,
+            centers: &CENTERS,
+            parts: &parts,
+            curls: &[],
+            k_bounds: &[],
+        };
+        let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: CENTERS.len() };
+        let mut solver = Solver::new(cap, SolverParams::default());
+        let mut solution = solver.new_solution();
+        solver.solve(&problem, &mut solution).expect("solves");
+        let params = PartDynamicsParams { steps: 3, about, ..PartDynamicsParams::default() };
+        let probe = PlateMotion::new(MotionParams::default()).expect("motion");
+        let mut dynamics =
+            PartDynamics::new(params, probe, CENTERS.len(), solver.new_solution()).expect("params");
+        let before = played_errors(&problem, &solution, start, params.mu_g);
+        let c = dynamics.correct(&mut solver, &problem, start, &[], &mut solution);
+        (before, played_errors(&problem, &solution, start, params.mu_g), c)
+    }
+
+    #[test]
+    fn the_correction_delivers_what_was_asked_when_played_finely() {
+        // From rest: the paper's parts lose a fixed fraction of their
+        // request to their own motion within the cycle; corrected, the
+        // finely played cycle gives what they asked.
+        let rest = [PartMotion::default(); 2];
+        let (before, after, c) = corrected(LinearizeAbout::Rest, &rest);
+        let worst = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        assert!(worst(&before) > 0.05, "the uncorrected answer is off: {before:?}");
+        assert!(worst(&after) < 0.3 * worst(&before), "{before:?} → {after:?} ({c:?})");
+        assert!(c.kept > 0 && c.lack < c.lack_before, "{c:?}");
+        // Sliding as vision reports: the answer is for the part as it moves.
+        let sliding = [PartMotion { velocity: [0.004, -0.003], spin: 0.0 }; 2];
+        let (before, after, c) = corrected(LinearizeAbout::Reported, &sliding);
+        assert!(worst(&after) < worst(&before), "{before:?} → {after:?} ({c:?})");
+        // From rest it would not have been: the reported state matters.
+        let (_, at_rest, _) = corrected(LinearizeAbout::Rest, &sliding);
+        assert!(worst(&after) < worst(&at_rest), "{after:?} vs {at_rest:?}");
+    }
+
+    #[test]
+    fn off_leaves_the_answer_and_bad_params_are_named() {
+        let params = PartDynamicsParams::default();
+        assert_eq!(params.steps, 0);
+        let probe = PlateMotion::new(MotionParams::default()).expect("motion");
+        let cap = SolverCapacity { parts: 4, curls: 1, centers: 4 };
+        let mut solver = Solver::new(cap, SolverParams::default());
+        let mut dynamics = PartDynamics::new(params, probe, 4, solver.new_solution()).expect("params");
+        assert!(!dynamics.enabled());
+        let mut solution = solver.new_solution();
+        let problem = Problem {
+            mu_m_g: MU_M_G,
+            k_max: 0.5,
+            centers: &CENTERS[..4],
+            parts: &[],
+            curls: &[],
+            k_bounds: &[],
+        };
+        assert_eq!(dynamics.correct(&mut solver, &problem, &[], &[], &mut solution), Correction::default());
+        for (bad, want) in [
+            (PartDynamicsParams { steps: MAX_DYNAMICS_STEPS + 1, ..params }, PartDynamicsError::Steps),
+            (PartDynamicsParams { mu_g: f64::NAN, ..params }, PartDynamicsError::MuG),
+            (PartDynamicsParams { mu_g: 0.0, ..params }, PartDynamicsError::MuG),
+            (PartDynamicsParams { substeps: 0, ..params }, PartDynamicsError::Substeps),
+        ] {
+            assert_eq!(bad.validate(), Err(want));
+            assert!(want.to_string().starts_with("motion.part_dynamics."), "{want}");
+        }
+        let on = PartDynamicsParams { steps: 1, substeps: 32, ..params };
+        let long = MotionParams { slot_ticks: 1000, ..MotionParams::default() };
+        assert_eq!(on.trace_pieces(&long, 24), Err(PartDynamicsError::TraceTooLong { pieces: 768_000 }));
+        assert_eq!(on.trace_pieces(&MotionParams::default(), 24), Ok(30_720));
+    }
 }

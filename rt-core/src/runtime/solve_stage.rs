@@ -240,8 +240,9 @@ impl SolveStage {
         solver.warm_up();
         let solution = solver.new_solution();
         let probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
-        let dynamics = PartDynamics::new(params.part_dynamics, probe, solver.new_solution())
-            .map_err(super::params::CoreParamsError::PartDynamics)?;
+        let dynamics =
+            PartDynamics::new(params.part_dynamics, probe, params.longest_cycle(), solver.new_solution())
+                .map_err(super::params::CoreParamsError::PartDynamics)?;
         let mut limits = ValidationLimits::new(params.motion.plate_half_extent, 0);
         limits.max_future_skew_ns = params.max_future_skew_ns;
         limits.center_count = params.centers.len() as u32;

@@ -121,3 +121,29 @@ impl MotionSection {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::config::Config;
+    use rt_core::runtime::LinearizeAbout;
+
+    #[test]
+    fn part_dynamics_is_read_and_its_errors_name_the_field() {
+        let text = "[motion.part_dynamics]\nsteps = 2\nabout = \"rest\"\nmu_g = 3.0\nsubsteps = 8\n";
+        let params = Config::parse(text, "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        assert_eq!((params.part_dynamics.steps, params.part_dynamics.about), (2, LinearizeAbout::Rest));
+        assert_eq!((params.part_dynamics.mu_g, params.part_dynamics.substeps), (3.0, 8));
+        for (bad, field) in [
+            ("steps = 9", "motion.part_dynamics.steps"),
+            ("steps = 1\nmu_g = -1.0", "motion.part_dynamics.mu_g"),
+            ("steps = 1\nsubsteps = 0", "motion.part_dynamics.substeps"),
+        ] {
+            let text = format!("[motion.part_dynamics]\n{bad}\n");
+            let e = Config::parse(&text, "x.toml").expect("parses").core_params("x.toml").expect_err(bad);
+            let e = e.to_string();
+            assert!(e.contains(field) && !e.contains('\n'), "{bad}: {e}");
+        }
+        let e = Config::parse("[motion.part_dynamics]\nabout = \"later\"\n", "x.toml").expect_err("unknown");
+        assert!(e.to_string().contains("about"), "{e}");
+    }
+}
