@@ -187,7 +187,7 @@ fn part_dynamics_corrections_allocate_nothing() {
             if solver.solve(&problem, &mut out).is_ok() {
                 let c = dynamics.correct(solver, &problem, motions, curl_parts, &mut out);
                 // The guarantee: never worse than the uncorrected answer.
-                kept_worse += usize::from(!(c.lack <= c.lack_before));
+                kept_worse += usize::from(c.lack > c.lack_before);
                 corrected += usize::from(c.lack < c.lack_before);
                 steps += c.steps;
             }

@@ -240,7 +240,7 @@ impl PartDynamics {
                 core::mem::swap(solution, &mut self.best);
                 (best_lack, out.kept) = (lack, step);
             }
-            if !(lack > TOLERANCE) || step == self.params.steps {
+            if lack <= TOLERANCE || step == self.params.steps {
                 break;
             }
             for i in 0..np {
