@@ -5,6 +5,9 @@
 //! bound that lowered.
 
 use rt_core::motion::{PlateFollow, PlateMotion, Rig, playable_k};
+use rt_core::runtime::{
+    LinearizeAbout, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, PartDynamics, PartDynamicsParams, PartMotion,
+};
 use rt_core::{
     CurlConstraint, ForceConstraint, PartShape, Problem, Solution, Solver, SolverCapacity, SolverParams,
 };
@@ -217,139 +220,21 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
 }
 
 /// Solve one input with the default capacity and parameters, each center
-/// bounded by what it can play on the validation rig.
+/// bounded by what it can play on the validation rig. With
+/// `part_dynamics`, the core's correction (`rt_core::runtime::PartDynamics`)
+/// from rest, on the validation rig's drives, finely: 32 substeps, up to
+/// 8 steps, every part over its patch.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let setup = ValidateSetup::default();
     let k_bounds = playable_bounds(input, &setup)?;
-    let first = solve_for(input, &input.force_constraints()?, &input.curl_constraints()?, &k_bounds)?;
-    if !input.part_dynamics {
-        return Ok(first);
-    }
-    // Fixed-point iteration on the request: ask each part for what it
-    // asked plus what it still lacks, force and own curl. The play order
-    // is held at the first answer's, so the model being corrected stays
-    // the same from step to step (with the order free it wanders).
-    let wanted = input.force_constraints()?;
-    let wanted_curls = input.curl_constraints()?;
-    let own = input.curls.len();
-    let (mut parts, mut asked) = (wanted.clone(), wanted_curls.clone());
-    let mut out = first;
-    let order = out.order.clone();
-    // The model's prediction chatters by a few tenths of a percent from
-    // step to step, so the steps need not settle: the best one is kept.
-    let mut best: Option<SolveOutput> = None;
-    for step in 0..=DYNAMICS_STEPS {
-        let (forces, curls) = predict(input, &out, &setup)?;
-        let lack = worst_lack(input, &wanted, &wanted_curls[own..], &forces, &curls);
-        (out.predicted_forces, out.predicted_curls) = (forces, curls);
-        (out.dynamics_steps, out.dynamics_lack) = (step, lack);
-        if best.as_ref().is_none_or(|b| lack < b.dynamics_lack) {
-            best = Some(out.clone());
-        }
-        if lack <= DYNAMICS_TOLERANCE || step == DYNAMICS_STEPS {
-            break;
-        }
-        for ((p, w), got) in parts.iter_mut().zip(&wanted).zip(&out.predicted_forces) {
-            if let (Some(f), Some(w)) = (p.force.as_mut(), w.force) {
-                *f = [f[0] + w[0] - got[0], f[1] + w[1] - got[1]];
-            }
-        }
-        for ((q, w), got) in asked[own..].iter_mut().zip(&wanted_curls[own..]).zip(&out.predicted_curls) {
-            if let Some(got) = got {
-                q.curl += w.curl - got;
-            }
-        }
-        let mut next = solve_for(input, &parts, &asked, &k_bounds)?;
-        next.order.clone_from(&order);
-        out = next;
-    }
-    Ok(best.unwrap_or(out))
-}
-
-/// Steps of the part-dynamics correction at most, and the relative lack
-/// (of the request plus 0.005 μmg, or of the curl) that ends it early.
-const DYNAMICS_STEPS: usize = 8;
-const DYNAMICS_TOLERANCE: f64 = 1e-3;
-
-/// Issue 25's measure of a force's error: |got − asked| over |asked| +
-/// 0.005 μmg (the small requests' floor). The benches and the correction
-/// below all judge a force by it.
-pub fn relative_force_error(asked: [f64; 2], got: [f64; 2], mu_m_g: f64) -> f64 {
-    (got[0] - asked[0]).hypot(got[1] - asked[1]) / (asked[0].hypot(asked[1]) + 0.005 * mu_m_g)
-}
-
-/// The largest relative gap between what the parts ask and what the model
-/// predicts: forces by [`relative_force_error`], own curls against |curl|.
-fn worst_lack(
-    input: &SolveInput,
-    wanted: &[ForceConstraint],
-    wanted_curls: &[CurlConstraint],
-    forces: &[[f64; 2]],
-    curls: &[Option<f64>],
-) -> f64 {
-    let force_lack = wanted
-        .iter()
-        .zip(forces)
-        .filter_map(|(w, got)| w.force.map(|f| relative_force_error(f, *got, input.mu_m_g)));
-    // A curl asked as zero is met within 1e-6 μmg per metre.
-    let curl_floor = 1e-6 * input.mu_m_g;
-    let curl_lack = wanted_curls
-        .iter()
-        .zip(curls)
-        .filter_map(|(w, got)| got.map(|g| (w.curl - g).abs() / (w.curl.abs() + curl_floor)));
-    // A NaN anywhere is no answer at all.
-    force_lack.chain(curl_lack).fold(0.0, |m: f64, x| if x.is_nan() { f64::INFINITY } else { m.max(x) })
-}
-
-/// Under `out`, each part's average force over a cycle starting at rest,
-/// and, for each part asked a curl, the curl its patch's spin-up shows
-/// (None for a point: it has no spin to predict).
-type Predicted = (Vec<[f64; 2]>, Vec<Option<f64>>);
-
-fn predict(input: &SolveInput, out: &SolveOutput, setup: &ValidateSetup) -> Result<Predicted, InputError> {
-    let mut motion = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
-    let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
-    motion.set_from_solution(&input.centers, &out.k, &order).map_err(|e| InputError::Rig(e.to_string()))?;
-    let mu_g = setup.sim.mu_kinetic * setup.sim.gravity;
-    let scale = input.mu_m_g / mu_g;
-    // The drives as the rig is specified (not as any hidden truth has them).
-    let follow = match setup.sim.actuator {
-        drivers::ActuatorModel::Ideal => PlateFollow::Exact,
-        drivers::ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
-            PlateFollow::Servo { bandwidth_hz, damping }
-        }
-    };
-    let drift = rt_core::motion::DriftParams { follow, ..Default::default() };
-    let (mut forces, mut curls) = (Vec::new(), Vec::new());
-    for (i, p) in input.parts.iter().enumerate() {
-        let shape = part_shape(p, i)?;
-        let patch = shape.patch_points();
-        let at = [p.position[0] + patch.centroid[0], p.position[1] + patch.centroid[1]];
-        let (a, alpha) = rt_core::motion::cycle_mean_twist(&motion, drift, at, &patch, [0.0; 2], 0.0, mu_g);
-        forces.push([a[0] * scale, a[1] * scale]);
-        if p.curl.is_some() {
-            // The curl whose torque gives this spin-up: 2τ/(mρ²) = 2α·m.
-            curls.push((shape != PartShape::Point).then_some(2.0 * alpha * scale));
-        }
-    }
-    Ok((forces, curls))
-}
-
-/// Solve `input` with `parts` and `curls` in place of its own, each center
-/// bounded by `k_bounds`.
-fn solve_for(
-    input: &SolveInput,
-    parts: &[ForceConstraint],
-    curls: &[CurlConstraint],
-    k_bounds: &[f64],
-) -> Result<SolveOutput, InputError> {
+    let (parts, curls) = (input.force_constraints()?, input.curl_constraints()?);
     let problem = Problem {
         mu_m_g: input.mu_m_g,
         k_max: input.k_max(),
         centers: &input.centers,
-        parts,
-        curls,
-        k_bounds,
+        parts: &parts,
+        curls: &curls,
+        k_bounds: &k_bounds,
     };
     let mut solver = Solver::new(SolverCapacity::DEFAULT, SolverParams::default());
     let mut solution = solver.new_solution();
@@ -357,11 +242,48 @@ fn solve_for(
     let result = solver.solve(&problem, &mut solution);
     let solve_time_us = started.elapsed().as_secs_f64() * 1e6;
     result.map_err(InputError::Solve)?;
+    let mut dynamics = None;
+    if input.part_dynamics {
+        // The drives as the rig is specified (not as any hidden truth has them).
+        let follow = match setup.sim.actuator {
+            drivers::ActuatorModel::Ideal => PlateFollow::Exact,
+            drivers::ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
+                PlateFollow::Servo { bandwidth_hz, damping }
+            }
+        };
+        let params = PartDynamicsParams {
+            steps: MAX_DYNAMICS_STEPS,
+            about: LinearizeAbout::Rest,
+            mu_g: setup.sim.mu_kinetic * setup.sim.gravity,
+            substeps: MAX_DYNAMICS_SUBSTEPS,
+            follow,
+            patch_forces: true,
+        };
+        let probe = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
+        let mut d = PartDynamics::new(params, probe, input.centers.len(), solver.new_solution())
+            .map_err(|e| InputError::Rig(e.to_string()))?;
+        // From rest: the motions are not read; a part's own curl is its
+        // part's, the top-level ones are points.
+        let motions = vec![PartMotion::default(); parts.len()];
+        let curl_parts = vec![0; curls.len()];
+        let c = d.correct(&mut solver, &problem, &motions, &curl_parts, &mut solution);
+        dynamics = Some((d, c));
+    }
     let mut out = to_output(&solution, solve_time_us);
     out.k_lowered = (0..k_bounds.len()).filter(|&j| k_bounds[j] < input.k_max()).collect();
-    out.k_bounds = k_bounds.to_vec();
+    out.k_bounds = k_bounds;
+    if let Some((d, c)) = dynamics {
+        out.predicted_forces = d.predicted_forces().to_vec();
+        // Only the parts' own curls: the top-level ones are at points.
+        out.predicted_curls = d.predicted_curls()[input.curls.len()..].to_vec();
+        (out.dynamics_steps, out.dynamics_lack) = (c.kept as usize, c.lack);
+    }
     Ok(out)
 }
+
+/// Issue 25's measure of a force's error (the benches and the correction
+/// all judge a force by it).
+pub use rt_core::runtime::relative_force_error;
 
 pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
     SolveOutput {

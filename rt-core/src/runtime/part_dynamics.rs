@@ -55,13 +55,27 @@ pub struct PartDynamicsParams {
     pub mu_g: f64,
     /// Integration steps per motor tick (`motion::DriftParams::substeps`).
     pub substeps: u32,
+    /// How the plate follows its command (`upm solve` takes the rig's
+    /// drives; the core its command, exactly).
+    pub follow: PlateFollow,
+    /// true: a part asked only a force is integrated over its whole patch
+    /// (`upm solve`; a disc costs 96 points); false: as a point at its
+    /// centroid.
+    pub patch_forces: bool,
 }
 
 impl Default for PartDynamicsParams {
     /// Off; the simulator's default friction; 4 substeps (the cycle's mean
     /// force within about 2 % of a finely stepped one).
     fn default() -> Self {
-        Self { steps: 0, about: LinearizeAbout::Reported, mu_g: 0.25 * 9.81, substeps: 4 }
+        Self {
+            steps: 0,
+            about: LinearizeAbout::Reported,
+            mu_g: 0.25 * 9.81,
+            substeps: 4,
+            follow: PlateFollow::Exact,
+            patch_forces: false,
+        }
     }
 }
 
@@ -165,6 +179,10 @@ pub struct PartDynamics {
     asked_curls: [CurlConstraint; MAX_CURLS],
     predicted_forces: [[f64; 2]; MAX_PARTS],
     predicted_curls: [Option<f64>; MAX_CURLS],
+    /// What the model predicts for the kept answer.
+    kept_forces: [[f64; 2]; MAX_PARTS],
+    kept_curls: [Option<f64>; MAX_CURLS],
+    kept_len: (usize, usize),
     /// The first answer's play order and slot counts, held through the
     /// steps.
     first_order: Vec<u16>,
@@ -186,7 +204,7 @@ impl PartDynamics {
         let pieces = params.trace_pieces(probe.params(), slots)?;
         Ok(Self {
             params,
-            drift: DriftParams { follow: PlateFollow::Exact, substeps: u64::from(params.substeps) },
+            drift: DriftParams { follow: params.follow, substeps: u64::from(params.substeps) },
             trace: PlateTrace::with_capacity(pieces),
             probe,
             entries: [ScheduleEntry::default(); MAX_SLOTS],
@@ -196,6 +214,9 @@ impl PartDynamics {
                 MAX_CURLS],
             predicted_forces: [[0.0; 2]; MAX_PARTS],
             predicted_curls: [None; MAX_CURLS],
+            kept_forces: [[0.0; 2]; MAX_PARTS],
+            kept_curls: [None; MAX_CURLS],
+            kept_len: (0, 0),
             first_order: Vec::with_capacity(spare.order.capacity()),
             first_counts: Vec::with_capacity(spare.counts.capacity()),
             best: spare,
@@ -204,6 +225,18 @@ impl PartDynamics {
 
     pub fn enabled(&self) -> bool {
         self.params.steps > 0
+    }
+
+    /// After [`Self::correct`]: per part, the cycle's mean force the model
+    /// predicts for the kept answer (empty if off).
+    pub fn predicted_forces(&self) -> &[[f64; 2]] {
+        &self.kept_forces[..self.kept_len.0]
+    }
+
+    /// Per curl, the curl its patch's predicted spin-up shows (None for a
+    /// point: it has no spin to predict).
+    pub fn predicted_curls(&self) -> &[Option<f64>] {
+        &self.kept_curls[..self.kept_len.1]
     }
 
     /// Correct `solution`, the solver's answer to `problem`, in place.
@@ -220,6 +253,7 @@ impl PartDynamics {
     ) -> Correction {
         let (np, nc) = (problem.parts.len().min(MAX_PARTS), problem.curls.len().min(MAX_CURLS));
         let mut out = Correction::default();
+        self.kept_len = (0, 0);
         if !self.enabled() || motions.len() < np || curl_parts.len() < nc {
             return out;
         }
@@ -239,6 +273,9 @@ impl PartDynamics {
             if step == 0 || lack < best_lack {
                 core::mem::swap(solution, &mut self.best);
                 (best_lack, out.kept) = (lack, step);
+                self.kept_forces[..np].copy_from_slice(&self.predicted_forces[..np]);
+                self.kept_curls[..nc].copy_from_slice(&self.predicted_curls[..nc]);
+                self.kept_len = (np, nc);
             }
             if lack <= TOLERANCE || step == self.params.steps {
                 break;
@@ -291,17 +328,18 @@ impl PartDynamics {
         let (mu_g, mass) = (self.params.mu_g, problem.mu_m_g / self.params.mu_g);
         let mut lack = 0.0f64;
         for (i, part) in problem.parts.iter().enumerate().take(MAX_PARTS) {
-            let Some(want) = part.force else { continue };
-            // A force alone: the part as a point at its centroid (a patch
-            // costs its point count in time).
-            let patch = PartShape::Point.patch_points();
-            let centroid = part.shape.patch_points().centroid;
-            let at = [part.position[0] + centroid[0], part.position[1] + centroid[1]];
+            let shaped = part.shape.patch_points();
+            let at = [part.position[0] + shaped.centroid[0], part.position[1] + shaped.centroid[1]];
+            // Unless asked otherwise, the part as a point at its centroid
+            // (a patch costs its point count in time).
+            let patch = if self.params.patch_forces { shaped } else { PartShape::Point.patch_points() };
             let m = self.start(motions[i]);
             let (a, _) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
             let got = [a[0] * mass, a[1] * mass];
             self.predicted_forces[i] = got;
-            lack = lack.max(nan_is_infinite(relative_force_error(want, got, problem.mu_m_g)));
+            if let Some(want) = part.force {
+                lack = lack.max(nan_is_infinite(relative_force_error(want, got, problem.mu_m_g)));
+            }
         }
         for (c, curl) in problem.curls.iter().enumerate().take(MAX_CURLS) {
             let patch = curl.shape.patch_points();

@@ -97,7 +97,13 @@ impl PartDynamicsSection {
             AboutSection::Reported => LinearizeAbout::Reported,
             AboutSection::Rest => LinearizeAbout::Rest,
         };
-        PartDynamicsParams { steps: self.steps, about, mu_g: self.mu_g, substeps: self.substeps }
+        PartDynamicsParams {
+            steps: self.steps,
+            about,
+            mu_g: self.mu_g,
+            substeps: self.substeps,
+            ..PartDynamicsParams::default()
+        }
     }
 }
 
