@@ -22,7 +22,9 @@
 //! torque is exact; 3 points per vertex).
 //!
 //! **Limits:** the part is taken at rest; a sliding part's own velocity
-//! (which makes the drag anisotropic) is not in the model. A disc is
+//! (which makes the drag anisotropic) is not in these rows — the solve
+//! stage's part-dynamics correction (`runtime::PartDynamics`) adds it
+//! around the solve, linearized about the reported state. A disc is
 //! pressed uniformly; a polygon at its fan's edge midpoints.
 
 use std::sync::OnceLock;
