@@ -262,10 +262,11 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
         let probe = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
         let mut d = PartDynamics::new(params, probe, input.centers.len(), solver.new_solution())
             .map_err(|e| InputError::Rig(e.to_string()))?;
-        // From rest: the motions are not read; a part's own curl is its
-        // part's, the top-level ones are points.
+        // From rest: the motions are not read. A part's own curl is its
+        // part's; the top-level ones are at points (no part).
         let motions = vec![PartMotion::default(); parts.len()];
-        let curl_parts = vec![0; curls.len()];
+        let own = input.parts.iter().enumerate().filter(|(_, p)| p.curl.is_some()).map(|(i, _)| i);
+        let curl_parts: Vec<usize> = std::iter::repeat_n(usize::MAX, input.curls.len()).chain(own).collect();
         let c = d.correct(&mut solver, &problem, &motions, &curl_parts, &mut solution);
         dynamics = Some((d, c));
     }
@@ -275,7 +276,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     if let Some((d, c)) = dynamics {
         out.predicted_forces = d.predicted_forces().to_vec();
         // Only the parts' own curls: the top-level ones are at points.
-        out.predicted_curls = d.predicted_curls()[input.curls.len()..].to_vec();
+        out.predicted_curls = d.predicted_curls().get(input.curls.len()..).unwrap_or_default().to_vec();
         (out.dynamics_steps, out.dynamics_lack) = (c.kept as usize, c.lack);
     }
     Ok(out)

@@ -9,16 +9,25 @@
 //! reported state at each step.
 //!
 //! Cost per step: one motion sample per piece of the cycle (cycle ticks ×
-//! `substeps`), then per part one pass over those pieces (a part asked
-//! only a force as a point at its centroid; a part asked a curl over its
-//! whole contact patch), and one solve. No allocation: the plate trace,
-//! the second solution and every buffer are sized at construction.
+//! `substeps`), then per part one pass over those pieces, once per contact
+//! point (a part asked only a force as a point at its centroid; a part
+//! asked a curl over its whole contact patch, 12–96 points, force and
+//! spin from the same pass), and one solve. A request whose correction
+//! would cost more than [`MAX_CORRECTION_WORK`] point evaluations is
+//! answered uncorrected. No allocation: the plate trace, the second
+//! solution and every buffer are sized at construction.
 //!
 //! Guarantee: the answer kept is the step whose predicted lack (largest
 //! relative gap between asked and predicted) is least, step 0 (the
 //! uncorrected answer) included, so by the model's own measure the
 //! correction never makes an answer worse. Limits: kinetic friction only,
-//! the plate taken to follow its command exactly, one cycle ahead.
+//! the plate taken to follow its command exactly, one cycle ahead; a
+//! shaped part asked only a force is predicted as a point at its centroid,
+//! so within a few radii of a played center the gap between its patch
+//! row and the point (O((R/d)²)) is taken for lack; on sparse cycles a
+//! re-solve may move slots, and is then played in its own order; the
+//! schedule's residual, rank and condition are those of the kept step's
+//! solve (of the corrected request).
 
 use core::fmt;
 
@@ -84,6 +93,11 @@ pub const MAX_DYNAMICS_STEPS: u32 = 8;
 pub const MAX_DYNAMICS_SUBSTEPS: u32 = 32;
 /// Most pieces of a plate trace (cycle ticks × substeps): 12 MB.
 pub const MAX_TRACE_PIECES: u64 = 1 << 18;
+/// Most contact-point evaluations one request's correction may cost
+/// (pieces × points integrated × predictions): about 0.1 s at the 24 ns
+/// each measured on `sort`. A request beyond it is answered uncorrected
+/// (`Correction::skipped`).
+pub const MAX_CORRECTION_WORK: u64 = 4_000_000;
 
 /// Why [`PartDynamicsParams`] are refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,8 +121,8 @@ impl fmt::Display for PartDynamicsError {
             }
             Self::TraceTooLong { pieces } => write!(
                 f,
-                "motion.part_dynamics.substeps: the longest cycle is {pieces} pieces (slots × slot_ticks × \
-                 substeps), at most {MAX_TRACE_PIECES}"
+                "motion.part_dynamics.substeps: the longest cycle (motion.cycle_slots, or one slot per \
+                 center) × motion.slot_ticks × substeps is {pieces} pieces, at most {MAX_TRACE_PIECES}"
             ),
         }
     }
@@ -162,6 +176,9 @@ pub struct Correction {
     /// Predicted lack of the uncorrected answer and of the one kept.
     pub lack_before: f64,
     pub lack: f64,
+    /// The request would cost more than [`MAX_CORRECTION_WORK`]: answered
+    /// uncorrected.
+    pub skipped: bool,
 }
 
 /// A corrected answer within this relative lack ends the steps early.
@@ -183,6 +200,8 @@ pub struct PartDynamics {
     kept_forces: [[f64; 2]; MAX_PARTS],
     kept_curls: [Option<f64>; MAX_CURLS],
     kept_len: (usize, usize),
+    /// Parts whose force came from their curl's patch pass.
+    patched: [bool; MAX_PARTS],
     /// The first answer's play order and slot counts, held through the
     /// steps.
     first_order: Vec<u16>,
@@ -217,6 +236,7 @@ impl PartDynamics {
             kept_forces: [[0.0; 2]; MAX_PARTS],
             kept_curls: [None; MAX_CURLS],
             kept_len: (0, 0),
+            patched: [false; MAX_PARTS],
             first_order: Vec::with_capacity(spare.order.capacity()),
             first_counts: Vec::with_capacity(spare.counts.capacity()),
             best: spare,
@@ -257,6 +277,10 @@ impl PartDynamics {
         if !self.enabled() || motions.len() < np || curl_parts.len() < nc {
             return out;
         }
+        if self.work(problem, solution) > MAX_CORRECTION_WORK {
+            out.skipped = true;
+            return out;
+        }
         self.asked_forces[..np].copy_from_slice(&problem.parts[..np]);
         self.asked_curls[..nc].copy_from_slice(&problem.curls[..nc]);
         let mut best_lack = f64::INFINITY;
@@ -277,6 +301,13 @@ impl PartDynamics {
                 self.kept_curls[..nc].copy_from_slice(&self.predicted_curls[..nc]);
                 self.kept_len = (np, nc);
             }
+            if !lack.is_finite() {
+                // Not playable or not finite: nothing to ask from it.
+                if step == 0 {
+                    self.kept_len = (0, 0);
+                }
+                break;
+            }
             if lack <= TOLERANCE || step == self.params.steps {
                 break;
             }
@@ -293,17 +324,19 @@ impl PartDynamics {
             }
             let asked =
                 Problem { parts: &self.asked_forces[..np], curls: &self.asked_curls[..nc], ..*problem };
-            out.steps = step + 1;
             if solver.solve(&asked, solution).is_err() {
                 break;
             }
-            // The first answer's play order, held: with the order free the
-            // model being corrected changes from step to step and the
-            // steps wander.
-            solution.order.clear();
-            solution.order.extend_from_slice(&self.first_order);
-            solution.counts.clear();
-            solution.counts.extend_from_slice(&self.first_counts);
+            out.steps = step + 1;
+            // The first answer's play order, held where the answer plays
+            // the same slots (always on the paper's cycle): with the order
+            // free the model being corrected changes from step to step and
+            // the steps wander. A sparse answer that moved its slots plays
+            // as the solver ordered it.
+            if solution.counts == self.first_counts {
+                solution.order.clear();
+                solution.order.extend_from_slice(&self.first_order);
+            }
         }
         core::mem::swap(solution, &mut self.best);
         out.lack = best_lack;
@@ -327,20 +360,9 @@ impl PartDynamics {
         }
         let (mu_g, mass) = (self.params.mu_g, problem.mu_m_g / self.params.mu_g);
         let mut lack = 0.0f64;
-        for (i, part) in problem.parts.iter().enumerate().take(MAX_PARTS) {
-            let shaped = part.shape.patch_points();
-            let at = [part.position[0] + shaped.centroid[0], part.position[1] + shaped.centroid[1]];
-            // Unless asked otherwise, the part as a point at its centroid
-            // (a patch costs its point count in time).
-            let patch = if self.params.patch_forces { shaped } else { PartShape::Point.patch_points() };
-            let m = self.start(motions[i]);
-            let (a, _) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
-            let got = [a[0] * mass, a[1] * mass];
-            self.predicted_forces[i] = got;
-            if let Some(want) = part.force {
-                lack = lack.max(nan_is_infinite(relative_force_error(want, got, problem.mu_m_g)));
-            }
-        }
+        let np = problem.parts.len().min(MAX_PARTS);
+        self.patched[..np].fill(false);
+        // Parts asked a curl: over their patch, spin and force at once.
         for (c, curl) in problem.curls.iter().enumerate().take(MAX_CURLS) {
             let patch = curl.shape.patch_points();
             if patch.rho2 <= 0.0 {
@@ -348,21 +370,60 @@ impl PartDynamics {
                 self.predicted_curls[c] = None;
                 continue;
             }
-            let m = self.start(motions.get(curl_parts[c]).copied().unwrap_or_default());
+            let i = curl_parts.get(c).copied().unwrap_or(usize::MAX);
+            let m = self.start(motions.get(i).copied().unwrap_or_default());
             let at = [curl.position[0] + patch.centroid[0], curl.position[1] + patch.centroid[1]];
-            let (_, alpha) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
+            let (a, alpha) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
             // The curl whose torque gives this spin-up: 2τ/(mρ²) = 2α·m.
             let got = 2.0 * alpha * mass;
             self.predicted_curls[c] = Some(got);
             // A curl asked as zero is met within 1e-6 μmg per metre.
             let gap = (curl.curl - got).abs() / (curl.curl.abs() + 1e-6 * problem.mu_m_g);
             lack = lack.max(nan_is_infinite(gap));
+            let own =
+                problem.parts.get(i).is_some_and(|p| p.position == curl.position && p.shape == curl.shape);
+            if own && i < np {
+                self.predicted_forces[i] = [a[0] * mass, a[1] * mass];
+                self.patched[i] = true;
+            }
+        }
+        for (i, part) in problem.parts.iter().enumerate().take(np) {
+            if !self.patched[i] {
+                let shaped = part.shape.patch_points();
+                let at = [part.position[0] + shaped.centroid[0], part.position[1] + shaped.centroid[1]];
+                // Unless asked otherwise, a part asked only a force as a
+                // point at its centroid (a patch costs its point count).
+                let patch = if self.params.patch_forces { shaped } else { PartShape::Point.patch_points() };
+                let m = self.start(motions[i]);
+                let (a, _) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
+                self.predicted_forces[i] = [a[0] * mass, a[1] * mass];
+            }
+            if let Some(want) = part.force {
+                let got = self.predicted_forces[i];
+                lack = lack.max(nan_is_infinite(relative_force_error(want, got, problem.mu_m_g)));
+            }
         }
         lack
     }
 }
 
 impl PartDynamics {
+    /// Contact-point evaluations this request's correction would cost at
+    /// most (every prediction on a cycle as long as `solution`'s).
+    fn work(&self, problem: &Problem<'_>, solution: &Solution) -> u64 {
+        let points = |shape: &PartShape| match shape {
+            PartShape::Point => 1,
+            _ => shape.patch_points().count as u64,
+        };
+        let forces: u64 =
+            problem.parts.iter().map(|p| if self.params.patch_forces { points(&p.shape) } else { 1 }).sum();
+        let curls: u64 = problem.curls.iter().map(|c| points(&c.shape)).sum();
+        let pieces = (solution.slots() as u64)
+            .saturating_mul(u64::from(self.probe.params().slot_ticks))
+            .saturating_mul(u64::from(self.params.substeps));
+        pieces.saturating_mul(forces + curls).saturating_mul(u64::from(self.params.steps) + 1)
+    }
+
     fn start(&self, reported: PartMotion) -> PartMotion {
         match self.params.about {
             LinearizeAbout::Reported => reported,
