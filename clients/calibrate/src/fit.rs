@@ -19,7 +19,11 @@
 //!    it the same way), scales to the seen one by
 //!    s = (A·a_model)/|a_model|². Then s = σ_class·(1 + Σ c_k·term_k(P)) is
 //!    fitted by Gauss–Newton, with a weak pull of c towards 0 (a map is only
-//!    known where parts went), outliers beyond 3 MADs dropped.
+//!    known where parts went), outliers beyond 3 MADs dropped. Then the map
+//!    is chosen on held-out observations: none, linear or full, whichever
+//!    predicts the left-out fold best (a richer one by 5 % at least), and
+//!    refitted: where the parts do not determine a quadratic map, a fitted
+//!    one bends where no part went.
 //!
 //! The difference of the two bursts of a pair (+k then −k about one center)
 //! cancels what the model does not hold (a bias common to both) to first
@@ -298,10 +302,10 @@ impl FrictionFit {
     }
 }
 
-/// Gauss–Newton on (σ per class, c); `pull` weighs c towards 0.
+/// Gauss–Newton on (σ per class, c); `pull[k]` weighs c_k towards 0.
 fn fit_friction(
     data: &[(u32, [f64; FRICTION_TERMS], f64)],
-    pull: f64,
+    pull: [f64; FRICTION_TERMS],
 ) -> Option<(FrictionFit, DMatrix<f64>)> {
     let mut classes: Vec<u32> = data.iter().map(|d| d.0).collect();
     classes.sort_unstable();
@@ -339,8 +343,8 @@ fn fit_friction(
         }
         for k in 0..FRICTION_TERMS {
             let i = fit.classes.len() + k;
-            jtj[(i, i)] += pull;
-            jtr[i] -= pull * fit.c[k];
+            jtj[(i, i)] += pull[k];
+            jtr[i] -= pull[k] * fit.c[k];
         }
         let inv = jtj.clone().try_inverse()?;
         let step = &inv * &jtr;
@@ -354,6 +358,51 @@ fn fit_friction(
         cov = inv * (ss / dof);
     }
     Some((fit, cov))
+}
+
+/// The friction maps tried, simplest first: none, linear (u, v), full.
+const MAP_TERMS: [usize; 3] = [0, 2, FRICTION_TERMS];
+
+/// Per-term pull for a map of the first `terms` terms: a weak one (a map is
+/// only known where parts went) on those, a pin to 0 on the rest.
+fn pull_for(terms: usize, n: usize) -> [f64; FRICTION_TERMS] {
+    core::array::from_fn(|k| if k < terms { 1e-3 * n as f64 } else { 1e9 * n as f64 })
+}
+
+/// Which map the data support, chosen on held-out observations (4 folds):
+/// the trimmed mean relative error of s on the fold each was left out of. A
+/// richer map must do 5 % better than the simpler one to be chosen: a map
+/// fitted where the parts do not say enough bends where no part went.
+fn map_pull(data: &[(u32, [f64; FRICTION_TERMS], f64)]) -> [f64; FRICTION_TERMS] {
+    const FOLDS: usize = 4;
+    let score = |terms: usize| -> Option<f64> {
+        let mut err = Vec::with_capacity(data.len());
+        for fold in 0..FOLDS {
+            let train: Vec<_> =
+                data.iter().enumerate().filter(|(i, _)| i % FOLDS != fold).map(|(_, d)| *d).collect();
+            let (f, _) = fit_friction(&train, pull_for(terms, train.len()))?;
+            for (_, (c, t, s)) in data.iter().enumerate().filter(|(i, _)| i % FOLDS == fold) {
+                // A class absent from the training folds predicts nothing.
+                if f.classes.contains(c) {
+                    err.push(((s - f.predict(*c, t)) / f.predict(*c, t)).abs());
+                }
+            }
+        }
+        // Mean of the smallest 90 %: collisions and fence contacts are
+        // outliers, a wrong map is a bias everywhere.
+        err.sort_by(f64::total_cmp);
+        let kept = &err[..(err.len() * 9).div_ceil(10)];
+        Some(kept.iter().sum::<f64>() / kept.len() as f64).filter(|m| m.is_finite())
+    };
+    let mut best = (MAP_TERMS[0], f64::INFINITY);
+    for terms in MAP_TERMS {
+        if let Some(e) = score(terms)
+            && e < 0.95 * best.1
+        {
+            best = (terms, e);
+        }
+    }
+    pull_for(best.0, data.len())
 }
 
 /// Counts the fit reports.
@@ -414,16 +463,18 @@ pub fn fit(
             fraction: if moved.is_finite() { moved } else { 0.0 },
         });
     }
-    let pull = 1e-3 * data.len() as f64;
-    let (mut f, mut cov) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
+    let pull = pull_for(FRICTION_TERMS, data.len());
+    let (mut f, _) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
     for _ in 0..2 {
         let res: Vec<f64> = data.iter().map(|(c, t, s)| (s - f.predict(*c, t)) / f.predict(*c, t)).collect();
         let keep = inliers(&res, 0.02);
         let before = data.len();
         data = data.into_iter().zip(keep).filter(|(_, k)| *k).map(|(d, _)| d).collect();
         outliers += (before - data.len()) as u32;
-        (f, cov) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
+        (f, _) = fit_friction(&data, pull).ok_or(CalibrateError::Friction)?;
     }
+    // The map the inliers support, chosen on held-out ones.
+    let (f, cov) = fit_friction(&data, map_pull(&data)).ok_or(CalibrateError::Friction)?;
     let mut rel: Vec<f64> =
         data.iter().map(|(c, t, s)| ((s - f.predict(*c, t)) / f.predict(*c, t)).abs()).collect();
     // The fit's own uncertainty of s over the plate (first class), relative.
@@ -482,6 +533,31 @@ pub(crate) const TEST_CENTERS: [[f64; 2]; 7] =
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_map_is_chosen_on_held_out_observations() {
+        // Parts spread over the plate, two classes, 1 % noise: a plate with
+        // no map gets none, a worn one its quadratic terms.
+        let half = [1.0, 0.5];
+        let data = |map: [f64; FRICTION_TERMS]| -> Vec<(u32, [f64; FRICTION_TERMS], f64)> {
+            (0..300)
+                .map(|i| {
+                    let (x, y) = (((i * 37) % 97) as f64 / 48.5 - 1.0, ((i * 53) % 89) as f64 / 89.0 - 0.5);
+                    let t = friction_terms(half, 0.9 * x, 0.9 * y);
+                    let class = (i % 2) as u32;
+                    let noise = 0.01 * (((i * 7919) % 201) as f64 / 100.0 - 1.0);
+                    let s = [1.0, 0.8][class as usize]
+                        * (1.0 + t.iter().zip(&map).map(|(a, b)| a * b).sum::<f64>());
+                    (class, t, s * (1.0 + noise))
+                })
+                .collect()
+        };
+        let pinned = |p: [f64; FRICTION_TERMS]| p.map(|w| w > 1.0 * 300.0);
+        let flat = map_pull(&data([0.0; FRICTION_TERMS]));
+        assert!(pinned(flat)[2..].iter().all(|&p| p), "a flat plate got a quadratic map: {flat:?}");
+        let worn = map_pull(&data([0.0, 0.0, 0.0, 0.15, 0.15]));
+        assert!(pinned(worn).iter().all(|&p| !p), "a worn plate lost its map: {worn:?}");
+    }
 
     #[test]
     fn a_known_map_and_friction_come_back_from_clean_observations() {
