@@ -258,6 +258,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
             substeps: MAX_DYNAMICS_SUBSTEPS,
             follow,
             patch_forces: true,
+            max_work: u64::MAX,
         };
         let probe = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
         let mut d = PartDynamics::new(params, probe, input.centers.len(), solver.new_solution())

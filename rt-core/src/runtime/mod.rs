@@ -44,8 +44,8 @@ pub use latency::{LatencyHistograms, percentiles, write_hgrm};
 pub use motor::{MotorLoop, MotorPolicy, TickOutcome, TruthFill, TruthTap};
 pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use part_dynamics::{
-    Correction, LinearizeAbout, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, PartDynamics, PartDynamicsError,
-    PartDynamicsParams, PartMotion, relative_force_error,
+    Correction, LinearizeAbout, MAX_CORRECTION_WORK, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, PartDynamics,
+    PartDynamicsError, PartDynamicsParams, PartMotion, relative_force_error,
 };
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,

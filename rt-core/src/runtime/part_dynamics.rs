@@ -13,8 +13,8 @@
 //! point (a part asked only a force as a point at its centroid; a part
 //! asked a curl over its whole contact patch, 12–96 points, force and
 //! spin from the same pass), and one solve. A request whose correction
-//! would cost more than [`MAX_CORRECTION_WORK`] point evaluations is
-//! answered uncorrected. No allocation: the plate trace, the second
+//! would cost more than `max_work` point evaluations
+//! ([`MAX_CORRECTION_WORK`] by default) is answered uncorrected. No allocation: the plate trace, the second
 //! solution and every buffer are sized at construction.
 //!
 //! Guarantee: the answer kept is the step whose predicted lack (largest
@@ -71,6 +71,9 @@ pub struct PartDynamicsParams {
     /// (`upm solve`; a disc costs 96 points); false: as a point at its
     /// centroid.
     pub patch_forces: bool,
+    /// Most contact-point evaluations per request ([`MAX_CORRECTION_WORK`]
+    /// on the solver thread; `upm solve`, offline, has no bound).
+    pub max_work: u64,
 }
 
 impl Default for PartDynamicsParams {
@@ -84,6 +87,7 @@ impl Default for PartDynamicsParams {
             substeps: 4,
             follow: PlateFollow::Exact,
             patch_forces: false,
+            max_work: MAX_CORRECTION_WORK,
         }
     }
 }
@@ -93,10 +97,10 @@ pub const MAX_DYNAMICS_STEPS: u32 = 8;
 pub const MAX_DYNAMICS_SUBSTEPS: u32 = 32;
 /// Most pieces of a plate trace (cycle ticks × substeps): 12 MB.
 pub const MAX_TRACE_PIECES: u64 = 1 << 18;
-/// Most contact-point evaluations one request's correction may cost
-/// (pieces × points integrated × predictions): about 0.1 s at the 24 ns
-/// each measured on `sort`. A request beyond it is answered uncorrected
-/// (`Correction::skipped`).
+/// The default bound on the contact-point evaluations one request's
+/// correction may cost (pieces × points integrated × predictions): about
+/// 0.1 s at the 24 ns each measured on `sort`. A request beyond it is
+/// answered uncorrected (`Correction::skipped`).
 pub const MAX_CORRECTION_WORK: u64 = 4_000_000;
 
 /// Why [`PartDynamicsParams`] are refused.
@@ -176,8 +180,7 @@ pub struct Correction {
     /// Predicted lack of the uncorrected answer and of the one kept.
     pub lack_before: f64,
     pub lack: f64,
-    /// The request would cost more than [`MAX_CORRECTION_WORK`]: answered
-    /// uncorrected.
+    /// The request would cost more than `max_work`: answered uncorrected.
     pub skipped: bool,
 }
 
@@ -277,7 +280,7 @@ impl PartDynamics {
         if !self.enabled() || motions.len() < np || curl_parts.len() < nc {
             return out;
         }
-        if self.work(problem, solution) > MAX_CORRECTION_WORK {
+        if self.work(problem, solution) > self.params.max_work {
             out.skipped = true;
             return out;
         }
