@@ -153,13 +153,19 @@ impl PartDynamicsParams {
         if self.steps == 0 {
             return Ok(0);
         }
-        let pieces = (slots.min(MAX_SLOTS) as u64)
-            .saturating_mul(u64::from(motion.slot_ticks))
-            .saturating_mul(u64::from(self.substeps));
+        let pieces = self.cycle_pieces(slots, motion.slot_ticks);
         if pieces > MAX_TRACE_PIECES {
             return Err(PartDynamicsError::TraceTooLong { pieces });
         }
         Ok(pieces as usize)
+    }
+
+    /// Pieces of a cycle of `slots` slots of `slot_ticks` ticks, cut into
+    /// `substeps` each.
+    fn cycle_pieces(&self, slots: usize, slot_ticks: u32) -> u64 {
+        (slots.min(MAX_SLOTS) as u64)
+            .saturating_mul(u64::from(slot_ticks))
+            .saturating_mul(u64::from(self.substeps))
     }
 }
 
@@ -421,9 +427,7 @@ impl PartDynamics {
         let forces: u64 =
             problem.parts.iter().map(|p| if self.params.patch_forces { points(&p.shape) } else { 1 }).sum();
         let curls: u64 = problem.curls.iter().map(|c| points(&c.shape)).sum();
-        let pieces = (solution.slots() as u64)
-            .saturating_mul(u64::from(self.probe.params().slot_ticks))
-            .saturating_mul(u64::from(self.params.substeps));
+        let pieces = self.params.cycle_pieces(solution.slots(), self.probe.params().slot_ticks);
         pieces.saturating_mul(forces + curls).saturating_mul(u64::from(self.params.steps) + 1)
     }
 
