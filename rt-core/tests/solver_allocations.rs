@@ -158,7 +158,11 @@ fn part_dynamics_corrections_allocate_nothing() {
                 };
             }
             let motions: Vec<PartMotion> = (0..parts)
-                .map(|i| PartMotion { velocity: [0.01 * (i as f64).sin(), -0.02], spin: 0.3 * i as f64 })
+                .map(|i| PartMotion {
+                    velocity: [0.01 * (i as f64).sin(), -0.02],
+                    spin: 0.3 * i as f64,
+                    friction: 0.8 + 0.1 * i as f64,
+                })
                 .collect();
             let curl_parts: Vec<usize> = (0..curls).map(|c| c % parts).collect();
             (case, motions, curl_parts)

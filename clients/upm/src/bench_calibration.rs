@@ -82,6 +82,7 @@ fn force_errors(
             force: Some([f * a.cos(), f * a.sin()]),
             shape: ShapeInput::Point,
             curl: None,
+            friction: None,
         });
         classes.push(rng.random_range(0..2u32));
     }
@@ -93,11 +94,13 @@ fn force_errors(
         k_max: Some(k_max),
         part_dynamics: PART_DYNAMICS,
     };
-    // The calibrated model asks each part for f / s where friction is μ·s.
+    // The calibrated model asks each part for f / s where friction is μ·s,
+    // and its part dynamics slides it with that friction.
     let mut calibrated = nominal.clone();
     for (p, &class) in calibrated.parts.iter_mut().zip(&classes) {
         let s = calibration.friction_scale(class, p.position[0], p.position[1]);
         p.force = p.force.map(|f| [f[0] / s, f[1] / s]);
+        p.friction = Some(s);
     }
     // Each part's material; the simulator adds the map where it stands.
     let friction: Vec<f64> = classes.iter().map(|&c| truth.class_friction(c)).collect();

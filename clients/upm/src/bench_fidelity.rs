@@ -51,7 +51,13 @@ fn random_case(rng: &mut ChaCha8Rng) -> SolveInput {
         let curl = (shape != ShapeInput::Point && rng.random_range(0.0..1.0) < 0.4).then(|| {
             rng.random_range(0.002..0.01) * if rng.random_range(0.0..1.0) < 0.5 { -1.0 } else { 1.0 }
         });
-        parts.push(PartInput { position, force: Some([f * a.cos(), f * a.sin()]), shape, curl });
+        parts.push(PartInput {
+            position,
+            force: Some([f * a.cos(), f * a.sin()]),
+            shape,
+            curl,
+            friction: None,
+        });
     }
     SolveInput { mu_m_g: 0.1, centers, parts, curls: Vec::new(), k_max: Some(0.75), part_dynamics: true }
 }

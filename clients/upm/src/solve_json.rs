@@ -30,6 +30,11 @@ pub struct PartInput {
     /// The curl whose torque on this part's patch it should feel.
     #[serde(default)]
     pub curl: Option<f64>,
+    /// The part's μ over the model's (a plate calibration's scale where it
+    /// stands; 1 if absent). Its `force` stays in the model's units; with
+    /// `part_dynamics`, how far it slides within the cycle goes with it.
+    #[serde(default)]
+    pub friction: Option<f64>,
 }
 
 /// `"point"`, `{"disc": {"radius": R}}` or `{"polygon": {"vertices":
@@ -176,6 +181,25 @@ impl SolveInput {
             .collect()
     }
 
+    /// Each part at rest with its friction; the error names
+    /// `parts[i].friction`.
+    pub fn part_motions(&self) -> Result<Vec<PartMotion>, InputError> {
+        self.parts
+            .iter()
+            .enumerate()
+            .map(|(i, p)| match p.friction {
+                None => Ok(PartMotion::default()),
+                Some(f) if f.is_finite() && f > 0.0 => {
+                    Ok(PartMotion { friction: f, ..PartMotion::default() })
+                }
+                Some(f) => Err(InputError::Json {
+                    path: format!("parts[{i}].friction"),
+                    message: format!("{f} is not a finite positive scale"),
+                }),
+            })
+            .collect()
+    }
+
     /// The top-level curls (at points), then each part's own curl on its
     /// patch, in part order.
     pub fn curl_constraints(&self) -> Result<Vec<CurlConstraint>, InputError> {
@@ -228,6 +252,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let setup = ValidateSetup::default();
     let k_bounds = playable_bounds(input, &setup)?;
     let (parts, curls) = (input.force_constraints()?, input.curl_constraints()?);
+    let motions = input.part_motions()?;
     let problem = Problem {
         mu_m_g: input.mu_m_g,
         k_max: input.k_max(),
@@ -263,9 +288,8 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
         let probe = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
         let mut d = PartDynamics::new(params, probe, input.centers.len(), solver.new_solution())
             .map_err(|e| InputError::Rig(e.to_string()))?;
-        // From rest: the motions are not read. A part's own curl is its
+        // From rest, with each part's friction. A part's own curl is its
         // part's; the top-level ones are at points (no part).
-        let motions = vec![PartMotion::default(); parts.len()];
         let own = input.parts.iter().enumerate().filter(|(_, p)| p.curl.is_some()).map(|(i, _)| i);
         let curl_parts: Vec<usize> = std::iter::repeat_n(usize::MAX, input.curls.len()).chain(own).collect();
         let c = d.correct(&mut solver, &problem, &motions, &curl_parts, &mut solution);

@@ -70,6 +70,15 @@ fn the_core_loads_the_file_and_refuses_one_from_another_rig_and_the_planner_divi
     config.calibration.file = Some(file.clone());
     let params = config.core_params("rig.toml").expect("core params");
     assert_eq!(params.twist_correction, Some(cal.twist_correction));
+    // The core's part-dynamics correction reads the same friction the
+    // planner divides by, everywhere (on and off the plate, any class).
+    assert!(!params.part_friction.is_uniform());
+    for class in 0..4u32 {
+        for (x, y) in [(-0.9, 0.45), (0.0, 0.0), (0.37, -0.21), (3.0, -2.0), (-40.0, 9.0)] {
+            let (core, planner) = (params.part_friction.scale(class, x, y), cal.friction_scale(class, x, y));
+            assert!((core - planner).abs() < 1e-12, "class {class} at ({x}, {y}): {core} against {planner}");
+        }
+    }
     // The planner (which checks the file itself, not the rig: it does not
     // know the centers) asks for f / s where friction is μ·s.
     let loaded = PlateCalibration::load(&file).expect("load");

@@ -151,6 +151,7 @@ fn bad_shapes_and_part_curls_are_one_line_naming_the_field() {
         |extra: &str| GOOD.replace("\"force\":[0.01,0.01]}", &format!("\"force\":[0.01,0.01],{extra}}}"));
     json(&upm(&["solve", "-"], Some(&with(r#""shape":{"disc":{"radius":0.02}},"curl":0.001"#))));
     json(&upm(&["solve", "-"], Some(&with(r#""shape":"point""#))));
+    json(&upm(&["solve", "-"], Some(&with(r#""friction":1.25"#))));
     json(&upm(&["solve", "-"], Some(&with(r#""shape":{"polygon":{"vertices":[[0,0],[0.02,0],[0,0.02]]}}"#))));
     for (bad, field) in [
         (r#""shape":{"disc":{"radius":0}}"#, "parts[0].shape"),
@@ -168,6 +169,10 @@ fn bad_shapes_and_part_curls_are_one_line_naming_the_field() {
         ),
         (r#""curl":"x""#, "parts[0].curl"),
         (r#""curl":null,"shape":{"disc":{"radius":1e999}}"#, "parts[0].shape"),
+        (r#""friction":0"#, "parts[0].friction"),
+        (r#""friction":-1.2"#, "parts[0].friction"),
+        (r#""friction":"x""#, "parts[0].friction"),
+        (r#""friction":1e999"#, "parts[0].friction"),
     ] {
         rejects(&with(bad), field);
     }

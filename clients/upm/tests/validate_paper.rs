@@ -95,6 +95,7 @@ fn random_case(s: &mut u64) -> SolveInput {
             force: Some([0.024 * lcg(s) - 0.012, 0.024 * lcg(s) - 0.012]),
             shape: ShapeInput::Point,
             curl: None,
+            friction: None,
         })
         .collect();
     let curls = if m == 1 && lcg(s) < 0.5 {
@@ -221,6 +222,7 @@ fn every_solution_plays_on_the_rig() {
                 force: Some([gain * (2.0 * lcg(&mut s) - 1.0), gain * (2.0 * lcg(&mut s) - 1.0)]),
                 shape: ShapeInput::Point,
                 curl: None,
+                friction: None,
             })
             .collect();
         let input = SolveInput {

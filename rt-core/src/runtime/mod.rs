@@ -21,6 +21,7 @@ pub mod lockstep;
 mod motor;
 mod params;
 mod part_dynamics;
+mod part_friction;
 mod process;
 mod rejection_log;
 pub mod rt_setup;
@@ -46,6 +47,10 @@ pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use part_dynamics::{
     Correction, LinearizeAbout, MAX_CORRECTION_WORK, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, PartDynamics,
     PartDynamicsError, PartDynamicsParams, PartMotion, relative_force_error,
+};
+pub use part_friction::{
+    FRICTION_MAP_TERMS, MAX_FRICTION_CLASSES, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PartFriction,
+    PartFrictionError,
 };
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,

@@ -4,6 +4,7 @@
 use core::fmt;
 
 use super::part_dynamics::{PartDynamicsError, PartDynamicsParams};
+use super::part_friction::PartFriction;
 use crate::motion::{MotionParams, ParamsError, RigError, RigParams};
 
 /// Real-time placement of the threads.
@@ -83,6 +84,9 @@ pub struct CoreParams {
     /// The solve stage's correction for each part's own velocity and spin
     /// (`part_dynamics.rs`); `steps = 0` turns it off.
     pub part_dynamics: PartDynamicsParams,
+    /// Each part's friction as a plate calibration found it; read only by
+    /// the part-dynamics correction (the planner divides requests by it).
+    pub part_friction: PartFriction,
     /// μ·m·g of the parts (N): the scale of every requested force.
     pub mu_m_g: f64,
     /// PartStates older than this (by their stamp) put the core in hold.
@@ -115,6 +119,7 @@ impl Default for CoreParams {
             cycle_slots: 0,
             part_shapes: true,
             part_dynamics: PartDynamicsParams::default(),
+            part_friction: PartFriction::UNIFORM,
             mu_m_g: 0.1,
             parts_max_age_ns: 200_000_000,
             request_max_age_ns: 200_000_000,

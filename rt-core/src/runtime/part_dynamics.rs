@@ -169,11 +169,31 @@ impl PartDynamicsParams {
     }
 }
 
-/// How a part moves now, as vision reports it.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+/// How a part moves now, as vision reports it, and its friction.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartMotion {
     pub velocity: [f64; 2],
     pub spin: f64,
+    /// The part's μ over the model's where it stands (a plate
+    /// calibration's class scale times its map; 1 without one). Its
+    /// request is in the model's units (the planner divided by it), but
+    /// how far it slides within the cycle goes with its real friction.
+    /// Anything but a finite positive value counts as 1.
+    pub friction: f64,
+}
+
+impl Default for PartMotion {
+    /// At rest, with the model's friction.
+    fn default() -> Self {
+        Self { velocity: [0.0; 2], spin: 0.0, friction: 1.0 }
+    }
+}
+
+impl PartMotion {
+    /// `friction` if finite and positive, else 1.
+    fn friction_scale(&self) -> f64 {
+        if self.friction.is_finite() && self.friction > 0.0 { self.friction } else { 1.0 }
+    }
 }
 
 /// What one correction did.
@@ -381,8 +401,11 @@ impl PartDynamics {
             }
             let i = curl_parts.get(c).copied().unwrap_or(usize::MAX);
             let m = self.start(motions.get(i).copied().unwrap_or_default());
+            let s = m.friction_scale();
             let at = [curl.position[0] + patch.centroid[0], curl.position[1] + patch.centroid[1]];
-            let (a, alpha) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
+            let (a, alpha) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, s * mu_g);
+            // In the model's units: the real push over the part's friction.
+            let mass = mass / s;
             // The curl whose torque gives this spin-up: 2τ/(mρ²) = 2α·m.
             let got = 2.0 * alpha * mass;
             self.predicted_curls[c] = Some(got);
@@ -404,8 +427,9 @@ impl PartDynamics {
                 // point at its centroid (a patch costs its point count).
                 let patch = if self.params.patch_forces { shaped } else { PartShape::Point.patch_points() };
                 let m = self.start(motions[i]);
-                let (a, _) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, mu_g);
-                self.predicted_forces[i] = [a[0] * mass, a[1] * mass];
+                let s = m.friction_scale();
+                let (a, _) = self.trace.mean_twist(at, &patch, m.velocity, m.spin, s * mu_g);
+                self.predicted_forces[i] = [a[0] * mass / s, a[1] * mass / s];
             }
             if let Some(want) = part.force {
                 let got = self.predicted_forces[i];
@@ -434,7 +458,7 @@ impl PartDynamics {
     fn start(&self, reported: PartMotion) -> PartMotion {
         match self.params.about {
             LinearizeAbout::Reported => reported,
-            LinearizeAbout::Rest => PartMotion::default(),
+            LinearizeAbout::Rest => PartMotion { friction: reported.friction, ..PartMotion::default() },
         }
     }
 }
@@ -486,7 +510,7 @@ mod tests {
     const MU_M_G: f64 = 0.1;
 
     /// Each part's force error (issue 25's measure) under `solution`,
-    /// played finely (32 substeps) from `start`.
+    /// played finely (32 substeps) from `start`, with its friction.
     fn played_errors(
         problem: &Problem<'_>,
         solution: &Solution,
@@ -510,15 +534,26 @@ mod tests {
                     &point,
                     m.velocity,
                     m.spin,
-                    mu_g,
+                    m.friction * mu_g,
                 );
-                let mass = MU_M_G / mu_g;
+                // In the model's units, as the request is.
+                let mass = MU_M_G / mu_g / m.friction;
                 relative_force_error(p.force.expect("asked"), [a[0] * mass, a[1] * mass], MU_M_G)
             })
             .collect()
     }
 
     fn corrected(about: LinearizeAbout, start: &[PartMotion]) -> (Vec<f64>, Vec<f64>, Correction) {
+        let (before, after, c, _) = corrected_then_played(about, start, start);
+        (before, after, c)
+    }
+
+    /// Corrected believing `start`, played on `start` and on `real`.
+    fn corrected_then_played(
+        about: LinearizeAbout,
+        start: &[PartMotion],
+        real: &[PartMotion],
+    ) -> (Vec<f64>, Vec<f64>, Correction, Vec<f64>) {
         let parts = [
             ForceConstraint { position: [0.5, 0.0], force: Some([0.003, 0.003]), shape: PartShape::Point },
             ForceConstraint { position: [-0.6, 0.2], force: Some([-0.003, 0.0012]), shape: PartShape::Point },
@@ -541,7 +576,8 @@ mod tests {
             PartDynamics::new(params, probe, CENTERS.len(), solver.new_solution()).expect("params");
         let before = played_errors(&problem, &solution, start, params.mu_g);
         let c = dynamics.correct(&mut solver, &problem, start, &[], &mut solution);
-        (before, played_errors(&problem, &solution, start, params.mu_g), c)
+        let on_real = played_errors(&problem, &solution, real, params.mu_g);
+        (before, played_errors(&problem, &solution, start, params.mu_g), c, on_real)
     }
 
     #[test]
@@ -556,12 +592,34 @@ mod tests {
         assert!(worst(&after) < 0.3 * worst(&before), "{before:?} → {after:?} ({c:?})");
         assert!(c.kept > 0 && c.lack < c.lack_before, "{c:?}");
         // Sliding as vision reports: the answer is for the part as it moves.
-        let sliding = [PartMotion { velocity: [0.004, -0.003], spin: 0.0 }; 2];
+        let sliding = [PartMotion { velocity: [0.004, -0.003], ..PartMotion::default() }; 2];
         let (before, after, c) = corrected(LinearizeAbout::Reported, &sliding);
         assert!(worst(&after) < worst(&before), "{before:?} → {after:?} ({c:?})");
         // From rest it would not have been: the reported state matters.
         let (_, at_rest, _) = corrected(LinearizeAbout::Rest, &sliding);
         assert!(worst(&after) < worst(&at_rest), "{after:?} vs {at_rest:?}");
+    }
+
+    #[test]
+    fn a_part_that_grips_harder_is_corrected_for_its_own_friction() {
+        // Requests in the model's units (the planner divided by the
+        // friction), played on parts that grip 1.3 and 0.75 × the model.
+        let real = [
+            PartMotion { friction: 1.3, ..PartMotion::default() },
+            PartMotion { friction: 0.75, ..PartMotion::default() },
+        ];
+        let (_, told, _) = corrected(LinearizeAbout::Rest, &real);
+        // The same correction believing both parts have the model's μ,
+        // judged on the real parts.
+        let worst = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        let (_, _, _, unaware) =
+            corrected_then_played(LinearizeAbout::Rest, &[PartMotion::default(); 2], &real);
+        assert!(worst(&told) < 0.6 * worst(&unaware), "{told:?} against {unaware:?}");
+        // A friction that is not a finite positive scale counts as 1.
+        let bad = [PartMotion { friction: f64::NAN, ..PartMotion::default() }; 2];
+        let (_, _, c_bad) = corrected(LinearizeAbout::Rest, &bad);
+        let (_, _, c_one) = corrected(LinearizeAbout::Rest, &[PartMotion::default(); 2]);
+        assert_eq!(c_bad, c_one);
     }
 
     #[test]

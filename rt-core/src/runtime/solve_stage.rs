@@ -19,6 +19,7 @@ use super::handoff::MotionWriter;
 use super::inbox::{Inbox, InboxBuffers, drain};
 use super::params::CoreParams;
 use super::part_dynamics::{PartDynamics, PartMotion, fill_entries};
+use super::part_friction::PartFriction;
 use super::samples::{SolverSample, StageOutputs};
 use super::shared::CoreShared;
 use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry, playable_k};
@@ -193,6 +194,7 @@ pub struct SolveStage {
     motions: [PartMotion; MAX_PARTS],
     curl_parts: [usize; MAX_CURLS],
     dynamics: PartDynamics,
+    friction: PartFriction,
     entries: [ScheduleEntry; MAX_SLOTS],
     schedule: Box<Schedule>,
     out: StageOutputs,
@@ -270,6 +272,7 @@ impl SolveStage {
             motions: [PartMotion::default(); MAX_PARTS],
             curl_parts: [0; MAX_CURLS],
             dynamics,
+            friction: params.part_friction,
             entries: [ScheduleEntry::default(); MAX_SLOTS],
             schedule: Box::new(Schedule::new()),
             out,
@@ -441,7 +444,11 @@ impl SolveStage {
             let position = [p.x, p.y];
             let shape = if self.part_shapes { PartShape::from_wire(p) } else { PartShape::Point };
             self.forces[np] = ForceConstraint { position, force: e.requested_force(), shape };
-            self.motions[np] = PartMotion { velocity: [p.vx, p.vy], spin: p.omega };
+            self.motions[np] = PartMotion {
+                velocity: [p.vx, p.vy],
+                spin: p.omega,
+                friction: self.friction.scale(p.class, p.x, p.y),
+            };
             if let Some(curl) = e.requested_curl() {
                 // validate() caps curl entries at MAX_CURLS.
                 self.curls[nc] = CurlConstraint { position, curl, shape };

@@ -66,7 +66,7 @@ impl Config {
         }
         self.service.prefix_or(None)?;
         let rig = RigParams::default();
-        let twist_correction = match &self.calibration.file {
+        let (twist_correction, part_friction) = match &self.calibration.file {
             Some(path) => {
                 let c = rig_config::PlateCalibration::load(path)?;
                 let identity = rig_config::plate_calibration::RigIdentity {
@@ -76,9 +76,13 @@ impl Config {
                     mu_m_g: self.plate.mu_m_g,
                 };
                 c.check_rig(&identity).map_err(|e| format!("calibration.file {}: {e}", path.display()))?;
-                Some(c.twist_correction)
+                let classes: Vec<(u32, f64)> = c.class_friction.iter().map(|f| (f.class, f.scale)).collect();
+                let friction =
+                    rt_core::runtime::PartFriction::new(&classes, c.friction_map, c.plate_half_extent)
+                        .map_err(|e| format!("calibration.file {}: {e}", path.display()))?;
+                (Some(c.twist_correction), friction)
             }
-            None => None,
+            None => (None, rt_core::runtime::PartFriction::UNIFORM),
         };
         let params = CoreParams {
             motion: self.motion.params(&self.plate),
@@ -88,6 +92,7 @@ impl Config {
             cycle_slots: self.motion.cycle_slots,
             part_shapes: self.motion.part_shapes,
             part_dynamics: self.motion.part_dynamics.params(),
+            part_friction,
             mu_m_g: self.plate.mu_m_g,
             parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
             request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,
