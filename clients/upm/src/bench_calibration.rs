@@ -64,7 +64,7 @@ fn force_errors(
     k_max: f64,
     rng: &mut ChaCha8Rng,
     seed: u64,
-) -> anyhow::Result<Option<[Vec<f64>; 3]>> {
+) -> anyhow::Result<Option<([Vec<f64>; 3], Value)>> {
     let core = config.core_params("bench")?;
     let (sim, truth) = plate_of(config)?;
     let count = rng.random_range(1..=4usize);
@@ -141,8 +141,16 @@ fn force_errors(
     }
     let floor = errors.pop().unwrap_or_default();
     let calibrated = errors.pop().unwrap_or_default();
-    let nominal = errors.pop().unwrap_or_default();
-    Ok(Some([nominal, calibrated, floor]))
+    let nominal_err = errors.pop().unwrap_or_default();
+    // The geometry as played, to find a bad case again.
+    let parts: Vec<Value> = nominal
+        .parts
+        .iter()
+        .zip(&classes)
+        .zip(&calibrated)
+        .map(|((p, c), e)| json!({ "position": p.position, "force": p.force, "class": c, "calibrated_err": e }))
+        .collect();
+    Ok(Some(([nominal_err, calibrated, floor], json!({ "seed": seed, "parts": parts }))))
 }
 
 /// `track`'s RMS distance to its path, percent of the path's length; with
@@ -213,13 +221,18 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         rig_s.push(cal.report.rig_seconds);
         let (mut nf, mut cf, mut ff) = (Vec::new(), Vec::new(), Vec::new());
         let (mut drawn, mut played) = (0, 0);
+        let mut worst_geometry = (f64::NEG_INFINITY, Value::Null);
         let k_max = common_k_max(&cal_config, &cal)?;
         while played < GEOMETRIES && drawn < 4 * GEOMETRIES {
             drawn += 1;
-            if let Some([n, c, f]) =
+            if let Some(([n, c, f], geometry)) =
                 force_errors(&cal_config, &cal, k_max, &mut rng, seed.wrapping_add(drawn as u64))?
             {
                 played += 1;
+                let worst = c.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                if worst > worst_geometry.0 {
+                    worst_geometry = (worst, geometry);
+                }
                 nf.extend(n);
                 cf.extend(c);
                 ff.extend(f);
@@ -247,6 +260,9 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
             "adapted_track_rms_pct": adapted_track,
             "both_track_rms_pct": both_track,
             "report": serde_json::to_value(&cal.report)?,
+            "worst_geometry": worst_geometry.1,
+            "class_friction": cal.class_friction.iter().map(|f| f.scale).collect::<Vec<f64>>(),
+            "friction_map": cal.friction_map,
         }));
         nominal_f.extend(nf);
         calibrated_f.extend(cf);

@@ -351,6 +351,22 @@ fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
     let moving = published_k_with(sliding, &reported);
     assert_ne!(moving, published_k_with(still, &reported), "the reported velocity changed nothing");
     assert_eq!(moving, published_k_with(sliding, &reported), "deterministic");
+    // A calibration's friction for the part's class slides it harder.
+    let gripping = PartState::new(1, 1, 0, [0.5, 0.0, 0.0], [0.0; 3]);
+    let calibrated = CoreParams {
+        part_friction: rt_core::runtime::PartFriction::new(&[(0, 1.0), (1, 1.3)], [0.0; 5], [1.0, 0.5])
+            .expect("friction"),
+        ..rest.clone()
+    };
+    assert_eq!(published_k_with(gripping, &rest), published_k_with(still, &rest), "uniform: class ignored");
+    assert_eq!(published_k_with(still, &calibrated), published_k_with(still, &rest), "class 0 is the model");
+    assert_ne!(
+        published_k_with(gripping, &calibrated),
+        published_k_with(still, &rest),
+        "class 1's friction ignored"
+    );
+    let off_calibrated = CoreParams { part_dynamics: off.part_dynamics, ..calibrated };
+    assert_eq!(published_k_with(gripping, &off_calibrated), uncorrected, "off: friction is not read");
 }
 
 #[test]

@@ -43,11 +43,15 @@ fn rt_threads_make_no_allocations_with_sparse_cycles() {
 }
 
 /// The same with the solve stage's part-dynamics correction on: a plate
-/// trace, part integrations and re-solves per request.
+/// trace, part integrations and re-solves per request, each part with a
+/// calibration's friction.
 #[test]
 fn rt_threads_make_no_allocations_with_part_dynamics() {
     let mut params = CoreParams { cycle_slots: 4, ..CoreParams::default() };
     params.part_dynamics.steps = 2;
+    params.part_friction =
+        rt_core::runtime::PartFriction::new(&[(0, 1.2), (1, 0.8)], [0.05, -0.1, 0.0, 0.1, 0.1], [1.0, 0.5])
+            .expect("friction");
     rt_threads_allocate_nothing_with(params);
 }
 
