@@ -6,7 +6,8 @@
 
 use rt_core::motion::{PlateFollow, PlateMotion, Rig, playable_k};
 use rt_core::runtime::{
-    LinearizeAbout, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, PartDynamics, PartDynamicsParams, PartMotion,
+    LinearizeAbout, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE,
+    PartDynamics, PartDynamicsParams, PartMotion,
 };
 use rt_core::{
     CurlConstraint, ForceConstraint, PartShape, Problem, Solution, Solver, SolverCapacity, SolverParams,
@@ -31,7 +32,7 @@ pub struct PartInput {
     #[serde(default)]
     pub curl: Option<f64>,
     /// The part's μ over the model's (a plate calibration's scale where it
-    /// stands; 1 if absent). Its `force` stays in the model's units; with
+    /// stands; 1 if absent; within 0.2..3). Its `force` stays in the model's units; with
     /// `part_dynamics`, how far it slides within the cycle goes with it.
     #[serde(default)]
     pub friction: Option<f64>,
@@ -189,12 +190,12 @@ impl SolveInput {
             .enumerate()
             .map(|(i, p)| match p.friction {
                 None => Ok(PartMotion::default()),
-                Some(f) if f.is_finite() && f > 0.0 => {
+                Some(f) if (MIN_FRICTION_SCALE..=MAX_FRICTION_SCALE).contains(&f) => {
                     Ok(PartMotion { friction: f, ..PartMotion::default() })
                 }
                 Some(f) => Err(InputError::Json {
                     path: format!("parts[{i}].friction"),
-                    message: format!("{f} is not a finite positive scale"),
+                    message: format!("{f} is not within {MIN_FRICTION_SCALE}..{MAX_FRICTION_SCALE}"),
                 }),
             })
             .collect()

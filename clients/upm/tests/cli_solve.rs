@@ -151,7 +151,18 @@ fn bad_shapes_and_part_curls_are_one_line_naming_the_field() {
         |extra: &str| GOOD.replace("\"force\":[0.01,0.01]}", &format!("\"force\":[0.01,0.01],{extra}}}"));
     json(&upm(&["solve", "-"], Some(&with(r#""shape":{"disc":{"radius":0.02}},"curl":0.001"#))));
     json(&upm(&["solve", "-"], Some(&with(r#""shape":"point""#))));
-    json(&upm(&["solve", "-"], Some(&with(r#""friction":1.25"#))));
+    // With part_dynamics, a part that grips harder slides less: another answer.
+    let sliding = |extra: &str| with(extra).replacen('{', r#"{"part_dynamics":true,"#, 1);
+    let (grips, model) = (
+        json(&upm(&["solve", "-"], Some(&sliding(r#""friction":1.25"#)))),
+        json(&upm(&["solve", "-"], Some(&sliding(r#""friction":1.0"#)))),
+    );
+    assert_ne!(grips["k"], model["k"], "friction changed nothing");
+    assert_eq!(
+        model["k"],
+        json(&upm(&["solve", "-"], Some(&GOOD.replacen('{', r#"{"part_dynamics":true,"#, 1))))["k"],
+        "absent is 1"
+    );
     json(&upm(&["solve", "-"], Some(&with(r#""shape":{"polygon":{"vertices":[[0,0],[0.02,0],[0,0.02]]}}"#))));
     for (bad, field) in [
         (r#""shape":{"disc":{"radius":0}}"#, "parts[0].shape"),
@@ -173,6 +184,8 @@ fn bad_shapes_and_part_curls_are_one_line_naming_the_field() {
         (r#""friction":-1.2"#, "parts[0].friction"),
         (r#""friction":"x""#, "parts[0].friction"),
         (r#""friction":1e999"#, "parts[0].friction"),
+        (r#""friction":3.5"#, "parts[0].friction"),
+        (r#""friction":1e-300"#, "parts[0].friction"),
     ] {
         rejects(&with(bad), field);
     }

@@ -85,7 +85,9 @@ pub struct CoreParams {
     /// (`part_dynamics.rs`); `steps = 0` turns it off.
     pub part_dynamics: PartDynamicsParams,
     /// Each part's friction as a plate calibration found it; read only by
-    /// the part-dynamics correction (the planner divides requests by it).
+    /// the part-dynamics correction (the calibrated planner divides
+    /// requests by it; what online adaptation learns on top, the core does
+    /// not see).
     pub part_friction: PartFriction,
     /// μ·m·g of the parts (N): the scale of every requested force.
     pub mu_m_g: f64,

@@ -615,11 +615,70 @@ mod tests {
         let (_, _, _, unaware) =
             corrected_then_played(LinearizeAbout::Rest, &[PartMotion::default(); 2], &real);
         assert!(worst(&told) < 0.6 * worst(&unaware), "{told:?} against {unaware:?}");
+        // Sliding as vision reports, the same.
+        let moving = |friction| {
+            [
+                PartMotion { velocity: [0.004, -0.003], friction, ..PartMotion::default() },
+                PartMotion { velocity: [-0.002, 0.003], friction, ..PartMotion::default() },
+            ]
+        };
+        let real = moving(1.3);
+        let (_, told, _) = corrected(LinearizeAbout::Reported, &real);
+        let (_, _, _, unaware) = corrected_then_played(LinearizeAbout::Reported, &moving(1.0), &real);
+        assert!(worst(&told) < worst(&unaware), "reported: {told:?} against {unaware:?}");
         // A friction that is not a finite positive scale counts as 1.
         let bad = [PartMotion { friction: f64::NAN, ..PartMotion::default() }; 2];
         let (_, _, c_bad) = corrected(LinearizeAbout::Rest, &bad);
         let (_, _, c_one) = corrected(LinearizeAbout::Rest, &[PartMotion::default(); 2]);
         assert_eq!(c_bad, c_one);
+    }
+
+    #[test]
+    fn a_disc_asked_a_curl_spins_up_with_its_own_friction() {
+        // The kept answer's predicted curl and force are the disc's, slid
+        // with 1.3 × the model's μ, in the model's units (over 1.3).
+        let disc = PartShape::Disc { radius: 0.05 };
+        let at = [0.4, 0.1];
+        let parts = [ForceConstraint { position: at, force: Some([0.002, 0.0]), shape: disc }];
+        let curls = [CurlConstraint { position: at, curl: 0.003, shape: disc }];
+        let problem = Problem {
+            mu_m_g: MU_M_G,
+            k_max: 0.5,
+            centers: &CENTERS,
+            parts: &parts,
+            curls: &curls,
+            k_bounds: &[],
+        };
+        let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: CENTERS.len() };
+        let mut solver = Solver::new(cap, SolverParams::default());
+        let mut solution = solver.new_solution();
+        solver.solve(&problem, &mut solution).expect("solves");
+        let params =
+            PartDynamicsParams { steps: 2, about: LinearizeAbout::Rest, ..PartDynamicsParams::default() };
+        let probe = PlateMotion::new(MotionParams::default()).expect("motion");
+        let mut dynamics =
+            PartDynamics::new(params, probe, CENTERS.len(), solver.new_solution()).expect("params");
+        let grips = [PartMotion { friction: 1.3, ..PartMotion::default() }];
+        dynamics.correct(&mut solver, &problem, &grips, &[0], &mut solution);
+        let mut entries = [ScheduleEntry::default(); MAX_SLOTS];
+        let n = fill_entries(&solution, &CENTERS, &mut entries);
+        let mut motion = PlateMotion::new(MotionParams::default()).expect("motion");
+        motion.set_schedule(&entries[..n]).expect("playable");
+        let drift = DriftParams { follow: params.follow, substeps: u64::from(params.substeps) };
+        let patch = disc.patch_points();
+        let centroid = [at[0] + patch.centroid[0], at[1] + patch.centroid[1]];
+        let (a, alpha) = cycle_mean_twist(&motion, drift, centroid, &patch, [0.0; 2], 0.0, 1.3 * params.mu_g);
+        let mass = MU_M_G / params.mu_g / 1.3;
+        let curl = dynamics.predicted_curls()[0].expect("a disc's curl");
+        assert!(
+            (curl - 2.0 * alpha * mass).abs() <= 1e-12 * curl.abs(),
+            "{curl} against {}",
+            2.0 * alpha * mass
+        );
+        let force = dynamics.predicted_forces()[0];
+        for d in 0..2 {
+            assert!((force[d] - a[d] * mass).abs() <= 1e-12 * MU_M_G, "{force:?} against {a:?}·{mass}");
+        }
     }
 
     #[test]

@@ -103,8 +103,9 @@ impl PartFriction {
     }
 
     /// μ of a part of `class` at (x, y) over the model's, within
-    /// [`MIN_FRICTION_SCALE`, `MAX_FRICTION_SCALE`]; 1 where x or y is not
-    /// finite.
+    /// [`MIN_FRICTION_SCALE`, `MAX_FRICTION_SCALE`] (as the planner's
+    /// `PlateCalibration::friction_scale`); 1 where that is not a number
+    /// (the core's positions are validated finite and on the plate).
     pub fn scale(&self, class: u32, x: f64, y: f64) -> f64 {
         let named = &self.classes[..self.count];
         let s = match named.iter().find(|c| c.0 == class) {

@@ -447,7 +447,8 @@ impl SolveStage {
             self.motions[np] = PartMotion {
                 velocity: [p.vx, p.vy],
                 spin: p.omega,
-                friction: self.friction.scale(p.class, p.x, p.y),
+                // Read only by the correction.
+                friction: if self.dynamics.enabled() { self.friction.scale(p.class, p.x, p.y) } else { 1.0 },
             };
             if let Some(curl) = e.requested_curl() {
                 // validate() caps curl entries at MAX_CURLS.
