@@ -5,7 +5,7 @@
 //! the real-time loop is `rt_core::runtime::MotorLoop`.
 
 use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState, WriteError};
-use rt_core::motion::{PlateMotion, Rig, next_command};
+use rt_core::motion::{InertiaEstimate, PlateMotion, Rig, next_command};
 
 /// Play `ticks` ticks of `motion` from motion tick `start` (where the
 /// driver is assumed to sit). Returns
@@ -19,12 +19,29 @@ pub fn play<D: PlateDriver>(
     ticks: u64,
     state: &mut PlateState,
 ) -> Result<u64, rt_core::driver::ReadError> {
+    play_estimating(driver, rig, motion, start, ticks, state, None)
+}
+
+/// [`play`], feeding each tick's drive forces to `estimate` as the motor
+/// loop does (the caller ends its cycles and scales the rig).
+pub fn play_estimating<D: PlateDriver>(
+    driver: &mut D,
+    rig: &Rig,
+    motion: &PlateMotion,
+    start: u64,
+    ticks: u64,
+    state: &mut PlateState,
+    mut estimate: Option<&mut InertiaEstimate>,
+) -> Result<u64, rt_core::driver::ReadError> {
     let mut cmd = ActuatorCommand::HOME;
     let mut rejected = 0;
     let h = driver.tick_period();
     let mut now = motion.sample_tick(start);
     for t in start..start + ticks {
         driver.read(state)?;
+        if let Some(e) = estimate.as_deref_mut().filter(|_| t > start) {
+            e.observe(rig, &now.pose, &cmd.force, state);
+        }
         next_command(rig, motion, h, t, &mut now, &mut cmd);
         if let Err(WriteError::NonFinite { .. } | WriteError::Fault) = driver.write(&cmd) {
             rejected += 1;
@@ -32,6 +49,9 @@ pub fn play<D: PlateDriver>(
         driver.advance();
     }
     driver.read(state)?;
+    if let Some(e) = estimate.filter(|_| ticks > 0) {
+        e.observe(rig, &now.pose, &cmd.force, state);
+    }
     Ok(rejected)
 }
 

@@ -1,10 +1,10 @@
 //! read / write / advance and motion sampling allocate nothing.
 
 use drivers::conformance::demo_motion;
-use drivers::playback::play;
+use drivers::playback::{play, play_estimating};
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
-use rt_core::motion::Rig;
+use rt_core::motion::{InertiaEstimate, InertiaParams, Rig};
 
 use rt_core::runtime::alloc_count::{RtAllocCounter, allocations_in};
 
@@ -23,7 +23,8 @@ fn lockstep_loop_does_not_allocate() {
         .collect();
     let cfg = SimConfig::default();
     let mut s = Simulator::new(cfg, &parts).expect("sim");
-    let rig = Rig::new(cfg.rig).expect("rig");
+    let mut rig = Rig::new(cfg.rig).expect("rig");
+    let mut estimate = InertiaEstimate::new(InertiaParams::default());
     let mut m = demo_motion();
     let mut st = PlateState::default();
     assert!(rt_core::runtime::alloc_count::counter_installed(), "the counter must see allocations");
@@ -31,9 +32,16 @@ fn lockstep_loop_does_not_allocate() {
         for c in 0..20 {
             play(&mut s, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut st).expect("read");
         }
+        // With the motor loop's feed-forward estimate, as `upm validate` plays.
+        for c in 20..30 {
+            let n = m.cycle_ticks();
+            play_estimating(&mut s, &rig, &m, c * n, n, &mut st, Some(&mut estimate)).expect("read");
+            rig.set_inertia_scale(estimate.end_cycle());
+        }
         let entries = [rt_core::motion::ScheduleEntry { center: [1.0, 0.5], k: 0.3 }];
         m.set_schedule(&entries).expect("playable");
         let _ = m.sample_tick(3);
     });
     assert_eq!(allocated, 0, "hot path allocated");
+    assert_eq!(estimate.updates(), 10, "the estimate ran");
 }

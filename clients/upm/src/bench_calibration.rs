@@ -32,6 +32,11 @@ const CYCLES: usize = 2;
 /// Solve with the velocity parts pick up through the cycle (issue 25's
 /// correction), as the best model the controller has.
 const PART_DYNAMICS: bool = true;
+/// The core scales its feed-forward to the plate the drives show
+/// (`[motion] adapt_plate_inertia`, on by default); each geometry is
+/// measured after this many cycles of it, as a core that has been
+/// running that request would play it.
+const INERTIA_WARMUP: usize = 12;
 
 /// The truth's scale of part class `class` and the simulator's settings.
 fn plate_of(config: &Config) -> anyhow::Result<(drivers::SimConfig, crate::config::truth::ResolvedTruth)> {
@@ -108,12 +113,14 @@ fn force_errors(
         motion: core.motion,
         sim: drivers::SimConfig { collisions: false, substeps: crate::validate::MEASURE_SUBSTEPS, ..sim },
         twist_correction: None,
+        inertia_warmup: config.motion.adapt_plate_inertia.then_some(INERTIA_WARMUP),
     };
     let exact = ValidateSetup {
         sim: drivers::SimConfig { truth: drivers::PlateTruth::NOMINAL, ..setup.sim },
         ..setup
     };
     let mut errors = Vec::new();
+    let mut inertia_scale = [1.0; 2];
     for (model, setup, friction) in [
         (&nominal, setup, &friction[..]),
         (
@@ -129,6 +136,9 @@ fn force_errors(
         }
         let order: Vec<u16> = out.order.iter().map(|&j| j as u16).collect();
         let m = measure(&nominal, &out.k, &order, CYCLES, seed, &setup, friction)?;
+        if setup.twist_correction.is_some() {
+            inertia_scale = m.inertia_scale;
+        }
         let mu = nominal.mu_m_g;
         errors.push(
             nominal
@@ -150,7 +160,14 @@ fn force_errors(
         .zip(&calibrated)
         .map(|((p, c), e)| json!({ "position": p.position, "force": p.force, "class": c, "calibrated_err": e }))
         .collect();
-    Ok(Some(([nominal_err, calibrated, floor], json!({ "seed": seed, "parts": parts }))))
+    // What the feed-forward took the plate to be, against what it is.
+    let geometry = json!({
+        "seed": seed,
+        "parts": parts,
+        "inertia_scale": inertia_scale,
+        "truth_plate_mass": 1.0 + truth.plate.plate_mass_error,
+    });
+    Ok(Some(([nominal_err, calibrated, floor], geometry)))
 }
 
 /// `track`'s RMS distance to its path, percent of the path's length; with

@@ -99,6 +99,11 @@ pub fn report(report: &RunReport) -> anyhow::Result<()> {
         t.counters.hold_events,
         t.counters.rt_thread_allocations
     );
+    let i = &report.inertia;
+    eprintln!(
+        "upm-core: feed-forward plate mass ×{:.4}, inertia ×{:.4} of the model's ({} cycles updated, {} skipped)",
+        i.scale[0], i.scale[1], i.updates, i.skipped
+    );
     Ok(())
 }
 

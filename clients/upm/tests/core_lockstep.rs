@@ -413,3 +413,46 @@ fn a_parts_outline_reaches_the_solver() {
     let (s, c) = 0.3f64.sin_cos();
     assert!((vertices[0][0] - (0.2 * c - 0.2 * s)).abs() < 1e-15, "{vertices:?}");
 }
+
+/// Mean squared gap (m²) between the plate the driver reports at each
+/// tick and the pose the previous tick commanded, over the last half of
+/// `ticks`, and what the motor's feed-forward ended up taking the plate to
+/// be; on a plate 10 % heavier than the model.
+fn tracking_on_a_heavier_plate(adapt: bool, ticks: u64) -> (f64, rt_core::runtime::InertiaReport) {
+    let mut truth = drivers::PlateTruth::NOMINAL;
+    truth.plate_mass_error = 0.10;
+    let sim = Simulator::new(SimConfig { truth, ..SimConfig::default() }, &[]).expect("sim");
+    let params = CoreParams {
+        inertia_adaptation: adapt.then(rt_core::motion::InertiaParams::default),
+        ..CoreParams::default()
+    };
+    let mut c = Lockstep::new(&params, sim, START_NS).expect("core");
+    let (mut sum, mut n, mut commanded) = (0.0, 0u64, None::<[f64; 3]>);
+    run_fed(
+        &mut c,
+        ticks,
+        100,
+        |_| true,
+        |t, c| {
+            let s = c.motor().plate_state().pose;
+            if let Some([x, y, _]) = commanded.filter(|_| t > ticks / 2) {
+                sum += (s.x - x).powi(2) + (s.y - y).powi(2);
+                n += 1;
+            }
+            commanded = Some(c.shared().pose());
+        },
+    );
+    (sum / n.max(1) as f64, c.shared().inertia())
+}
+
+#[test]
+fn the_motor_learns_a_heavier_plate_from_its_drives_and_tracks_it_closer() {
+    let (adapted, learnt) = tracking_on_a_heavier_plate(true, 20_000);
+    let (fixed, model) = tracking_on_a_heavier_plate(false, 20_000);
+    assert_eq!((model.scale, model.updates), ([1.0; 2], 0), "adaptation off touches nothing");
+    assert!(learnt.updates > 10 && learnt.skipped == 0, "{learnt:?}");
+    assert!((learnt.scale[0] - 1.10).abs() < 1e-3, "mass {learnt:?}");
+    assert!((learnt.scale[1] - 1.10).abs() < 1e-2, "inertia {learnt:?}");
+    // The plate lags each fast phase less when the feed-forward is right.
+    assert!(adapted < 0.01 * fixed, "tracking {adapted:e} adapted vs {fixed:e} fixed (m²)");
+}

@@ -18,6 +18,7 @@
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
+mod inertia_estimate;
 mod params;
 mod part_drift;
 mod plan;
@@ -28,6 +29,7 @@ mod profile;
 mod rig;
 mod setpoint;
 
+pub use inertia_estimate::{InertiaEstimate, InertiaParams, InertiaParamsError};
 pub use params::{MotionLimits, MotionParams, ParamsError};
 pub use part_drift::{DriftParams, PlateTrace, TraceTooLong, cycle_mean_acceleration, cycle_mean_twist};
 pub use plan::{MAX_SLOTS, MotionError, PlateMotion, ScheduleEntry, Slot};

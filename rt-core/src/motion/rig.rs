@@ -174,6 +174,9 @@ pub struct Rig {
     /// The twist to command for a wanted twist (a plate calibration's
     /// `twist_correction`, rows x, y, θ); None: the model is the plate.
     correction: Option<[[f64; 3]; 3]>,
+    /// Feed-forward's plate mass and inertia over the model's
+    /// ([`super::InertiaEstimate`]); 1 and 1: the model's.
+    inertia_scale: [f64; 2],
 }
 
 impl Rig {
@@ -192,6 +195,7 @@ impl Rig {
             radial: [0.0; MAX_ACTUATORS],
             radial_dof: [0.0; 3],
             correction: None,
+            inertia_scale: [1.0; 2],
         };
         // Rows of the home Jacobian; only the layouts derived from it are kept.
         let mut jac = [[0.0; 3]; MAX_ACTUATORS];
@@ -239,6 +243,18 @@ impl Rig {
 
     pub fn correction(&self) -> Option<&[[f64; 3]; 3]> {
         self.correction.as_ref()
+    }
+
+    /// Feed-forward forces for a plate `scale[0]` times the model's mass and
+    /// `scale[1]` times its inertia (what the drives show it to be). Only
+    /// the feed-forward changes: kinematics and limits stay the model's.
+    /// A value that is not finite and positive counts as 1.
+    pub fn set_inertia_scale(&mut self, scale: [f64; 2]) {
+        self.inertia_scale = scale.map(|s| if s.is_finite() && s > 0.0 { s } else { 1.0 });
+    }
+
+    pub fn inertia_scale(&self) -> [f64; 2] {
+        self.inertia_scale
     }
 
     pub fn count(&self) -> usize {
@@ -398,11 +414,10 @@ impl Rig {
     /// (feed-forward; home Jacobian, parts' reaction neglected).
     #[inline]
     pub fn feedforward_forces(&self, acc: &Twist, out: &mut [f64; MAX_ACTUATORS]) {
-        let q = [
-            self.params.plate_mass * acc.x,
-            self.params.plate_mass * acc.y,
-            self.params.plate_inertia * acc.theta,
-        ];
+        // × 1.0 is exact: an unscaled rig gives the model's bits.
+        let [sm, si] = self.inertia_scale;
+        let (m, i) = (self.params.plate_mass * sm, self.params.plate_inertia * si);
+        let q = [m * acc.x, m * acc.y, i * acc.theta];
         // pinv is zero beyond `count`, so those forces come out 0.
         for i in 0..MAX_ACTUATORS {
             out[i] = self.pinv[0][i] * q[0] + self.pinv[1][i] * q[1] + self.pinv[2][i] * q[2];

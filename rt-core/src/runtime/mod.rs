@@ -56,7 +56,7 @@ pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
 };
 pub use samples::{MotorSample, SolverSample, StageOutputs, StageOutputsRx};
-pub use shared::{CoreShared, HealthReport};
+pub use shared::{CoreShared, HealthReport, InertiaReport};
 pub use solve_stage::{RequestError, SolveStage};
 pub use start_error::StartError;
 pub use thread_health::CoreThread;

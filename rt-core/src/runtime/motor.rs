@@ -13,7 +13,7 @@ use super::params::CoreParams;
 use super::samples::MotorSample;
 use super::shared::CoreShared;
 use crate::driver::{ActuatorCommand, PlateDriver, PlateState, ReadError, WriteError};
-use crate::motion::{PlateSample, Pose, Rig, next_command};
+use crate::motion::{InertiaEstimate, InertiaParams, PlateSample, Pose, Rig, next_command};
 
 /// What the loop did in one tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,8 +42,8 @@ impl<D> core::fmt::Debug for TruthTap<D> {
     }
 }
 
-/// When the motor holds the plate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// When the motor holds the plate, and how it feeds forward.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotorPolicy {
     /// Part states older than this put the core in hold.
     pub parts_max_age_ns: u64,
@@ -52,6 +52,9 @@ pub struct MotorPolicy {
     /// Consecutive healthy driver reads that end a driver-fault hold by
     /// themselves; 0 = only an operator's resume ends it.
     pub auto_resume_ticks: u64,
+    /// Scale the feed-forward to the plate the drives show
+    /// ([`InertiaEstimate`]); None: the model's.
+    pub inertia_adaptation: Option<InertiaParams>,
 }
 
 impl MotorPolicy {
@@ -62,6 +65,7 @@ impl MotorPolicy {
             parts_max_age_ns: p.parts_max_age_ns,
             request_max_age_ns: p.request_max_age_ns,
             auto_resume_ticks,
+            inertia_adaptation: p.inertia_adaptation,
         }
     }
 }
@@ -91,6 +95,10 @@ pub struct MotorLoop<D: PlateDriver> {
     fault_hold: bool,
     /// Healthy reads since the last driver fault.
     healthy_reads: u64,
+    inertia: Option<InertiaEstimate>,
+    /// The last tick wrote `cmd` while running: this tick's reading is its
+    /// result.
+    wrote: bool,
     #[cfg(feature = "fault-injection")]
     inject: super::fault_injection::FaultPlan,
 }
@@ -125,6 +133,8 @@ impl<D: PlateDriver> MotorLoop<D> {
             ticks: 0,
             fault_hold: false,
             healthy_reads: 0,
+            inertia: policy.inertia_adaptation.map(InertiaEstimate::new),
+            wrote: false,
             #[cfg(feature = "fault-injection")]
             inject: super::fault_injection::FaultPlan::from_env(),
         }
@@ -166,6 +176,10 @@ impl<D: PlateDriver> MotorLoop<D> {
         self.shared.driver_clamped.store(self.state.clamped, Relaxed);
         self.shared.driver_rejected.store(self.state.rejected, Relaxed);
         self.shared.driver.store(&self.driver.health());
+        if let Some(e) = self.inertia.as_mut().filter(|_| self.wrote && read.is_ok()) {
+            e.observe(&self.rig, &self.setpoint.pose, &self.cmd.force, &self.state);
+        }
+        self.wrote = false;
         // update: a fault holds at once; otherwise decisions only at a cycle
         // boundary, where the plate is home
         if self.holds_for_fault(read) {
@@ -183,9 +197,13 @@ impl<D: PlateDriver> MotorLoop<D> {
             next_command(&self.rig, motion, self.tick_s, self.phase, &mut self.setpoint, &mut self.cmd);
             self.phase = (self.phase + 1) % motion.cycle_ticks().max(1);
             self.shared.set_pose(&self.setpoint.pose);
-            if let Err(WriteError::Fault) = self.driver.write(&self.cmd) {
-                self.enter_fault_hold(HealthCause::DriverWriteFault);
-                self.driver.hold();
+            match self.driver.write(&self.cmd) {
+                Err(WriteError::Fault) => {
+                    self.enter_fault_hold(HealthCause::DriverWriteFault);
+                    self.driver.hold();
+                }
+                Err(WriteError::NonFinite { .. }) => {}
+                Ok(()) => self.wrote = true,
             }
         } else {
             self.driver.hold();
@@ -262,6 +280,9 @@ impl<D: PlateDriver> MotorLoop<D> {
         self.mode = mode;
         self.phase = 0;
         self.setpoint = PlateSample::default();
+        if let Some(e) = &mut self.inertia {
+            e.discard_cycle();
+        }
         self.shared.set_state(mode);
         self.shared.set_pose(&Pose::HOME);
     }
@@ -285,6 +306,12 @@ impl<D: PlateDriver> MotorLoop<D> {
             sh.set_pose(&Pose::HOME);
             sh.motor_done.store(true, Relaxed);
             return TickOutcome::Stopped;
+        }
+        // The cycle just played (none after a hold) updates the feed-forward.
+        if let Some(e) = &mut self.inertia {
+            let scale = e.end_cycle();
+            self.rig.set_inertia_scale(scale);
+            sh.set_inertia(scale, e.updates(), e.skipped());
         }
         if self.reader.take_newest() {
             sh.schedule_swaps.fetch_add(1, Relaxed);

@@ -5,7 +5,7 @@ use core::fmt;
 
 use super::part_dynamics::{PartDynamicsError, PartDynamicsParams};
 use super::part_friction::PartFriction;
-use crate::motion::{MotionParams, ParamsError, RigError, RigParams};
+use crate::motion::{InertiaParams, InertiaParamsError, MotionParams, ParamsError, RigError, RigParams};
 
 /// Real-time placement of the threads.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,6 +89,10 @@ pub struct CoreParams {
     /// requests by it; what online adaptation learns on top, the core does
     /// not see).
     pub part_friction: PartFriction,
+    /// The motor loop's estimate of the plate's mass and inertia from the
+    /// drives' servo effort, scaling the feed-forward
+    /// (`motion::InertiaEstimate`); None: the feed-forward is the model's.
+    pub inertia_adaptation: Option<InertiaParams>,
     /// μ·m·g of the parts (N): the scale of every requested force.
     pub mu_m_g: f64,
     /// PartStates older than this (by their stamp) put the core in hold.
@@ -122,6 +126,7 @@ impl Default for CoreParams {
             part_shapes: true,
             part_dynamics: PartDynamicsParams::default(),
             part_friction: PartFriction::UNIFORM,
+            inertia_adaptation: Some(InertiaParams::default()),
             mu_m_g: 0.1,
             parts_max_age_ns: 200_000_000,
             request_max_age_ns: 200_000_000,
@@ -141,6 +146,7 @@ pub enum CoreParamsError {
     Motion(ParamsError),
     Rig(RigError),
     PartDynamics(PartDynamicsError),
+    InertiaAdaptation(InertiaParamsError),
     NoCenters,
     TooManyCenters {
         given: usize,
@@ -173,6 +179,7 @@ impl fmt::Display for CoreParamsError {
             Self::Motion(e) => write!(f, "{e}"),
             Self::Rig(e) => write!(f, "rig: {e}"),
             Self::PartDynamics(e) => write!(f, "{e}"),
+            Self::InertiaAdaptation(e) => write!(f, "{e}"),
             Self::NoCenters => f.write_str("plate.centers: at least one rotation center is needed"),
             Self::TooManyCenters { given, capacity } => {
                 write!(f, "plate.centers: {given} centers, capacity is {capacity}")
@@ -216,6 +223,9 @@ impl CoreParams {
         self.motion.validate().map_err(CoreParamsError::Motion)?;
         self.rig.validate().map_err(CoreParamsError::Rig)?;
         self.part_dynamics.validate().map_err(CoreParamsError::PartDynamics)?;
+        if let Some(p) = &self.inertia_adaptation {
+            p.validate().map_err(CoreParamsError::InertiaAdaptation)?;
+        }
         if self.twist_correction.is_some_and(|m| m.iter().flatten().any(|v| !v.is_finite())) {
             return Err(CoreParamsError::TwistCorrection);
         }

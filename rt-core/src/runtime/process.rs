@@ -35,7 +35,7 @@ use super::rt_setup::{
     make_current_thread_realtime, make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
 use super::samples::{MOTOR_RING, MotorSample, StageOutputs};
-use super::shared::{CoreShared, HealthReport};
+use super::shared::{CoreShared, HealthReport, InertiaReport};
 use super::solve_stage::SolveStage;
 use super::start_error::StartError;
 use super::thread_health::CoreThread;
@@ -71,6 +71,8 @@ pub struct RunReport {
     pub dropped_samples: u64,
     /// Set when a core thread died: which, and why. The run then failed.
     pub fault: Option<HealthReport>,
+    /// The plate's mass and inertia as the feed-forward ended with them.
+    pub inertia: InertiaReport,
 }
 
 /// Which real-time measures took effect.
@@ -324,7 +326,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             eprintln!("upm-core: cannot write histograms to {}: {e}", dir.display());
         }
     }
-    Ok(RunReport { telemetry, histograms, realtime, dropped_samples, fault })
+    Ok(RunReport { telemetry, histograms, realtime, dropped_samples, fault, inertia: shared.inertia() })
 }
 
 /// The vision and planner clients on `prefix` (0 when absent).

@@ -48,6 +48,11 @@ pub struct CoreShared {
     /// io thread to stop); the solver thread sleeps on it.
     pub solver_doorbell: super::doorbell::Doorbell,
     pose: [AtomicU64; 3],
+    /// The feed-forward's plate mass and inertia over the model's (f64
+    /// bits), and the cycles that updated or were skipped (motor → reports).
+    inertia_scale: [AtomicU64; 2],
+    inertia_updates: AtomicU64,
+    inertia_skipped: AtomicU64,
     /// Set by the io thread to stop: the motor finishes its cycle, brings
     /// the plate home and exits.
     pub stop: AtomicBool,
@@ -85,6 +90,16 @@ impl Default for Health {
     }
 }
 
+/// The plate's mass and inertia over the model's, as the motor's
+/// feed-forward has them ([`crate::motion::InertiaEstimate`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InertiaReport {
+    pub scale: [f64; 2],
+    /// Cycles that updated the scales, and cycles skipped.
+    pub updates: u64,
+    pub skipped: u64,
+}
+
 /// What [`CoreShared::health`] reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HealthReport {
@@ -106,6 +121,7 @@ impl CoreShared {
     pub fn new() -> Self {
         let s = Self::default();
         s.request_deadline_ns.store(u64::MAX, Relaxed);
+        s.set_inertia([1.0; 2], 0, 0);
         s.allocation_baseline.store(super::alloc_count::rt_allocations(), Relaxed);
         s
     }
@@ -126,6 +142,23 @@ impl CoreShared {
 
     pub fn pose(&self) -> [f64; 3] {
         [0, 1, 2].map(|i| f64::from_bits(self.pose[i].load(Relaxed)))
+    }
+
+    pub fn set_inertia(&self, scale: [f64; 2], updates: u64, skipped: u64) {
+        for (a, s) in self.inertia_scale.iter().zip(scale) {
+            a.store(s.to_bits(), Relaxed);
+        }
+        self.inertia_updates.store(updates, Relaxed);
+        self.inertia_skipped.store(skipped, Relaxed);
+    }
+
+    /// What the motor's feed-forward takes the plate to be.
+    pub fn inertia(&self) -> InertiaReport {
+        InertiaReport {
+            scale: [0, 1].map(|i| f64::from_bits(self.inertia_scale[i].load(Relaxed))),
+            updates: self.inertia_updates.load(Relaxed),
+            skipped: self.inertia_skipped.load(Relaxed),
+        }
     }
 
     /// Count one rejected message under `reason`.

@@ -28,6 +28,9 @@ pub struct MotionSection {
     pub part_shapes: bool,
     /// The core's correction for each part's own velocity and spin.
     pub part_dynamics: PartDynamicsSection,
+    /// The motor scales its feed-forward to the plate's mass and inertia
+    /// as the drives' servo effort shows them; false: the model's.
+    pub adapt_plate_inertia: bool,
     pub max_angle: f64,
     pub max_angular_velocity: f64,
     pub max_angular_acceleration: f64,
@@ -53,6 +56,7 @@ impl Default for MotionSection {
             cycle_slots: 0,
             part_shapes: true,
             part_dynamics: PartDynamicsSection::default(),
+            adapt_plate_inertia: CoreParams::default().inertia_adaptation.is_some(),
             max_angle: m.limits.max_angle,
             max_angular_velocity: m.limits.max_angular_velocity,
             max_angular_acceleration: m.limits.max_angular_acceleration,
@@ -151,5 +155,16 @@ mod tests {
         }
         let e = Config::parse("[motion.part_dynamics]\nabout = \"later\"\n", "x.toml").expect_err("unknown");
         assert!(e.to_string().contains("about"), "{e}");
+    }
+
+    #[test]
+    fn plate_inertia_adaptation_is_on_unless_the_file_turns_it_off() {
+        let on = Config::parse("", "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        assert_eq!(on.inertia_adaptation, Some(rt_core::motion::InertiaParams::default()));
+        let text = "[motion]\nadapt_plate_inertia = false\n";
+        let off = Config::parse(text, "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        assert_eq!(off.inertia_adaptation, None);
+        let e = Config::parse("[motion]\nadapt_plate_inertia = 1\n", "x.toml").expect_err("not a bool");
+        assert!(e.to_string().contains("adapt_plate_inertia"), "{e}");
     }
 }

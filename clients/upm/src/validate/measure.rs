@@ -1,11 +1,11 @@
 //! Play a solved schedule on the simulator and measure average forces/curls.
 
 use anyhow::{Context, anyhow};
-use drivers::playback::play;
+use drivers::playback::play_estimating;
 use drivers::rng::SplitMix64;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
-use rt_core::motion::{MotionParams, PlateMotion, Rig};
+use rt_core::motion::{InertiaEstimate, InertiaParams, MotionParams, PlateMotion, Rig};
 
 use crate::solve_json::SolveInput;
 use rt_core::PartShape;
@@ -31,6 +31,11 @@ pub struct ValidateSetup {
     pub sim: SimConfig,
     /// A plate calibration's twist correction the motion is played through.
     pub twist_correction: Option<[[f64; 3]; 3]>,
+    /// As the core does (`[motion] adapt_plate_inertia`): the feed-forward
+    /// follows `rt_core::motion::InertiaEstimate`, after this many cycles
+    /// of the schedule played first to let it settle; None: the model's
+    /// feed-forward, no warm-up.
+    pub inertia_warmup: Option<usize>,
 }
 
 impl Default for ValidateSetup {
@@ -40,6 +45,7 @@ impl Default for ValidateSetup {
             motion: MotionParams::default(),
             sim: SimConfig { collisions: false, substeps: MEASURE_SUBSTEPS, ..SimConfig::default() },
             twist_correction: None,
+            inertia_warmup: None,
         }
     }
 }
@@ -49,6 +55,9 @@ impl Default for ValidateSetup {
 pub struct Measured {
     /// Per input part (in input order).
     pub forces: Vec<[f64; 2]>,
+    /// The feed-forward's mass and inertia scale when the measured cycles
+    /// ended (1 and 1 without adaptation).
+    pub inertia_scale: [f64; 2],
     /// Std over cycles of each force component.
     pub force_std: Vec<[f64; 2]>,
     /// Per input curl constraint.
@@ -173,13 +182,26 @@ pub fn measure(
     let mut sum_f2 = vec![[0.0; 2]; probes.len()];
     let mut sum_tau = vec![0.0; probes.len()];
     let mut state = PlateState::default();
-    for c in 0..cycles as u64 {
+    let mut estimate = setup.inertia_warmup.map(|_| InertiaEstimate::new(InertiaParams::default()));
+    let warmup = setup.inertia_warmup.unwrap_or(0) as u64;
+    for c in 0..warmup {
+        play_estimating(&mut sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
+            .context("simulator read")?;
+        if let Some(e) = &mut estimate {
+            rig.set_inertia_scale(e.end_cycle());
+        }
+    }
+    for c in warmup..warmup + cycles as u64 {
         for (i, p) in probes.iter().enumerate() {
             let (r, a) = (JITTER * rng.uniform().sqrt(), core::f64::consts::TAU * rng.uniform());
             let position = [p.position[0] + r * a.cos(), p.position[1] + r * a.sin()];
             sim.set_part(i, PartState { position, ..PartState::default() });
         }
-        play(&mut sim, &rig, &motion, c * n, n, &mut state).context("simulator read")?;
+        play_estimating(&mut sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
+            .context("simulator read")?;
+        if let Some(e) = &mut estimate {
+            rig.set_inertia_scale(e.end_cycle());
+        }
         for (i, s) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
             let f = [mass * s.velocity[0] / t, mass * s.velocity[1] / t];
             for d in 0..2 {
@@ -198,6 +220,7 @@ pub fn measure(
     let counters = sim.counters();
     Ok(Measured {
         forces: part_body.iter().map(|&i| mean(i)).collect(),
+        inertia_scale: rig.inertia_scale(),
         force_std: part_body.iter().map(|&i| std(i)).collect(),
         // The curl whose torque this is: 2τ̄/ρ² with ρ² = I/m (4τ̄/a² for a
         // disc of radius a).
