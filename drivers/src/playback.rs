@@ -42,7 +42,11 @@ pub fn play_estimating<D: PlateDriver>(
         if let Some(e) = estimate.as_deref_mut().filter(|_| t > start) {
             e.observe(rig, &now.pose, &cmd.force, state);
         }
+        let from = now;
         next_command(rig, motion, h, t, &mut now, &mut cmd);
+        if let Some(e) = estimate.as_deref_mut() {
+            e.predict(&from, &now, h);
+        }
         if let Err(WriteError::NonFinite { .. } | WriteError::Fault) = driver.write(&cmd) {
             rejected += 1;
         }

@@ -201,6 +201,17 @@ fn track_rms_pct(
     Ok((100.0 * rms / path, scale_errors))
 }
 
+/// |estimated − true| / true plate mass, per run that has both.
+fn mass_err(rows: &[Value]) -> Vec<f64> {
+    rows.iter()
+        .filter_map(|r| {
+            let g = &r["worst_geometry"];
+            let (estimate, truth) = (g["inertia_scale"][0].as_f64()?, g["truth_plate_mass"].as_f64()?);
+            Some((estimate - truth).abs() / truth)
+        })
+        .collect()
+}
+
 fn median(v: &mut [f64]) -> Option<f64> {
     v.sort_by(f64::total_cmp);
     crate::bench_sort::percentile(v, 0.5)
@@ -315,6 +326,9 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         "adapted_scale_err_median": median(&mut scale_err.clone()),
         "both_scale_err_median": median(&mut both_scale_err.clone()),
         "calibration_rig_s": median(&mut rig_s.clone()),
+        // The feed-forward's plate mass (at each truth's worst geometry)
+        // against the truth's, relative.
+        "plate_mass_estimate_err_median": median(&mut mass_err(&rows)),
         "runs": rows,
     }))
 }

@@ -123,10 +123,16 @@ fn bench_calibration_reports_nominal_and_calibrated_on_the_same_truths() {
         "adapted_track_rms_pct",
         "both_track_rms_pct",
         "adapted_scale_err_median",
+        "plate_mass_estimate_err_median",
     ] {
         assert!(v[key].as_f64().is_some_and(|x| x >= 0.0), "{key}: {v}");
     }
     let (median, worst) = (&v["calibrated_force_err_median"], &v["calibrated_force_err_worst"]);
     assert!(median.as_f64().zip(worst.as_f64()).is_some_and(|(m, w)| m <= w), "{v}");
     assert_eq!(v["runs"].as_array().map(Vec::len), Some(2), "{v}");
+    // The feed-forward's plate, as the measurement played it, is bounded.
+    for run in v["runs"].as_array().into_iter().flatten() {
+        let s = &run["worst_geometry"]["inertia_scale"];
+        assert!((0..2).all(|i| s[i].as_f64().is_some_and(|x| (0.5..=2.0).contains(&x))), "{run}");
+    }
 }

@@ -283,6 +283,7 @@ impl Simulator {
             // Parts move micrometres in a tick: the map is read once per tick.
             self.update_friction();
         }
+        let mut force_sum = [0.0; MAX_ACTUATORS];
         for sub in 0..n {
             self.plate.plan_substep(
                 self.cfg.actuator,
@@ -317,8 +318,15 @@ impl Simulator {
                 let mu = self.mu.scaled(g.mu_scale[k]);
                 disc_lanes::step_lane(g, k, &self.bodies[i], a, xi, s, mu);
             }
+            for (a, f) in force_sum.iter_mut().zip(&self.plate.force) {
+                *a += f;
+            }
             self.plate.integrate(s);
         }
+        // A drive reports the force it applied over the tick; one substep's
+        // is that force itself, bit for bit.
+        self.plate.tick_force =
+            if n == 1 { self.plate.force } else { force_sum.map(|f| f / n as f64) };
         // The reference has reached this tick's setpoint.
         self.target.advance();
         if let ActuatorModel::Ideal = self.cfg.actuator {
@@ -403,7 +411,7 @@ impl PlateDriver for Simulator {
             state.pose = self.plate.pose;
             state.velocity = self.plate.vel;
         }
-        state.actuator_force = self.plate.force;
+        state.actuator_force = self.plate.tick_force;
         state.clamped = self.counters.clamped;
         state.rejected = self.counters.rejected;
         state.holding = self.holding;

@@ -16,6 +16,8 @@ pub(crate) struct Plate {
     pub acc: Twist,
     /// Actuator forces applied over the current substep (N).
     pub force: [f64; MAX_ACTUATORS],
+    /// Their mean over the last whole tick (N): what a drive reports.
+    pub tick_force: [f64; MAX_ACTUATORS],
     /// Substeps in which at least one actuator force hit its limit.
     pub saturated: u64,
 }
@@ -28,6 +30,7 @@ impl Default for Plate {
             vel: Twist::default(),
             acc: Twist::default(),
             force: [0.0; MAX_ACTUATORS],
+            tick_force: [0.0; MAX_ACTUATORS],
             saturated: 0,
         }
     }

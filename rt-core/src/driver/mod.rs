@@ -49,6 +49,8 @@ pub struct PlateState {
     pub pose: Pose,
     pub velocity: Twist,
     pub actuator_position: [f64; MAX_ACTUATORS],
+    /// Force each drive applied over the last tick (N): the command's
+    /// feed-forward plus the drive's own servo effort.
     pub actuator_force: [f64; MAX_ACTUATORS],
     /// Command entries clamped to a limit since start.
     pub clamped: u64,

@@ -194,7 +194,11 @@ impl<D: PlateDriver> MotorLoop<D> {
         // write
         if self.mode == CoreState::Running {
             let motion = &self.reader.current().motion;
+            let from = self.setpoint;
             next_command(&self.rig, motion, self.tick_s, self.phase, &mut self.setpoint, &mut self.cmd);
+            if let Some(e) = &mut self.inertia {
+                e.predict(&from, &self.setpoint, self.tick_s);
+            }
             self.phase = (self.phase + 1) % motion.cycle_ticks().max(1);
             self.shared.set_pose(&self.setpoint.pose);
             match self.driver.write(&self.cmd) {

@@ -93,10 +93,13 @@ impl Config {
             part_shapes: self.motion.part_shapes,
             part_dynamics: self.motion.part_dynamics.params(),
             part_friction,
-            inertia_adaptation: self
-                .motion
-                .adapt_plate_inertia
-                .then(rt_core::motion::InertiaParams::default),
+            // The drives as the rig specifies them: the simulator's.
+            inertia_adaptation: match self.motion.adapt_plate_inertia {
+                true => Some(crate::validate::drive_servo(
+                    &self.sim.config(self.motion.tick_hz, self.plate.half_extent)?,
+                )),
+                false => None,
+            },
             mu_m_g: self.plate.mu_m_g,
             parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
             request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,

@@ -182,7 +182,7 @@ pub fn measure(
     let mut sum_f2 = vec![[0.0; 2]; probes.len()];
     let mut sum_tau = vec![0.0; probes.len()];
     let mut state = PlateState::default();
-    let mut estimate = setup.inertia_warmup.map(|_| InertiaEstimate::new(InertiaParams::default()));
+    let mut estimate = setup.inertia_warmup.map(|_| InertiaEstimate::new(drive_servo(&setup.sim)));
     let warmup = setup.inertia_warmup.unwrap_or(0) as u64;
     for c in 0..warmup {
         play_estimating(&mut sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
@@ -233,4 +233,16 @@ pub fn measure(
         clamped: counters.clamped,
         fence_hits: counters.fence_hits,
     })
+}
+
+/// The estimate's parameters for the simulator's drives as specified
+/// (not as any hidden truth has the plate).
+pub fn drive_servo(sim: &SimConfig) -> InertiaParams {
+    let servo = match sim.actuator {
+        drivers::ActuatorModel::Ideal => rt_core::motion::PlateFollow::Exact,
+        drivers::ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
+            rt_core::motion::PlateFollow::Servo { bandwidth_hz, damping }
+        }
+    };
+    InertiaParams { servo, servo_substeps: sim.substeps, ..InertiaParams::default() }
 }
