@@ -68,13 +68,12 @@ fn the_next_deadline_moves_by_the_drivers_correction() {
         motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
     let shared = Arc::new(CoreShared::new());
     let (samples, _rx) = rtrb::RingBuffer::new(64);
-    let policy =
-        MotorPolicy {
-            parts_max_age_ns: u64::MAX,
-            request_max_age_ns: u64::MAX,
-            auto_resume_ticks: 0,
-            inertia_adaptation: None,
-        };
+    let policy = MotorPolicy {
+        parts_max_age_ns: u64::MAX,
+        request_max_age_ns: u64::MAX,
+        auto_resume_ticks: 0,
+        inertia_adaptation: None,
+    };
     let mut motor = MotorLoop::new(driver, rig, reader, shared.clone(), samples, policy);
     let clock = Recorder { now: AtomicU64::new(1_000_000), deadlines: Mutex::new(Vec::new()), shared };
     let period = 100_000;

@@ -7,7 +7,7 @@
 //! into one [`Observation`].
 
 use ipc_types::{ExplicitSchedule, ExplicitSlot, PartStates};
-use rt_core::motion::MotionParams;
+use rt_core::motion::{MotionParams, PlateFollow};
 
 use crate::CalibrateError;
 use crate::fit::{BurstMotion, FitCounts, Observation, RigModel};
@@ -87,6 +87,8 @@ pub struct CalibrateSetup {
     pub frame_period_s: f64,
     /// The calibration the core is playing through, if any.
     pub prior_correction: Option<[[f64; 3]; 3]>,
+    /// How the plate follows its command: the drives as specified.
+    pub follow: PlateFollow,
     pub params: ExciteParams,
 }
 
@@ -309,6 +311,7 @@ impl Exciter {
             motion: s.motion,
             actuators: s.actuators,
             prior_correction: s.prior_correction,
+            follow: s.follow,
         }
     }
 
@@ -369,6 +372,7 @@ mod tests {
             tracker_alpha: None,
             frame_period_s: 1.0 / 30.0,
             prior_correction: None,
+            follow: PlateFollow::Exact,
             params: ExciteParams { pairs: 4, ..ExciteParams::default() },
         }
     }

@@ -15,7 +15,8 @@
 //!    at the identity. The correction is M⁻¹.
 //! 3. **Friction.** The model's own acceleration of the part under the
 //!    same pair of slots about C′, read where and as fast as the part went
-//!    (`rt_core::motion::cycle_mean_acceleration`, nominal μ; step 1 reads
+//!    (`rt_core::motion::cycle_mean_twist` on the plate as the drives
+//!    follow it, nominal μ; step 1 reads
 //!    it the same way), scales to the seen one by
 //!    s = (A·a_model)/|a_model|². Then s = σ_class·(1 + Σ c_k·term_k(P)) is
 //!    fitted by Gauss–Newton, with a weak pull of c towards 0 (a map is only
@@ -33,7 +34,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
 use rig_config::plate_calibration::{
     CalibrationReport, ClassFriction, FORMAT, FRICTION_TERMS, PlateCalibration, friction_terms,
 };
-use rt_core::motion::{MotionParams, PlateMotion, ScheduleEntry, cycle_mean_acceleration};
+use rt_core::PartShape;
+use rt_core::motion::{DriftParams, MotionParams, PlateFollow, PlateMotion, ScheduleEntry, cycle_mean_twist};
 
 use crate::CalibrateError;
 
@@ -85,6 +87,8 @@ pub struct RigModel {
     /// The correction the core played the excitation through (its loaded
     /// calibration), which the new one replaces.
     pub prior_correction: Option<[[f64; 3]; 3]>,
+    /// How the plate follows its command (the drives as specified).
+    pub follow: PlateFollow,
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -271,6 +275,7 @@ fn plate_map(located: &[Located]) -> Option<Matrix3<f64>> {
 fn model_acceleration(rig: &RigModel, c: [f64; 2], o: &Observation) -> Option<[f64; 2]> {
     const READS: usize = 4;
     let mut motion = PlateMotion::new(rig.motion).ok()?;
+    let point = PartShape::Point.patch_points();
     let mut burst = |k: f64, b: &BurstMotion| -> Option<[f64; 2]> {
         motion.set_schedule(&[ScheduleEntry { center: c, k }]).ok()?;
         let mut sum = [0.0; 2];
@@ -279,7 +284,8 @@ fn model_acceleration(rig: &RigModel, c: [f64; 2], o: &Observation) -> Option<[f
             let at: [f64; 2] =
                 core::array::from_fn(|d| b.position[d] + b.velocity[d] * t + 0.5 * b.acceleration[d] * t * t);
             let v: [f64; 2] = core::array::from_fn(|d| b.velocity[d] + b.acceleration[d] * t);
-            let a = cycle_mean_acceleration(&motion, at, v, rig.mu_g);
+            let drift = DriftParams { follow: rig.follow, ..DriftParams::default() };
+            let a = cycle_mean_twist(&motion, drift, at, &point, v, 0.0, rig.mu_g).0;
             sum = [sum[0] + a[0] / READS as f64, sum[1] + a[1] / READS as f64];
         }
         Some(sum)
@@ -572,6 +578,7 @@ mod tests {
             motion: MotionParams::default(),
             actuators: 4,
             prior_correction: None,
+            follow: PlateFollow::Exact,
         };
         let map = [0.1, -0.05, 0.05, 0.1, 0.08];
         let parts: Vec<([f64; 2], u32)> = (0..12)

@@ -325,8 +325,7 @@ impl Simulator {
         }
         // A drive reports the force it applied over the tick; one substep's
         // is that force itself, bit for bit.
-        self.plate.tick_force =
-            if n == 1 { self.plate.force } else { force_sum.map(|f| f / n as f64) };
+        self.plate.tick_force = if n == 1 { self.plate.force } else { force_sum.map(|f| f / n as f64) };
         // The reference has reached this tick's setpoint.
         self.target.advance();
         if let ActuatorModel::Ideal = self.cfg.actuator {

@@ -33,8 +33,8 @@ use core::fmt;
 
 use super::plate_follow::PlateFollow;
 use super::pose::{PlateSample, Pose};
-use crate::driver::PlateState;
 use super::rig::{MAX_ACTUATORS, Rig};
+use crate::driver::PlateState;
 
 /// Tunables, with defaults.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -140,12 +140,19 @@ impl InertiaEstimate {
     /// Starting from the model (scale 1), with `params` (validated by the
     /// caller; out-of-range values only slow or bound the estimate).
     pub fn new(params: InertiaParams) -> Self {
-        Self { params, uu: [0.0; 2], ue: [0.0; 2], ticks: 0,
+        Self {
+            params,
+            uu: [0.0; 2],
+            ue: [0.0; 2],
+            ticks: 0,
             clamped: 0,
             q: [0.0; 3],
             qv: [0.0; 3],
             expected: [0.0; 3],
-            scale: [1.0; 2], updates: 0, skipped: 0 }
+            scale: [1.0; 2],
+            updates: 0,
+            skipped: 0,
+        }
     }
 
     /// The tick about to be played, from setpoint `from` to `to` over
@@ -278,7 +285,8 @@ mod tests {
             let a = crate::motion::Twist { x: (t as f64).sin(), y: (t as f64 * 0.7).cos(), theta: 0.3 };
             let mut sent = [0.0; MAX_ACTUATORS];
             rig.feedforward_forces(&a, &mut sent);
-            let want = crate::motion::Twist { x: a.x * ratio[0], y: a.y * ratio[0], theta: a.theta * ratio[1] };
+            let want =
+                crate::motion::Twist { x: a.x * ratio[0], y: a.y * ratio[0], theta: a.theta * ratio[1] };
             let mut state = PlateState::default();
             model.feedforward_forces(&want, &mut state.actuator_force);
             est.observe(rig, &Pose::HOME, &sent, &state);
