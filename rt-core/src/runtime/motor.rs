@@ -176,10 +176,7 @@ impl<D: PlateDriver> MotorLoop<D> {
         self.shared.driver_clamped.store(self.state.clamped, Relaxed);
         self.shared.driver_rejected.store(self.state.rejected, Relaxed);
         self.shared.driver.store(&self.driver.health());
-        if let Some(e) = self.inertia.as_mut().filter(|_| self.wrote && read.is_ok()) {
-            e.observe(&self.rig, &self.setpoint.pose, &self.cmd.force, &self.state);
-        }
-        self.wrote = false;
+        self.observe_drives(read.is_ok());
         // update: a fault holds at once; otherwise decisions only at a cycle
         // boundary, where the plate is home
         if self.holds_for_fault(read) {
@@ -215,6 +212,15 @@ impl<D: PlateDriver> MotorLoop<D> {
         self.driver.advance();
         self.finish_tick(now_ns);
         TickOutcome::Continue
+    }
+
+    /// The reading is the result of the command last written, if one was:
+    /// the drives' effort goes to the inertia estimate.
+    fn observe_drives(&mut self, read_ok: bool) {
+        if let Some(e) = self.inertia.as_mut().filter(|_| self.wrote && read_ok) {
+            e.observe(&self.rig, &self.setpoint.pose, &self.cmd.force, &self.state);
+        }
+        self.wrote = false;
     }
 
     fn finish_tick(&mut self, now_ns: u64) {
