@@ -32,7 +32,7 @@ fn lockstep_loop_does_not_allocate() {
         for c in 0..20 {
             play(&mut s, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut st).expect("read");
         }
-        // With the motor loop's feed-forward estimate, as `upm validate` plays.
+        // With the motor loop's feed-forward estimate, as `bench calibration` plays.
         for c in 20..30 {
             let n = m.cycle_ticks();
             play_estimating(&mut s, &rig, &m, c * n, n, &mut st, Some(&mut estimate)).expect("read");

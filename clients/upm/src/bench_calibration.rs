@@ -33,7 +33,7 @@ const CYCLES: usize = 2;
 /// correction), as the best model the controller has.
 const PART_DYNAMICS: bool = true;
 /// The core scales its feed-forward to the plate the drives show
-/// (`[motion] adapt_plate_inertia`, on by default); each geometry is
+/// (`[motion] adapt_plate_inertia`, on by default with the simulator); each geometry is
 /// measured after this many cycles of it, as a core that has been
 /// running that request would play it.
 const INERTIA_WARMUP: usize = 12;
@@ -113,7 +113,7 @@ fn force_errors(
         motion: core.motion,
         sim: drivers::SimConfig { collisions: false, substeps: crate::validate::MEASURE_SUBSTEPS, ..sim },
         twist_correction: None,
-        inertia_warmup: config.motion.adapt_plate_inertia.then_some(INERTIA_WARMUP),
+        inertia_warmup: core.inertia_adaptation.is_some().then_some(INERTIA_WARMUP),
     };
     let exact = ValidateSetup {
         sim: drivers::SimConfig { truth: drivers::PlateTruth::NOMINAL, ..setup.sim },

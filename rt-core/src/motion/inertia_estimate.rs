@@ -22,12 +22,14 @@
 //! (`servo`, `servo_substeps`) on the model's plate alongside, and
 //! regresses only the effort beyond what that exact plate would need.
 //!
-//! Robustness: a tick whose measured force is at a drive's limit, or whose
-//! command was clamped, is not used; a cycle with too few ticks or too
-//! little feed-forward, or whose slope is not finite, is skipped and
-//! counted; one cycle moves a scale by at most `max_step`, and the scale
-//! stays within `min_scale..=max_scale`. Cost: two 3 × n products per
-//! tick; no allocation, no branch on data beyond those guards.
+//! Robustness: a tick whose measured force is at a drive's limit (as the
+//! driver reports it: a force averaged over the tick can hide a limit hit
+//! in part of it), or whose command was clamped, is not used; a cycle with
+//! too few ticks or too little feed-forward, or whose slope is not finite,
+//! is skipped and counted; one cycle moves a scale by at most `max_step`,
+//! and the scale stays within `min_scale..=max_scale`. Cost: two 3 × n
+//! products per tick, and `servo_substeps` × 3 servo steps to predict it;
+//! no allocation, no panic, no branch on data beyond those guards.
 
 use core::fmt;
 
@@ -138,7 +140,7 @@ pub struct InertiaEstimate {
 
 impl InertiaEstimate {
     /// Starting from the model (scale 1), with `params` (validated by the
-    /// caller; out-of-range values only slow or bound the estimate).
+    /// caller; out-of-range values give a useless estimate, never a panic).
     pub fn new(params: InertiaParams) -> Self {
         Self {
             params,
@@ -227,8 +229,9 @@ impl InertiaEstimate {
             for d in 0..2 {
                 let beta = self.ue[d] / self.uu[d];
                 if beta.is_finite() && self.uu[d] > 0.0 {
-                    let step = (p.gain * beta).clamp(-p.max_step, p.max_step);
-                    self.scale[d] = (self.scale[d] * (1.0 + step)).clamp(p.min_scale, p.max_scale);
+                    // max/min, not clamp: unvalidated bounds must not panic.
+                    let step = (p.gain * beta).max(-p.max_step).min(p.max_step);
+                    self.scale[d] = (self.scale[d] * (1.0 + step)).max(p.min_scale).min(p.max_scale);
                     used = true;
                 }
             }

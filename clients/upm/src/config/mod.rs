@@ -59,6 +59,23 @@ impl Config {
         self.core_params_inner().map_err(|message| ConfigError::invalid(path, message))
     }
 
+    /// The motor's inertia estimate, for the drives as the rig specifies
+    /// them: the simulator's. EtherCAT's report forces only every
+    /// `cycle_divisor` ticks, not per command, so it stays off there.
+    fn inertia_adaptation(&self) -> Result<Option<rt_core::motion::InertiaParams>, String> {
+        let simulated = self.driver.kind == self::driver::DriverChoice::Sim;
+        match (self.motion.adapt_plate_inertia, simulated) {
+            (Some(false), _) | (None, false) => Ok(None),
+            (Some(true) | None, true) => Ok(Some(crate::validate::drive_servo(
+                &self.sim.config(self.motion.tick_hz, self.plate.half_extent)?,
+            ))),
+            (Some(true), false) => Err(format!(
+                "motion.adapt_plate_inertia: needs the simulator's drives, driver.kind is {:?}",
+                self.driver.kind
+            )),
+        }
+    }
+
     fn core_params_inner(&self) -> Result<CoreParams, String> {
         use self::core::{ms_to_ns, ms_to_ns_or_zero};
         if !(self.telemetry.period_ms.is_finite() && self.telemetry.period_ms >= 1.0) {
@@ -93,13 +110,7 @@ impl Config {
             part_shapes: self.motion.part_shapes,
             part_dynamics: self.motion.part_dynamics.params(),
             part_friction,
-            // The drives as the rig specifies them: the simulator's.
-            inertia_adaptation: match self.motion.adapt_plate_inertia {
-                true => Some(crate::validate::drive_servo(
-                    &self.sim.config(self.motion.tick_hz, self.plate.half_extent)?,
-                )),
-                false => None,
-            },
+            inertia_adaptation: self.inertia_adaptation()?,
             mu_m_g: self.plate.mu_m_g,
             parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
             request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,

@@ -29,8 +29,11 @@ pub struct MotionSection {
     /// The core's correction for each part's own velocity and spin.
     pub part_dynamics: PartDynamicsSection,
     /// The motor scales its feed-forward to the plate's mass and inertia
-    /// as the drives' servo effort shows them; false: the model's.
-    pub adapt_plate_inertia: bool,
+    /// as the drives' servo effort shows them; false: the model's. Unset:
+    /// on with the simulator's drives (whose servo is specified in
+    /// `[sim]`), off with EtherCAT's (which exchange forces only every
+    /// `cycle_divisor` ticks; asking for it there is an error).
+    pub adapt_plate_inertia: Option<bool>,
     pub max_angle: f64,
     pub max_angular_velocity: f64,
     pub max_angular_acceleration: f64,
@@ -56,7 +59,7 @@ impl Default for MotionSection {
             cycle_slots: 0,
             part_shapes: true,
             part_dynamics: PartDynamicsSection::default(),
-            adapt_plate_inertia: CoreParams::default().inertia_adaptation.is_some(),
+            adapt_plate_inertia: None,
             max_angle: m.limits.max_angle,
             max_angular_velocity: m.limits.max_angular_velocity,
             max_angular_acceleration: m.limits.max_angular_acceleration,
@@ -164,6 +167,13 @@ mod tests {
         let text = "[motion]\nadapt_plate_inertia = false\n";
         let off = Config::parse(text, "x.toml").expect("parses").core_params("x.toml").expect("valid");
         assert_eq!(off.inertia_adaptation, None);
+        // EtherCAT's drives: off unless asked, and asking is refused.
+        let bus = "[driver]\nkind = \"ethercat-sim\"\n";
+        let off = Config::parse(bus, "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        assert_eq!(off.inertia_adaptation, None);
+        let asked = format!("{bus}[motion]\nadapt_plate_inertia = true\n");
+        let e = Config::parse(&asked, "x.toml").expect("parses").core_params("x.toml").expect_err("bus");
+        assert!(e.to_string().contains("motion.adapt_plate_inertia") && !e.to_string().contains('\n'), "{e}");
         let e = Config::parse("[motion]\nadapt_plate_inertia = 1\n", "x.toml").expect_err("not a bool");
         assert!(e.to_string().contains("adapt_plate_inertia"), "{e}");
     }
