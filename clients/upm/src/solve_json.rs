@@ -4,7 +4,7 @@
 //! limits), as the core bounds it; the output names the centers whose
 //! bound that lowered.
 
-use rt_core::motion::{PlateFollow, PlateMotion, Rig, playable_k};
+use rt_core::motion::{PlateMotion, Rig, playable_k};
 use rt_core::runtime::{
     LinearizeAbout, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE,
     PartDynamics, PartDynamicsParams, PartMotion,
@@ -271,12 +271,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let mut dynamics = None;
     if input.part_dynamics {
         // The drives as the rig is specified (not as any hidden truth has them).
-        let follow = match setup.sim.actuator {
-            drivers::ActuatorModel::Ideal => PlateFollow::Exact,
-            drivers::ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
-                PlateFollow::Servo { bandwidth_hz, damping }
-            }
-        };
+        let follow = crate::validate::drive_servo(&setup.sim).servo;
         let params = PartDynamicsParams {
             steps: MAX_DYNAMICS_STEPS,
             about: LinearizeAbout::Rest,

@@ -183,13 +183,18 @@ pub fn measure(
     let mut sum_tau = vec![0.0; probes.len()];
     let mut state = PlateState::default();
     let mut estimate = setup.inertia_warmup.map(|_| InertiaEstimate::new(drive_servo(&setup.sim)));
-    let warmup = setup.inertia_warmup.unwrap_or(0) as u64;
-    for c in 0..warmup {
-        play_estimating(&mut sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
+    // One cycle from motion tick `c·n`; the estimate, if any, ends it.
+    let mut play_cycle = |sim: &mut Simulator, c: u64| -> anyhow::Result<()> {
+        play_estimating(sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
             .context("simulator read")?;
         if let Some(e) = &mut estimate {
             rig.set_inertia_scale(e.end_cycle());
         }
+        Ok(())
+    };
+    let warmup = setup.inertia_warmup.unwrap_or(0) as u64;
+    for c in 0..warmup {
+        play_cycle(&mut sim, c)?;
     }
     for c in warmup..warmup + cycles as u64 {
         for (i, p) in probes.iter().enumerate() {
@@ -197,11 +202,7 @@ pub fn measure(
             let position = [p.position[0] + r * a.cos(), p.position[1] + r * a.sin()];
             sim.set_part(i, PartState { position, ..PartState::default() });
         }
-        play_estimating(&mut sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
-            .context("simulator read")?;
-        if let Some(e) = &mut estimate {
-            rig.set_inertia_scale(e.end_cycle());
-        }
+        play_cycle(&mut sim, c)?;
         for (i, s) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
             let f = [mass * s.velocity[0] / t, mass * s.velocity[1] / t];
             for d in 0..2 {
