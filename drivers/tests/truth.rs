@@ -50,17 +50,9 @@ fn angle(f: [f64; 2]) -> f64 {
     f[1].atan2(f[0])
 }
 
-/// The twist a commanded twist becomes, to first order: its nominal
-/// strokes, read by the plant's scaled sensors, through the plant's geometry.
+/// The twist a commanded twist becomes, to first order.
 fn true_twist(truth: &PlateTruth, xi: Twist) -> Twist {
-    let nominal = Rig::new(rt_core::motion::RigParams::default()).expect("rig");
-    let plant = Rig::new(truth.plant_rig(nominal.params())).expect("plant");
-    let mut v = [0.0; MAX_ACTUATORS];
-    nominal.actuator_velocities(&Pose::HOME, &xi, &mut v);
-    for (vi, e) in v.iter_mut().zip(truth.sensor_scale_error) {
-        *vi /= 1.0 + e;
-    }
-    plant.twist_from_actuators_exact(&Pose::HOME, &v)
+    truth.true_twist(&rt_core::motion::RigParams::default(), xi)
 }
 
 /// The center a commanded rotation about `c` really turns about.
@@ -71,17 +63,7 @@ fn effective_center(truth: &PlateTruth, c: [f64; 2]) -> [f64; 2] {
 
 /// The inverse of the map commanded twist → true twist.
 fn exact_correction(truth: &PlateTruth) -> [[f64; 3]; 3] {
-    let cols = [
-        Twist { x: 1.0, ..Twist::default() },
-        Twist { y: 1.0, ..Twist::default() },
-        Twist { theta: 1.0, ..Twist::default() },
-    ]
-    .map(|e| true_twist(truth, e));
-    let m = [
-        [cols[0].x, cols[1].x, cols[2].x],
-        [cols[0].y, cols[1].y, cols[2].y],
-        [cols[0].theta, cols[1].theta, cols[2].theta],
-    ];
+    let m = truth.twist_map(&rt_core::motion::RigParams::default());
     let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);

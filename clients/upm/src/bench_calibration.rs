@@ -212,6 +212,34 @@ fn mass_err(rows: &[Value]) -> Vec<f64> {
         .collect()
 }
 
+/// How far a twist correction leaves the plate's pushes from the model's:
+/// RMS over every center and a 9 × 5 grid over ±0.8 × ±0.4 m (where the
+/// bench puts parts) of the angle between R90(P − C′), C′ the center the
+/// plate really turns about when commanded through `correction`, and
+/// R90(P − C) (degrees); `truth` is the plate's own map of commanded to
+/// true twist (`drivers::PlateTruth::twist_map`, the evaluator's
+/// reference). Independent of which geometries are drawn.
+fn push_direction_err_deg(centers: &[[f64; 2]], truth: [[f64; 3]; 3], correction: [[f64; 3]; 3]) -> f64 {
+    let plate =
+        nalgebra::Matrix3::from_fn(|r, c| truth[r][c]) * nalgebra::Matrix3::from_fn(|r, c| correction[r][c]);
+    let (mut ss, mut n) = (0.0, 0.0);
+    for c in centers {
+        let xi = plate * nalgebra::Vector3::new(c[1], -c[0], 1.0);
+        let turned = [-xi[1] / xi[2], xi[0] / xi[2]];
+        for i in 0..9 {
+            for j in 0..5 {
+                let p = [0.8 * (i as f64 / 4.0 - 1.0), 0.4 * (j as f64 / 2.0 - 1.0)];
+                let dir = |q: [f64; 2]| (p[0] - q[0]).atan2(q[1] - p[1]);
+                let d = dir(turned) - dir(*c);
+                let e = d.sin().atan2(d.cos());
+                ss += e * e;
+                n += 1.0;
+            }
+        }
+    }
+    (ss / n).sqrt().to_degrees()
+}
+
 fn median(v: &mut [f64]) -> Option<f64> {
     v.sort_by(f64::total_cmp);
     crate::bench_sort::percentile(v, 0.5)
@@ -251,6 +279,12 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         let (mut drawn, mut played) = (0, 0);
         let mut worst_geometry = (f64::NEG_INFINITY, Value::Null);
         let k_max = common_k_max(&cal_config, &cal)?;
+        // The turning the calibration found against the truth's own.
+        let (sim, truth_of_case) = plate_of(&cal_config)?;
+        let exact = truth_of_case.plate.twist_map(&sim.rig);
+        let identity = core::array::from_fn(|r| core::array::from_fn(|c| if r == c { 1.0 } else { 0.0 }));
+        let push_err =
+            [identity, cal.twist_correction].map(|m| push_direction_err_deg(&cal.centers, exact, m));
         while played < GEOMETRIES && drawn < 4 * GEOMETRIES {
             drawn += 1;
             if let Some(([n, c, f], geometry)) =
@@ -281,6 +315,8 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
             "case": case,
             "truth": truth,
             "nominal_force_err_median": median(&mut nf.clone()),
+            "nominal_push_direction_err_deg": push_err[0],
+            "calibrated_push_direction_err_deg": push_err[1],
             "calibrated_force_err_median": median(&mut cf.clone()),
             "calibrated_force_err_worst": cf.iter().copied().fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x)))),
             "nominal_track_rms_pct": nominal_track,
@@ -312,6 +348,11 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         "calibrated_force_err_median": median(&mut calibrated_f.clone()),
         "calibrated_force_err_worst": worst(&calibrated_f),
         "model_floor_force_err_median": median(&mut floor_f.clone()),
+        // RMS angle between the plate's pushes and the model's over every
+        // center and the bench's region (degrees), each truth's, median.
+        "nominal_push_direction_err_deg": median(&mut col("nominal_push_direction_err_deg")),
+        "calibrated_push_direction_err_deg": median(&mut col("calibrated_push_direction_err_deg")),
+        "calibrated_push_direction_err_deg_worst": worst(&col("calibrated_push_direction_err_deg")),
         "model_floor_force_err_worst": worst(&floor_f),
         "nominal_track_rms_pct": median(&mut nt.clone()),
         "nominal_track_rms_pct_worst": worst(&nt),
@@ -339,6 +380,7 @@ pub fn to_text(v: &Value) -> String {
     format!(
         "{} hidden truths (seed {}), {} refused; calibration takes {} s of rig time\n\
          force error, median / worst: nominal {} / {}, calibrated {} / {} (the model on an exact plate: {} / {})\n\
+         push direction against the plate's (RMS, median over truths): nominal {}°, calibrated {}° (worst {}°)\n\
          track RMS (% of path), median / worst: nominal {} / {}, calibrated {} / {}, adapted {} / {}, both {} / {}\n\
          learnt friction scale against the truth (median): adapted {}, both {}\n",
         v["cases"],
@@ -351,6 +393,9 @@ pub fn to_text(v: &Value) -> String {
         pct("calibrated_force_err_worst"),
         pct("model_floor_force_err_median"),
         pct("model_floor_force_err_worst"),
+        num("nominal_push_direction_err_deg"),
+        num("calibrated_push_direction_err_deg"),
+        num("calibrated_push_direction_err_deg_worst"),
         num("nominal_track_rms_pct"),
         num("nominal_track_rms_pct_worst"),
         num("calibrated_track_rms_pct"),
@@ -362,4 +407,25 @@ pub fn to_text(v: &Value) -> String {
         pct("adapted_scale_err_median"),
         pct("both_scale_err_median"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_push_direction_error_is_zero_only_for_the_truths_own_inverse() {
+        let rig = rt_core::motion::RigParams::default();
+        let centers = [[1.2, 0.2], [-0.2, 0.8], [-1.3, 0.0], [0.6, -0.7]];
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let nominal = drivers::PlateTruth::NOMINAL.twist_map(&rig);
+        assert!(push_direction_err_deg(&centers, nominal, identity) < 1e-9);
+        let worn = drivers::PlateTruth::worn().twist_map(&rig);
+        let uncorrected = push_direction_err_deg(&centers, worn, identity);
+        assert!(uncorrected > 0.1, "a worn plate turns elsewhere: {uncorrected}°");
+        let m = nalgebra::Matrix3::from_fn(|r, c| worn[r][c]).try_inverse().expect("invertible");
+        // Any scale of the exact inverse turns about the same centers.
+        let exact = core::array::from_fn(|r| core::array::from_fn(|c| 1.3 * m[(r, c)]));
+        assert!(push_direction_err_deg(&centers, worn, exact) < 1e-9);
+    }
 }

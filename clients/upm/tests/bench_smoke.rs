@@ -124,6 +124,8 @@ fn bench_calibration_reports_nominal_and_calibrated_on_the_same_truths() {
         "both_track_rms_pct",
         "adapted_scale_err_median",
         "plate_mass_estimate_err_median",
+        "nominal_push_direction_err_deg",
+        "calibrated_push_direction_err_deg",
     ] {
         assert!(v[key].as_f64().is_some_and(|x| x >= 0.0), "{key}: {v}");
     }
