@@ -52,7 +52,7 @@ fn angle(f: [f64; 2]) -> f64 {
 
 /// The twist a commanded twist becomes, to first order.
 fn true_twist(truth: &PlateTruth, xi: Twist) -> Twist {
-    truth.true_twist(&rt_core::motion::RigParams::default(), xi)
+    truth.true_twist(&rt_core::motion::RigParams::default(), xi).expect("rig")
 }
 
 /// The center a commanded rotation about `c` really turns about.
@@ -63,7 +63,7 @@ fn effective_center(truth: &PlateTruth, c: [f64; 2]) -> [f64; 2] {
 
 /// The inverse of the map commanded twist → true twist.
 fn exact_correction(truth: &PlateTruth) -> [[f64; 3]; 3] {
-    let m = truth.twist_map(&rt_core::motion::RigParams::default());
+    let m = truth.twist_map(&rt_core::motion::RigParams::default()).expect("rig");
     let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);

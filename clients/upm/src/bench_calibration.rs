@@ -29,6 +29,8 @@ use crate::validate::{ValidateSetup, measure};
 /// Random geometries per case, and cycles each is played for.
 const GEOMETRIES: usize = 6;
 const CYCLES: usize = 2;
+/// Parts are placed anywhere in ±`REGION` (m); the turning is judged there.
+const REGION: [f64; 2] = [0.8, 0.4];
 /// Solve with the velocity parts pick up through the cycle (issue 25's
 /// correction), as the best model the controller has.
 const PART_DYNAMICS: bool = true;
@@ -76,7 +78,7 @@ fn force_errors(
     let mut parts: Vec<PartInput> = Vec::new();
     let mut classes = Vec::new();
     while parts.len() < count {
-        let position = [rng.random_range(-0.8..0.8), rng.random_range(-0.4..0.4)];
+        let position = [rng.random_range(-REGION[0]..REGION[0]), rng.random_range(-REGION[1]..REGION[1])];
         if parts.iter().any(|p| (p.position[0] - position[0]).hypot(p.position[1] - position[1]) < 0.1) {
             continue;
         }
@@ -213,7 +215,7 @@ fn mass_err(rows: &[Value]) -> Vec<f64> {
 }
 
 /// How far a twist correction leaves the plate's pushes from the model's:
-/// RMS over every center and a 9 × 5 grid over ±0.8 × ±0.4 m (where the
+/// RMS over every center and a 9 × 5 grid over ±[`REGION`] (where the
 /// bench puts parts) of the angle between R90(P − C′), C′ the center the
 /// plate really turns about when commanded through `correction`, and
 /// R90(P − C) (degrees); `truth` is the plate's own map of commanded to
@@ -228,7 +230,7 @@ fn push_direction_err_deg(centers: &[[f64; 2]], truth: [[f64; 3]; 3], correction
         let turned = [-xi[1] / xi[2], xi[0] / xi[2]];
         for i in 0..9 {
             for j in 0..5 {
-                let p = [0.8 * (i as f64 / 4.0 - 1.0), 0.4 * (j as f64 / 2.0 - 1.0)];
+                let p = [REGION[0] * (i as f64 / 4.0 - 1.0), REGION[1] * (j as f64 / 2.0 - 1.0)];
                 let dir = |q: [f64; 2]| (p[0] - q[0]).atan2(q[1] - p[1]);
                 let d = dir(turned) - dir(*c);
                 let e = d.sin().atan2(d.cos());
@@ -281,7 +283,10 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         let k_max = common_k_max(&cal_config, &cal)?;
         // The turning the calibration found against the truth's own.
         let (sim, truth_of_case) = plate_of(&cal_config)?;
-        let exact = truth_of_case.plate.twist_map(&sim.rig);
+        let exact = truth_of_case
+            .plate
+            .twist_map(&sim.rig)
+            .ok_or_else(|| anyhow::anyhow!("sim.rig: not a valid rig"))?;
         let identity = core::array::from_fn(|r| core::array::from_fn(|c| if r == c { 1.0 } else { 0.0 }));
         let push_err =
             [identity, cal.twist_correction].map(|m| push_direction_err_deg(&cal.centers, exact, m));
@@ -418,9 +423,9 @@ mod tests {
         let rig = rt_core::motion::RigParams::default();
         let centers = [[1.2, 0.2], [-0.2, 0.8], [-1.3, 0.0], [0.6, -0.7]];
         let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        let nominal = drivers::PlateTruth::NOMINAL.twist_map(&rig);
+        let nominal = drivers::PlateTruth::NOMINAL.twist_map(&rig).expect("rig");
         assert!(push_direction_err_deg(&centers, nominal, identity) < 1e-9);
-        let worn = drivers::PlateTruth::worn().twist_map(&rig);
+        let worn = drivers::PlateTruth::worn().twist_map(&rig).expect("rig");
         let uncorrected = push_direction_err_deg(&centers, worn, identity);
         assert!(uncorrected > 0.1, "a worn plate turns elsewhere: {uncorrected}°");
         let m = nalgebra::Matrix3::from_fn(|r, c| worn[r][c]).try_inverse().expect("invertible");

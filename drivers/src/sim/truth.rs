@@ -266,30 +266,38 @@ impl PlateTruth {
 
     /// The twist a commanded twist becomes, to first order: its strokes
     /// on `nominal`, read by this plate's scaled sensors, through this
-    /// plate's geometry.
-    pub fn true_twist(&self, nominal: &RigParams, xi: Twist) -> Twist {
-        let (Ok(model), Ok(plant)) = (Rig::new(*nominal), Rig::new(self.plant_rig(nominal))) else {
-            return Twist { x: f64::NAN, y: f64::NAN, theta: f64::NAN };
-        };
+    /// plate's geometry. None if `nominal` is not a valid rig.
+    pub fn true_twist(&self, nominal: &RigParams, xi: Twist) -> Option<Twist> {
+        let [model, plant] = self.model_and_plant(nominal)?;
+        Some(self.turned(&model, &plant, xi))
+    }
+
+    /// The map M of commanded twist → true twist (rows x, y, θ), to first
+    /// order: a perfect calibration's correction is M⁻¹. For evaluation
+    /// only: the controller never sees a truth. None if `nominal` is not a
+    /// valid rig.
+    pub fn twist_map(&self, nominal: &RigParams) -> Option<[[f64; 3]; 3]> {
+        let [model, plant] = self.model_and_plant(nominal)?;
+        let axes = [
+            Twist { x: 1.0, ..Twist::default() },
+            Twist { y: 1.0, ..Twist::default() },
+            Twist { theta: 1.0, ..Twist::default() },
+        ];
+        let [x, y, t] = axes.map(|e| self.turned(&model, &plant, e));
+        Some([[x.x, y.x, t.x], [x.y, y.y, t.y], [x.theta, y.theta, t.theta]])
+    }
+
+    fn model_and_plant(&self, nominal: &RigParams) -> Option<[Rig; 2]> {
+        Some([Rig::new(*nominal).ok()?, Rig::new(self.plant_rig(nominal)).ok()?])
+    }
+
+    fn turned(&self, model: &Rig, plant: &Rig, xi: Twist) -> Twist {
         let mut v = [0.0; MAX_ACTUATORS];
         model.actuator_velocities(&Pose::HOME, &xi, &mut v);
         for (vi, e) in v.iter_mut().zip(self.sensor_scale_error) {
             *vi /= 1.0 + e;
         }
         plant.twist_from_actuators_exact(&Pose::HOME, &v)
-    }
-
-    /// The map M of commanded twist → true twist (rows x, y, θ), to first
-    /// order: a perfect calibration's correction is M⁻¹. For evaluation
-    /// only: the controller never sees a truth.
-    pub fn twist_map(&self, nominal: &RigParams) -> [[f64; 3]; 3] {
-        let axes = [
-            Twist { x: 1.0, ..Twist::default() },
-            Twist { y: 1.0, ..Twist::default() },
-            Twist { theta: 1.0, ..Twist::default() },
-        ];
-        let [x, y, t] = axes.map(|e| self.true_twist(nominal, e));
-        [[x.x, y.x, t.x], [x.y, y.y, t.y], [x.theta, y.theta, t.theta]]
     }
 }
 
