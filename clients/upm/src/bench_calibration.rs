@@ -242,6 +242,19 @@ fn push_direction_err_deg(centers: &[[f64; 2]], truth: [[f64; 3]; 3], correction
     (ss / n).sqrt().to_degrees()
 }
 
+/// The turning `calibration` leaves on `config`'s simulated plate against
+/// the truth's own ([`push_direction_err_deg`]): uncorrected, corrected.
+pub fn turning_err_deg(
+    config: &Config,
+    calibration: &rig_config::PlateCalibration,
+) -> anyhow::Result<[f64; 2]> {
+    let (sim, truth) = plate_of(config)?;
+    let exact = truth.plate.twist_map(&sim.rig).ok_or_else(|| anyhow::anyhow!("sim.rig: not a valid rig"))?;
+    let identity = core::array::from_fn(|r| core::array::from_fn(|c| if r == c { 1.0 } else { 0.0 }));
+    Ok([identity, calibration.twist_correction]
+        .map(|m| push_direction_err_deg(&calibration.centers, exact, m)))
+}
+
 fn median(v: &mut [f64]) -> Option<f64> {
     v.sort_by(f64::total_cmp);
     crate::bench_sort::percentile(v, 0.5)
@@ -281,15 +294,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         let (mut drawn, mut played) = (0, 0);
         let mut worst_geometry = (f64::NEG_INFINITY, Value::Null);
         let k_max = common_k_max(&cal_config, &cal)?;
-        // The turning the calibration found against the truth's own.
-        let (sim, truth_of_case) = plate_of(&cal_config)?;
-        let exact = truth_of_case
-            .plate
-            .twist_map(&sim.rig)
-            .ok_or_else(|| anyhow::anyhow!("sim.rig: not a valid rig"))?;
-        let identity = core::array::from_fn(|r| core::array::from_fn(|c| if r == c { 1.0 } else { 0.0 }));
-        let push_err =
-            [identity, cal.twist_correction].map(|m| push_direction_err_deg(&cal.centers, exact, m));
+        let push_err = turning_err_deg(&cal_config, &cal)?;
         while played < GEOMETRIES && drawn < 4 * GEOMETRIES {
             drawn += 1;
             if let Some(([n, c, f], geometry)) =
