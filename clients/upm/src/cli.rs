@@ -139,6 +139,9 @@ pub enum Command {
         /// Serve the live view (Foxglove WebSocket) on this localhost port.
         #[arg(long, num_args = 0..=1, default_missing_value = "8765")]
         monitor: Option<u16>,
+        /// Print metrics.json on stdout instead of a short summary.
+        #[arg(long)]
+        json: bool,
     },
     /// Benchmarks side by side with their references (BENCHMARKS.md).
     Bench {
@@ -396,6 +399,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             driver,
             no_record,
             monitor,
+            json,
         } => {
             let path = crate::scenario::resolve(&scenario);
             let sc = crate::scenario::Scenario::load(&path)?;
@@ -453,10 +457,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             ipc_types::rig_node::remove_prefix_segment(&prefix);
             let outcome = outcome?;
-            println!("{}", serde_json::to_string_pretty(&outcome.metrics)?);
-            eprintln!("upm run: wrote {}/metrics.json and trails.svg", out.display());
-            if !no_record {
-                eprintln!("upm run: recorded {}", out.join(crate::launcher::RECORDING).display());
+            if json {
+                println!("{}", serde_json::to_string_pretty(&outcome.metrics)?);
+            } else {
+                println!("{}", crate::launcher::summary::summary(&outcome.metrics, &out, !no_record));
             }
             Ok(())
         }

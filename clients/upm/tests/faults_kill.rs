@@ -251,10 +251,10 @@ fn after_a_killed_core_the_next_run_on_the_same_prefix_works() {
     };
     let stderr = run.stderr();
     assert!(!status.success());
-    assert!(stderr.contains("upm-core died during the run"), "{stderr}");
+    assert!(stderr.contains("core (upm-core) was killed by signal 9 (SIGKILL) after"), "{stderr}");
     // What was recorded up to the kill is kept.
     let m = metrics(&first);
-    assert!(m["core"]["died"].as_str().is_some_and(|s| s.contains('9')), "{m}");
+    assert!(m["core"]["died"].as_str().is_some_and(|s| s.contains("signal 9 (SIGKILL)")), "{m}");
     assert!(first.join("trails.svg").is_file());
     for role in ["vision", "planner"] {
         assert!(pid_of(role, &cfg).is_none(), "{role} left running");

@@ -135,7 +135,7 @@ fn python_mcap_reads_every_channel_of_a_real_run() {
     let out = out_dir("mcap");
     let started = Instant::now();
     let run = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", "sort", "--duration", "6", "--quiet", "--out"])
+        .args(["run", "sort", "--duration", "6", "--quiet", "--json", "--out"])
         .arg(&out)
         .args(["--prefix", &prefix])
         .current_dir(ROOT)

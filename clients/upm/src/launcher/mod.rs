@@ -6,6 +6,8 @@
 
 pub mod observer;
 pub mod plot;
+pub mod process_group;
+pub mod summary;
 pub mod supervisor;
 
 use std::path::{Path, PathBuf};
@@ -190,7 +192,7 @@ pub fn run_plan(
     let up = Instant::now();
     while !ipc_types::discovery::core_running(&prefix).unwrap_or(false) {
         if let Some(s) = core.exited() {
-            bail!("upm-core exited at start-up ({s}); see {}", logs.join("core.log").display());
+            bail!("{} at start-up", core.describe_end(s));
         }
         if up.elapsed() > Duration::from_secs(20) {
             bail!("upm-core did not come up within 20 s; see {}", logs.join("core.log").display());
@@ -225,6 +227,10 @@ pub fn run_plan(
     let mut sim_s = 0.0;
     let mut core_failed = None;
     let mut planner_exit = None;
+    // The line that ends the run: a client that cannot start.
+    let mut fatal: Option<String> = None;
+    let mut hung = HungWatch::new(&plan.config);
+    let say = |msg: &str| if bar.is_hidden() { eprintln!("{msg}") } else { bar.println(msg) };
     while sim_s < plan.duration_s {
         sim_s = observer.poll()?;
         bar.set_position((sim_s * 10.0) as u64);
@@ -234,14 +240,21 @@ pub fn run_plan(
             planner_exit = Some(s);
             break;
         }
+        hung.check(observer.last_telemetry.as_ref(), &mut vision, &mut planner, &say);
         for c in [Some(&mut vision), Some(&mut planner), camera.as_mut()].into_iter().flatten() {
-            if c.restart_if_dead()? {
-                let msg = format!("upm run: {} died; restarted (restart {})", c.name, c.restarts);
-                if bar.is_hidden() { eprintln!("{msg}") } else { bar.println(msg) }
+            if let Some(event) = c.restart_if_dead()? {
+                if c.crash_looping() {
+                    fatal = Some(event);
+                } else {
+                    say(&format!("upm run: {event}"));
+                }
             }
         }
+        if fatal.is_some() {
+            break;
+        }
         if let Some(s) = core.exited() {
-            core_failed = Some(s);
+            core_failed = Some(core.describe_end(s));
             break;
         }
         match node.wait(Duration::from_millis(20)) {
@@ -277,6 +290,12 @@ pub fn run_plan(
     let core_exit = core.stop(Duration::from_secs(5));
     // Last, so it has the core's final telemetry.
     let recorder_exit = recorder.as_mut().and_then(|r| r.stop(Duration::from_secs(10)));
+    let clients = json!({
+        "vision": client_json(&vision),
+        "planner": client_json(&planner),
+        "camera": camera.as_ref().map(client_json),
+        "recorder": recorder.as_ref().map(client_json),
+    });
     let recording_json = if plan.record {
         crate::recording::summary_json(&recording, recorder_exit.is_some_and(|s| s.success()))
     } else {
@@ -305,7 +324,7 @@ pub fn run_plan(
             "pm_qos_held": t.realtime_flags & ipc_types::Telemetry::RT_PM_QOS_HELD != 0,
             "driver": crate::status::driver_json(&t),
             "exit_ok": core_exit.is_some_and(|s| s.success()),
-            "died": core_failed.map(|s| s.to_string()),
+            "died": core_failed,
         },
         "latency_us": {
             "motor_wakeup": latency_json(&t.latency.motor_wakeup),
@@ -319,6 +338,8 @@ pub fn run_plan(
         "schedules_seen": observer.schedules_seen,
         "processes": pids,
         "restarts": restarts,
+        // Each client's command, restarts, hung kills and how it last ended.
+        "clients": clients,
         "camera": if rendered { "rendered" } else { "truth" },
         "recording": recording_json,
         // What vision did with the frames (rendered camera only).
@@ -337,14 +358,117 @@ pub fn run_plan(
         &observer.trails,
     )?;
     // What was recorded is written first: a dead core loses nothing.
-    if let Some(s) = core_failed {
+    if let Some(line) = &metrics["core"]["died"].as_str() {
+        bail!("{line}; the run stopped; what was recorded is in {}", out.display());
+    }
+    if let Some(line) = fatal {
+        bail!("{line}, so the run stops; what was recorded is in {}", out.display());
+    }
+    if observer.schedules_seen == 0 && !interrupted {
         bail!(
-            "upm-core died during the run ({s}); see {}; what was recorded is in {}",
-            logs.join("core.log").display(),
-            out.display()
+            "the {} never had a request accepted in {:.1} s ({} requests rejected{}; see {})",
+            planner.label(),
+            observer.trails.duration(),
+            t.counters.rejected_requests,
+            rejected_reasons(&t),
+            logs.join("planner.log").display()
         );
     }
     Ok(RunOutcome { metrics, trails: observer.trails, interrupted })
+}
+
+/// `: stale 3, unknown_part 1` for the reasons with rejections, else "".
+fn rejected_reasons(t: &ipc_types::Telemetry) -> String {
+    let reasons = crate::status::rejected_by_reason(t);
+    let each: Vec<String> = reasons.iter().map(|(r, n)| format!("{r} {n}")).collect();
+    if each.is_empty() { String::new() } else { format!(": {}", each.join(", ")) }
+}
+
+/// What metrics.json keeps of a client.
+fn client_json(c: &Supervised) -> Value {
+    json!({
+        "command": c.label(),
+        "restarts": c.restarts,
+        "hung_kills": c.hung_kills,
+        "last_exit": c.last_exit,
+    })
+}
+
+/// Clients that are alive but whose output the core has not accepted for
+/// longer than its staleness limit, for `HUNG_GRACE`: killed and restarted.
+#[derive(Debug)]
+struct HungWatch {
+    parts_limit_ms: f64,
+    request_limit_ms: f64,
+    vision_since: Option<Instant>,
+    planner_since: Option<Instant>,
+}
+
+/// How long a client's output may stay stale before it counts as hung
+/// (counted from its start at the earliest, so a slow start is not hung).
+const HUNG_GRACE: Duration = Duration::from_secs(5);
+
+impl HungWatch {
+    fn new(config: &Config) -> Self {
+        Self {
+            parts_limit_ms: config.safety.parts_max_age_ms,
+            request_limit_ms: config.safety.request_max_age_ms,
+            vision_since: None,
+            planner_since: None,
+        }
+    }
+
+    /// Judge vision by the part states' age and the planner by the
+    /// request's while the part states are fresh (a planner without parts
+    /// has nothing to answer).
+    fn check(
+        &mut self,
+        t: Option<&ipc_types::Telemetry>,
+        vision: &mut Supervised,
+        planner: &mut Supervised,
+        say: &dyn Fn(&str),
+    ) {
+        // Only on a current snapshot: a frozen core is not its clients' fault.
+        let Some(t) = t.filter(|t| ipc_types::monotonic_now_ns().saturating_sub(t.stamp_ns) < 1_000_000_000)
+        else {
+            return;
+        };
+        let parts_stale = t.parts_age_ms > self.parts_limit_ms;
+        let request_stale = t.request_age_ms > self.request_limit_ms && !parts_stale;
+        let judged = [
+            (vision, &mut self.vision_since, parts_stale, "part states", t.parts_age_ms, self.parts_limit_ms),
+            (
+                planner,
+                &mut self.planner_since,
+                request_stale,
+                "request",
+                t.request_age_ms,
+                self.request_limit_ms,
+            ),
+        ];
+        for (client, since, stale, what, age_ms, limit_ms) in judged {
+            let Some(up) = client.uptime() else {
+                *since = None;
+                continue;
+            };
+            if !stale {
+                *since = None;
+                continue;
+            }
+            // Stale since this start at the earliest.
+            let from =
+                *since.get_or_insert_with(|| Instant::now() - up.min(Duration::from_millis(age_ms as u64)));
+            if from.elapsed() >= HUNG_GRACE && up >= HUNG_GRACE {
+                let why = format!(
+                    "alive, but no {what} accepted for {:.1} s, limit {:.0} ms",
+                    age_ms / 1e3,
+                    limit_ms
+                );
+                say(&format!("upm run: {}", client.kill_hung(&why)));
+                *since = None;
+            }
+        }
+    }
 }
 
 /// Wait until upm-recorder listens: its file exists (it subscribes first)
