@@ -12,6 +12,8 @@ use rt_core::runtime::alloc_count;
 use rt_core::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
 use serde_json::{Value, json};
 
+use crate::faer_reference;
+
 pub(crate) const MU_M_G: f64 = 0.1;
 
 /// One benchmark system: parts on the plate, centers around it, and forces
@@ -107,6 +109,13 @@ fn timed_pinv(a: &DMatrix<f64>, b: &DVector<f64>) -> anyhow::Result<f64> {
     Ok(us)
 }
 
+/// A nalgebra matrix or vector in faer's layout.
+fn faer_mat<C: nalgebra::Dim, S: nalgebra::RawStorage<f64, nalgebra::Dyn, C>>(
+    a: &nalgebra::Matrix<f64, nalgebra::Dyn, C, S>,
+) -> faer::Mat<f64> {
+    faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
+}
+
 /// Time one size; returns the JSON row.
 fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
     let cases: Vec<BenchCase> = (0..8).map(|s| bench_case(rows, n, 1000 + s, 0.04)).collect();
@@ -140,6 +149,7 @@ fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
     }
     // Accuracy (exact path only) and the method used.
     let mut max_rel = 0.0f64;
+    let mut max_rel_faer = 0.0f64;
     let mut saturated = 0;
     let mut method = String::new();
     let mut max_condition = 0.0f64;
@@ -152,6 +162,9 @@ fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
             let k_ref = a.clone().pseudo_inverse(1e-12).map_err(|e| anyhow::anyhow!("{e}"))? * b;
             let diff = sol.k().iter().zip(k_ref.iter()).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             max_rel = max_rel.max(diff / k_ref.amax().max(1e-300));
+            let k_faer = faer_reference::min_norm(faer_mat(a).as_ref(), faer_mat(b).as_ref());
+            let diff = (0..n).map(|j| (sol.k()[j] - k_faer[(j, 0)]).abs()).fold(0.0, f64::max);
+            max_rel_faer = max_rel_faer.max(diff / k_ref.amax().max(1e-300));
         }
     }
     // A B A B batches until the budget is spent: each case is solved
@@ -177,16 +190,35 @@ fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
         out.push(timed_pinv(a, b)?);
         Ok(())
     };
+    // faer's inputs in its own layout, made outside the timing.
+    let faer_systems: Vec<(faer::Mat<f64>, faer::Mat<f64>, Vec<f64>)> =
+        systems.iter().map(|(a, b)| (faer_mat(a), faer_mat(b), b.iter().copied().collect())).collect();
+    let mut in_place = faer_reference::MinNormInPlace::new(rows, n);
+    let (mut faer_qr, mut faer_in_place, mut faer_allocations) = (Vec::new(), Vec::new(), 0u64);
     let started = Instant::now();
     let mut round = 0usize;
     while started.elapsed().as_secs_f64() < budget_s || round < 2 {
-        for (c, (a, b)) in cases.iter().zip(&systems) {
+        for ((c, (a, b)), (fa, fb, bs)) in cases.iter().zip(&systems).zip(&faer_systems) {
             let p = problem(c);
             for _ in 0..REPEATS {
                 time_upm(&p, &mut upm)?;
             }
             for _ in 0..REPEATS {
                 time_nalgebra(a, b, &mut nal)?;
+            }
+            for _ in 0..REPEATS {
+                let t = Instant::now();
+                std::hint::black_box(faer_reference::min_norm(fa.as_ref(), fb.as_ref()));
+                faer_qr.push(t.elapsed().as_secs_f64() * 1e6);
+            }
+            for _ in 0..REPEATS {
+                let (us, allocs) = alloc_count::allocations_in(|| {
+                    let t = Instant::now();
+                    std::hint::black_box(in_place.solve(fa.as_ref(), bs));
+                    t.elapsed().as_secs_f64() * 1e6
+                });
+                faer_allocations += allocs;
+                faer_in_place.push(us);
             }
             time_upm(&p, &mut upm_cold)?;
             time_nalgebra(a, b, &mut nal_cold)?;
@@ -197,7 +229,10 @@ fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
     nal_cold.sort_by(f64::total_cmp);
     upm.sort_by(f64::total_cmp);
     nal.sort_by(f64::total_cmp);
+    faer_qr.sort_by(f64::total_cmp);
+    faer_in_place.sort_by(f64::total_cmp);
     let (u50, n50) = (percentile(&upm, 0.5), percentile(&nal, 0.5));
+    let (fq50, fi50) = (percentile(&faer_qr, 0.5), percentile(&faer_in_place, 0.5));
     Ok(json!({
         "m": rows,
         "n": n,
@@ -209,6 +244,16 @@ fn bench_size(rows: usize, n: usize, budget_s: f64) -> anyhow::Result<Value> {
         "nalgebra_p50_us": n50,
         "nalgebra_p99_us": percentile(&nal, 0.99),
         "speedup_p50": n50 / u50,
+        // faer: the same minimum-norm K from a QR of Aᵀ, by `Mat::qr()`
+        // (allocating) and by `qr_in_place` on a workspace sized once.
+        "faer_qr_p50_us": fq50,
+        "faer_qr_p99_us": percentile(&faer_qr, 0.99),
+        "faer_qr_in_place_p50_us": fi50,
+        "faer_qr_in_place_p99_us": percentile(&faer_in_place, 0.99),
+        "speedup_vs_faer_qr_p50": fq50 / u50,
+        "speedup_vs_faer_in_place_p50": fi50 / u50,
+        "faer_in_place_allocations": if counted { json!(faer_allocations) } else { Value::Null },
+        "faer_max_rel_diff": max_rel_faer,
         "interleaved_p50_us": { "upm": percentile(&upm_cold, 0.5), "nalgebra": percentile(&nal_cold, 0.5) },
         "interleaved_speedup_p50": percentile(&nal_cold, 0.5) / percentile(&upm_cold, 0.5),
         "allocations": if counted { json!(allocations) } else { Value::Null },
@@ -438,7 +483,7 @@ pub fn run(quick: bool) -> anyhow::Result<Value> {
 
 pub fn to_text(v: &Value) -> String {
     let mut s = format!(
-        "{:>4} {:>4} {:>10} {:>10} {:>12} {:>12} {:>8} {:>12} {:>6} {:>10} {:>9}\n",
+        "{:>4} {:>4} {:>10} {:>10} {:>12} {:>12} {:>8} {:>10} {:>10} {:>9} {:>12} {:>6} {:>10} {:>9}\n",
         "m",
         "n",
         "upm p50",
@@ -446,6 +491,9 @@ pub fn to_text(v: &Value) -> String {
         "nalg p50",
         "nalg p99",
         "speedup",
+        "faer qr",
+        "faer inpl",
+        "vs inpl",
         "interleaved",
         "alloc",
         "max rel",
@@ -453,7 +501,7 @@ pub fn to_text(v: &Value) -> String {
     );
     for c in v["cases"].as_array().into_iter().flatten() {
         s += &format!(
-            "{:>4} {:>4} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>12.1} {:>6} {:>10.1e} {:>9.1e}\n",
+            "{:>4} {:>4} {:>10.2} {:>10.2} {:>12.2} {:>12.2} {:>8.1} {:>10.2} {:>10.2} {:>9.2} {:>12.1} {:>6} {:>10.1e} {:>9.1e}\n",
             c["m"].as_u64().unwrap_or(0),
             c["n"].as_u64().unwrap_or(0),
             c["upm_p50_us"].as_f64().unwrap_or(f64::NAN),
@@ -461,6 +509,9 @@ pub fn to_text(v: &Value) -> String {
             c["nalgebra_p50_us"].as_f64().unwrap_or(f64::NAN),
             c["nalgebra_p99_us"].as_f64().unwrap_or(f64::NAN),
             c["speedup_p50"].as_f64().unwrap_or(f64::NAN),
+            c["faer_qr_p50_us"].as_f64().unwrap_or(f64::NAN),
+            c["faer_qr_in_place_p50_us"].as_f64().unwrap_or(f64::NAN),
+            c["speedup_vs_faer_in_place_p50"].as_f64().unwrap_or(f64::NAN),
             c["interleaved_speedup_p50"].as_f64().unwrap_or(f64::NAN),
             c["allocations"],
             c["max_rel_diff"].as_f64().unwrap_or(f64::NAN),
@@ -468,8 +519,9 @@ pub fn to_text(v: &Value) -> String {
         );
     }
     if !s.is_empty() && v["cases"].is_array() {
-        s += "exact path: times in µs; speedup = nalgebra p50 / UPM p50 in warm A B A B batches; \
-              interleaved = the same ratio with single calls alternating (both cold)\n\n";
+        s += "exact path: times in µs; speedup = nalgebra p50 / UPM p50 in warm A B A B batches; faer qr = \
+              faer's Mat::qr() min-norm (allocating), faer inpl = faer's qr_in_place on a workspace sized once, \
+              vs inpl = its p50 / UPM p50; interleaved = nalgebra / UPM with single calls alternating (both cold)\n\n";
     }
     s += &bounded_text(v.get("bounded_cases").unwrap_or(v));
     if v["outline_rows"].is_array() {

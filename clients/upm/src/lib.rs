@@ -25,6 +25,7 @@ pub mod config;
 pub mod core_process;
 pub mod cpu_load;
 pub mod die_with_parent;
+pub mod faer_reference;
 pub mod feeder;
 pub mod host_facts;
 pub mod launcher;
