@@ -274,6 +274,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
     let (mut scale_err, mut both_scale_err) = (Vec::new(), Vec::new());
     let mut rows = Vec::new();
     let mut rig_s = Vec::new();
+    let mut observations = Vec::new();
     for case in 0..cases {
         let truth =
             TruthSection::Preset(format!("random:{}", seed.wrapping_mul(1000).wrapping_add(case as u64)));
@@ -290,6 +291,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
             }
         };
         rig_s.push(cal.report.rig_seconds);
+        observations.push(f64::from(cal.report.observations));
         let (mut nf, mut cf, mut ff) = (Vec::new(), Vec::new(), Vec::new());
         let (mut drawn, mut played) = (0, 0);
         let mut worst_geometry = (f64::NEG_INFINITY, Value::Null);
@@ -348,10 +350,19 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         |v: &[f64]| v.iter().copied().fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m: f64| m.max(x))));
     let (nt, ct) = (col("nominal_track_rms_pct"), col("calibrated_track_rms_pct"));
     let (at, bt) = (col("adapted_track_rms_pct"), col("both_track_rms_pct"));
+    // The friction fit's least squares at the size these calibrations had
+    // (two part classes, as on the calibrate rig).
+    let fit_rows = median(&mut observations);
+    let least_squares = crate::bench_least_squares::run(
+        fit_rows.map_or(600, |r| r as usize),
+        2,
+        if quick { 0.05 } else { 0.5 },
+    )?;
     Ok(json!({
         "cases": cases,
         "seed": seed,
         "track_seconds": track_s,
+        "least_squares": least_squares,
         "refused": rows.iter().filter(|r| !r["refused"].is_null()).count(),
         "nominal_force_err_median": median(&mut nominal_f.clone()),
         "nominal_force_err_worst": worst(&nominal_f),
@@ -385,6 +396,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
 }
 
 pub fn to_text(v: &Value) -> String {
+    let fit = crate::bench_least_squares::to_text(&v["least_squares"]);
     let pct = |k: &str| v[k].as_f64().map_or("—".into(), |x| format!("{:.1} %", 100.0 * x));
     let num = |k: &str| v[k].as_f64().map_or("—".into(), |x| format!("{x:.2}"));
     format!(
@@ -392,7 +404,7 @@ pub fn to_text(v: &Value) -> String {
          force error, median / worst: nominal {} / {}, calibrated {} / {} (the model on an exact plate: {} / {})\n\
          push direction against the plate's (RMS, median over truths): nominal {}°, calibrated {}° (worst {}°)\n\
          track RMS (% of path), median / worst: nominal {} / {}, calibrated {} / {}, adapted {} / {}, both {} / {}\n\
-         learnt friction scale against the truth (median): adapted {}, both {}\n",
+         learnt friction scale against the truth (median): adapted {}, both {}\n{fit}",
         v["cases"],
         v["seed"],
         v["refused"],
