@@ -166,7 +166,7 @@ fn a_service_created_with_other_settings_is_named_with_its_creator() {
     eprintln!("{line}");
     for want in [
         "service upm/schedule",
-        "it exists with payload upm::Schedule.v5",
+        "it exists with payload upm::Schedule.v6",
         "where UPM needs 4, 16, 8, 1, true, 32",
         &format!("created by a client still running: pid {}", std::process::id()),
     ] {
