@@ -106,7 +106,7 @@ impl Decoded for Schedule {
                "parts_stamp_ns": self.parts_stamp_ns, "request_stamp_ns": self.request_stamp_ns,
                "residual": self.residual,
                "condition": finite_or_null(self.condition), "rank": self.rank, "saturated": self.saturated,
-               "count": self.count, "slots": slots})
+               "at_bound": self.at_bound, "count": self.count, "slots": slots})
     }
     fn sample() -> Self {
         let mut m = Self::new();

@@ -490,6 +490,8 @@ impl SolveStage {
         m.condition = s.condition;
         m.rank = s.rank as u32;
         m.saturated = u32::from(s.saturated);
+        // At most the centers' count, which fits MAX_CENTERS.
+        m.at_bound = s.at_bound as u32;
         for &j in s.order() {
             let j = usize::from(j);
             for _ in 0..s.counts()[j] {
@@ -535,6 +537,7 @@ impl SolveStage {
         m.condition = 0.0;
         m.rank = 0;
         m.saturated = 0;
+        m.at_bound = 0;
         for (e, entry) in msg.slots().iter().zip(&self.entries) {
             let _ = m.push(ScheduleSlot::new(e.center_index, entry.center, e.k));
         }
