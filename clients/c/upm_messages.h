@@ -15,11 +15,13 @@
 #define UPM_ALIGNOF _Alignof
 #endif
 
-#define UPM_PROTOCOL_VERSION 5u
+#define UPM_PROTOCOL_VERSION 6u
 #define UPM_MAX_PARTS 64
 #define UPM_MAX_CURLS 16
 #define UPM_MAX_SLOTS 192
 #define UPM_MAX_SHAPE_VERTICES 8
+#define UPM_MAX_CENTERS 192
+#define UPM_RIG_PREFIX_BYTES 64
 #define UPM_SHAPE_POINT 0u
 #define UPM_SHAPE_DISC 1u
 #define UPM_SHAPE_POLYGON 2u
@@ -30,12 +32,13 @@
 #define UPM_SERVICE_SCHEDULE "upm/schedule"
 #define UPM_SERVICE_TELEMETRY "upm/telemetry"
 #define UPM_SERVICE_REJECTION "upm/rejection"
+#define UPM_SERVICE_RIG_INFO "upm/rig_info"
 #define UPM_SERVICE_SIM_GROUND_TRUTH "upm/sim/ground_truth"
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
-/* iceoryx2 type name "upm::PartState.v5", 208 bytes, align 8 */
-#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v5"
+/* iceoryx2 type name "upm::PartState.v6", 208 bytes, align 8 */
+#define UPM_PARTSTATE_TYPE_NAME "upm::PartState.v6"
 typedef struct {
     uint32_t id;
     uint32_t class_;
@@ -69,8 +72,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartState, vertex_count) == 72, "upm_PartState.ve
 UPM_STATIC_ASSERT(offsetof(upm_PartState, reserved) == 76, "upm_PartState.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartState, vertices) == 80, "upm_PartState.vertices offset");
 
-/* iceoryx2 type name "upm::PartStates.v5", 13336 bytes, align 8 */
-#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v5"
+/* iceoryx2 type name "upm::PartStates.v6", 13336 bytes, align 8 */
+#define UPM_PARTSTATES_TYPE_NAME "upm::PartStates.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -86,8 +89,8 @@ UPM_STATIC_ASSERT(offsetof(upm_PartStates, seq) == 8, "upm_PartStates.seq offset
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, stamp_ns) == 16, "upm_PartStates.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_PartStates, parts) == 24, "upm_PartStates.parts offset");
 
-/* iceoryx2 type name "upm::ForceEntry.v5", 40 bytes, align 8 */
-#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v5"
+/* iceoryx2 type name "upm::ForceEntry.v6", 40 bytes, align 8 */
+#define UPM_FORCEENTRY_TYPE_NAME "upm::ForceEntry.v6"
 typedef struct {
     uint32_t part_id;
     uint32_t force_flag;
@@ -107,8 +110,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fx) == 16, "upm_ForceEntry.fx offset"
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, fy) == 24, "upm_ForceEntry.fy offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceEntry, curl) == 32, "upm_ForceEntry.curl offset");
 
-/* iceoryx2 type name "upm::ForceRequest.v5", 2592 bytes, align 8 */
-#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v5"
+/* iceoryx2 type name "upm::ForceRequest.v6", 2592 bytes, align 8 */
+#define UPM_FORCEREQUEST_TYPE_NAME "upm::ForceRequest.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -126,8 +129,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, stamp_ns) == 16, "upm_ForceRequest.
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, deadline_ns) == 24, "upm_ForceRequest.deadline_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ForceRequest, entries) == 32, "upm_ForceRequest.entries offset");
 
-/* iceoryx2 type name "upm::ExplicitSlot.v5", 16 bytes, align 8 */
-#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v5"
+/* iceoryx2 type name "upm::ExplicitSlot.v6", 16 bytes, align 8 */
+#define UPM_EXPLICITSLOT_TYPE_NAME "upm::ExplicitSlot.v6"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -139,8 +142,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, center_index) == 0, "upm_ExplicitSl
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, reserved) == 4, "upm_ExplicitSlot.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSlot, k) == 8, "upm_ExplicitSlot.k offset");
 
-/* iceoryx2 type name "upm::ExplicitSchedule.v5", 3096 bytes, align 8 */
-#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v5"
+/* iceoryx2 type name "upm::ExplicitSchedule.v6", 3096 bytes, align 8 */
+#define UPM_EXPLICITSCHEDULE_TYPE_NAME "upm::ExplicitSchedule.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -156,8 +159,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, seq) == 8, "upm_ExplicitSchedul
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, stamp_ns) == 16, "upm_ExplicitSchedule.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_ExplicitSchedule, slots) == 24, "upm_ExplicitSchedule.slots offset");
 
-/* iceoryx2 type name "upm::CoreCommand.v5", 24 bytes, align 8 */
-#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v5"
+/* iceoryx2 type name "upm::CoreCommand.v6", 24 bytes, align 8 */
+#define UPM_CORECOMMAND_TYPE_NAME "upm::CoreCommand.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t command;
@@ -171,8 +174,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, command) == 4, "upm_CoreCommand.comm
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, seq) == 8, "upm_CoreCommand.seq offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCommand, stamp_ns) == 16, "upm_CoreCommand.stamp_ns offset");
 
-/* iceoryx2 type name "upm::ScheduleSlot.v5", 32 bytes, align 8 */
-#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v5"
+/* iceoryx2 type name "upm::ScheduleSlot.v6", 32 bytes, align 8 */
+#define UPM_SCHEDULESLOT_TYPE_NAME "upm::ScheduleSlot.v6"
 typedef struct {
     uint32_t center_index;
     uint32_t reserved;
@@ -188,8 +191,8 @@ UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, x) == 8, "upm_ScheduleSlot.x offset
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, y) == 16, "upm_ScheduleSlot.y offset");
 UPM_STATIC_ASSERT(offsetof(upm_ScheduleSlot, k) == 24, "upm_ScheduleSlot.k offset");
 
-/* iceoryx2 type name "upm::Schedule.v5", 6232 bytes, align 8 */
-#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v5"
+/* iceoryx2 type name "upm::Schedule.v6", 6240 bytes, align 8 */
+#define UPM_SCHEDULE_TYPE_NAME "upm::Schedule.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t count;
@@ -204,9 +207,11 @@ typedef struct {
     double condition;
     uint32_t rank;
     uint32_t saturated;
+    uint32_t at_bound;
+    uint32_t reserved;
     upm_ScheduleSlot slots[192];
 } upm_Schedule;
-UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6232, "upm_Schedule size");
+UPM_STATIC_ASSERT(sizeof(upm_Schedule) == 6240, "upm_Schedule size");
 UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_Schedule) == 8, "upm_Schedule align");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, protocol_version) == 0, "upm_Schedule.protocol_version offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, count) == 4, "upm_Schedule.count offset");
@@ -221,10 +226,12 @@ UPM_STATIC_ASSERT(offsetof(upm_Schedule, residual) == 64, "upm_Schedule.residual
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, condition) == 72, "upm_Schedule.condition offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, rank) == 80, "upm_Schedule.rank offset");
 UPM_STATIC_ASSERT(offsetof(upm_Schedule, saturated) == 84, "upm_Schedule.saturated offset");
-UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 88, "upm_Schedule.slots offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, at_bound) == 88, "upm_Schedule.at_bound offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, reserved) == 92, "upm_Schedule.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_Schedule, slots) == 96, "upm_Schedule.slots offset");
 
-/* iceoryx2 type name "upm::Rejection.v5", 176 bytes, align 8 */
-#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v5"
+/* iceoryx2 type name "upm::Rejection.v6", 176 bytes, align 8 */
+#define UPM_REJECTION_TYPE_NAME "upm::Rejection.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t kind;
@@ -250,8 +257,80 @@ UPM_STATIC_ASSERT(offsetof(upm_Rejection, reason) == 48, "upm_Rejection.reason o
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, reserved) == 52, "upm_Rejection.reserved offset");
 UPM_STATIC_ASSERT(offsetof(upm_Rejection, detail) == 56, "upm_Rejection.detail offset");
 
-/* iceoryx2 type name "upm::FrameHeader.v5", 48 bytes, align 8 */
-#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v5"
+/* iceoryx2 type name "upm::RigCenter.v6", 24 bytes, align 8 */
+#define UPM_RIGCENTER_TYPE_NAME "upm::RigCenter.v6"
+typedef struct {
+    double x;
+    double y;
+    double k_bound;
+} upm_RigCenter;
+UPM_STATIC_ASSERT(sizeof(upm_RigCenter) == 24, "upm_RigCenter size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_RigCenter) == 8, "upm_RigCenter align");
+UPM_STATIC_ASSERT(offsetof(upm_RigCenter, x) == 0, "upm_RigCenter.x offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigCenter, y) == 8, "upm_RigCenter.y offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigCenter, k_bound) == 16, "upm_RigCenter.k_bound offset");
+
+/* iceoryx2 type name "upm::RigInfo.v6", 4848 bytes, align 8 */
+#define UPM_RIGINFO_TYPE_NAME "upm::RigInfo.v6"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t count;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint32_t core_pid;
+    uint32_t cycle_slots;
+    uint32_t class_count;
+    uint32_t friction_class_count;
+    uint32_t slot_ticks;
+    uint32_t reserved;
+    uint64_t cycle_period_ns;
+    double tick_hz;
+    double vision_frame_hz;
+    double mu_m_g;
+    double plate_half_extent[2];
+    double k_max;
+    double max_part_force_n;
+    double max_part_force_at[2];
+    double keep_out_m;
+    double saturation_tolerance;
+    double saturation_floor;
+    double parts_max_age_ms;
+    double request_max_age_ms;
+    double max_future_skew_ms;
+    uint8_t prefix[64];
+    upm_RigCenter centers[192];
+} upm_RigInfo;
+UPM_STATIC_ASSERT(sizeof(upm_RigInfo) == 4848, "upm_RigInfo size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_RigInfo) == 8, "upm_RigInfo align");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, protocol_version) == 0, "upm_RigInfo.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, count) == 4, "upm_RigInfo.count offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, seq) == 8, "upm_RigInfo.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, stamp_ns) == 16, "upm_RigInfo.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, core_pid) == 24, "upm_RigInfo.core_pid offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, cycle_slots) == 28, "upm_RigInfo.cycle_slots offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, class_count) == 32, "upm_RigInfo.class_count offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, friction_class_count) == 36, "upm_RigInfo.friction_class_count offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, slot_ticks) == 40, "upm_RigInfo.slot_ticks offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, reserved) == 44, "upm_RigInfo.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, cycle_period_ns) == 48, "upm_RigInfo.cycle_period_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, tick_hz) == 56, "upm_RigInfo.tick_hz offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, vision_frame_hz) == 64, "upm_RigInfo.vision_frame_hz offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, mu_m_g) == 72, "upm_RigInfo.mu_m_g offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, plate_half_extent) == 80, "upm_RigInfo.plate_half_extent offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, k_max) == 96, "upm_RigInfo.k_max offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, max_part_force_n) == 104, "upm_RigInfo.max_part_force_n offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, max_part_force_at) == 112, "upm_RigInfo.max_part_force_at offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, keep_out_m) == 128, "upm_RigInfo.keep_out_m offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, saturation_tolerance) == 136, "upm_RigInfo.saturation_tolerance offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, saturation_floor) == 144, "upm_RigInfo.saturation_floor offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, parts_max_age_ms) == 152, "upm_RigInfo.parts_max_age_ms offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, request_max_age_ms) == 160, "upm_RigInfo.request_max_age_ms offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, max_future_skew_ms) == 168, "upm_RigInfo.max_future_skew_ms offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, prefix) == 176, "upm_RigInfo.prefix offset");
+UPM_STATIC_ASSERT(offsetof(upm_RigInfo, centers) == 240, "upm_RigInfo.centers offset");
+
+/* iceoryx2 type name "upm::FrameHeader.v6", 48 bytes, align 8 */
+#define UPM_FRAMEHEADER_TYPE_NAME "upm::FrameHeader.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t pixel_format;
@@ -275,8 +354,8 @@ UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, seq) == 24, "upm_FrameHeader.seq off
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, stamp_ns) == 32, "upm_FrameHeader.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_FrameHeader, exposure_ns) == 40, "upm_FrameHeader.exposure_ns offset");
 
-/* iceoryx2 type name "upm::DriverTelemetry.v5", 96 bytes, align 8 */
-#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v5"
+/* iceoryx2 type name "upm::DriverTelemetry.v6", 96 bytes, align 8 */
+#define UPM_DRIVERTELEMETRY_TYPE_NAME "upm::DriverTelemetry.v6"
 typedef struct {
     uint32_t kind;
     uint32_t state;
@@ -294,8 +373,8 @@ UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, lost_frames) == 72, "upm_DriverT
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, bad_frames) == 80, "upm_DriverTelemetry.bad_frames offset");
 UPM_STATIC_ASSERT(offsetof(upm_DriverTelemetry, sync0_phase_ns) == 88, "upm_DriverTelemetry.sync0_phase_ns offset");
 
-/* iceoryx2 type name "upm::CoreCounters.v5", 96 bytes, align 8 */
-#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v5"
+/* iceoryx2 type name "upm::CoreCounters.v6", 96 bytes, align 8 */
+#define UPM_CORECOUNTERS_TYPE_NAME "upm::CoreCounters.v6"
 typedef struct {
     uint64_t ticks;
     uint64_t overruns;
@@ -325,8 +404,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, driver_rejected) == 72, "upm_CoreCo
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, fault_holds) == 80, "upm_CoreCounters.fault_holds offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreCounters, resumes) == 88, "upm_CoreCounters.resumes offset");
 
-/* iceoryx2 type name "upm::LatencyPercentiles.v5", 40 bytes, align 8 */
-#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v5"
+/* iceoryx2 type name "upm::LatencyPercentiles.v6", 40 bytes, align 8 */
+#define UPM_LATENCYPERCENTILES_TYPE_NAME "upm::LatencyPercentiles.v6"
 typedef struct {
     uint64_t samples;
     uint64_t p50_ns;
@@ -342,8 +421,8 @@ UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p99_ns) == 16, "upm_LatencyPe
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, p999_ns) == 24, "upm_LatencyPercentiles.p999_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_LatencyPercentiles, max_ns) == 32, "upm_LatencyPercentiles.max_ns offset");
 
-/* iceoryx2 type name "upm::CoreLatencies.v5", 160 bytes, align 8 */
-#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v5"
+/* iceoryx2 type name "upm::CoreLatencies.v6", 160 bytes, align 8 */
+#define UPM_CORELATENCIES_TYPE_NAME "upm::CoreLatencies.v6"
 typedef struct {
     upm_LatencyPercentiles motor_wakeup;
     upm_LatencyPercentiles solver;
@@ -357,8 +436,8 @@ UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, solver) == 40, "upm_CoreLatencies.
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, ipc_vision_to_core) == 80, "upm_CoreLatencies.ipc_vision_to_core offset");
 UPM_STATIC_ASSERT(offsetof(upm_CoreLatencies, frame_to_schedule) == 120, "upm_CoreLatencies.frame_to_schedule offset");
 
-/* iceoryx2 type name "upm::Telemetry.v5", 840 bytes, align 8 */
-#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v5"
+/* iceoryx2 type name "upm::Telemetry.v6", 840 bytes, align 8 */
+#define UPM_TELEMETRY_TYPE_NAME "upm::Telemetry.v6"
 typedef struct {
     uint32_t protocol_version;
     uint32_t state;

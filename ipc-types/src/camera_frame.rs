@@ -13,7 +13,7 @@ use crate::PROTOCOL_VERSION;
 /// Frame source → vision: what the pixels of one frame are.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::FrameHeader.v5")]
+#[type_name("upm::FrameHeader.v6")]
 pub struct FrameHeader {
     pub protocol_version: u32,
     /// [`FrameHeader::MONO8`] (one byte per pixel) is the only format.

@@ -12,7 +12,7 @@ use crate::validation::ValidationLimits;
 /// Operator → core: one command.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::CoreCommand.v5")]
+#[type_name("upm::CoreCommand.v6")]
 pub struct CoreCommand {
     pub protocol_version: u32,
     /// [`CoreCommand::RESUME`].

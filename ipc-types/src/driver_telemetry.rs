@@ -26,7 +26,7 @@ pub mod bus_state {
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::DriverTelemetry.v5")]
+#[type_name("upm::DriverTelemetry.v6")]
 pub struct DriverTelemetry {
     /// [`driver_kind`] code.
     pub kind: u32,

@@ -14,7 +14,7 @@ use crate::validation::ValidationLimits;
 /// intensity `k` (k > 0 = CCW), |k| ≤ 1.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ExplicitSlot.v5")]
+#[type_name("upm::ExplicitSlot.v6")]
 pub struct ExplicitSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -36,7 +36,7 @@ impl ExplicitSlot {
 /// Planner → core: the slots of one closed cycle, in play order.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ExplicitSchedule.v5")]
+#[type_name("upm::ExplicitSchedule.v6")]
 pub struct ExplicitSchedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`; at least 1.

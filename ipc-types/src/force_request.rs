@@ -16,7 +16,7 @@ use crate::validation::{ValidationLimits, first_non_finite, is_flag};
 /// its curl is constrained), as in `upm solve`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ForceEntry.v5")]
+#[type_name("upm::ForceEntry.v6")]
 pub struct ForceEntry {
     /// Id of a part in the core's latest [`crate::PartStates`].
     pub part_id: u32,
@@ -68,7 +68,7 @@ impl ForceEntry {
 /// Planner → core: desired forces for up to [`MAX_PARTS`] parts.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ForceRequest.v5")]
+#[type_name("upm::ForceRequest.v6")]
 pub struct ForceRequest {
     pub protocol_version: u32,
     /// Number of used entries of `entries`.

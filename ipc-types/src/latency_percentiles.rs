@@ -7,7 +7,7 @@ use iceoryx2::prelude::ZeroCopySend;
 /// sample.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::LatencyPercentiles.v5")]
+#[type_name("upm::LatencyPercentiles.v6")]
 pub struct LatencyPercentiles {
     /// Number of samples recorded.
     pub samples: u64,

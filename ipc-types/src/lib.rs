@@ -37,6 +37,7 @@ mod part_states;
 pub mod ports;
 mod reject_reason;
 mod rejection;
+mod rig_info;
 pub mod rig_node;
 mod schedule;
 pub mod service_names;
@@ -63,6 +64,7 @@ pub use part_shape::{
 pub use part_states::{PartState, PartStates, PartStatesError};
 pub use reject_reason::{REJECT_REASONS, RejectReason};
 pub use rejection::{RejectedKind, Rejection};
+pub use rig_info::{RIG_PREFIX_BYTES, RigCenter, RigInfo, RigInfoError};
 pub use schedule::{Schedule, ScheduleError, ScheduleSlot};
 pub use telemetry::{CoreCounters, CoreLatencies, Telemetry, TelemetryError};
 pub use validation::ValidationLimits;
@@ -71,4 +73,4 @@ pub use wire_message::{WireMessage, WrongLength};
 /// Version of the wire format. Bump it on any layout or meaning change; it is
 /// also part of every payload's iceoryx2 `type_name`, so mismatched builds
 /// fail when opening a service instead of misreading each other.
-pub const PROTOCOL_VERSION: u32 = 5;
+pub const PROTOCOL_VERSION: u32 = 6;

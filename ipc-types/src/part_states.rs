@@ -20,7 +20,7 @@ use crate::validation::{ValidationLimits, first_non_finite};
 /// use are ignored.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartState.v5")]
+#[type_name("upm::PartState.v6")]
 pub struct PartState {
     /// Tracking id, unique within one message.
     pub id: u32,
@@ -116,7 +116,7 @@ impl PartState {
 /// Vision → core: every part seen in one camera frame.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartStates.v5")]
+#[type_name("upm::PartStates.v6")]
 pub struct PartStates {
     pub protocol_version: u32,
     /// Number of used entries of `parts`.

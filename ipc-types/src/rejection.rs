@@ -1,7 +1,9 @@
-//! Rejection: core → the sender of a refused message, on `upm/rejection`.
-//! Every inbound message the core refuses is answered here with its `seq`,
-//! the reason code and a one-line text naming the field, so a client learns
-//! why, not only that telemetry's counter rose.
+//! Rejection: core → all, on `upm/rejection`. Every inbound message the
+//! core refuses is answered here with its kind, `seq`, stamp, the reason
+//! code and a one-line text naming the field, so a client learns why, not
+//! only that telemetry's counter rose. Every subscriber receives every
+//! rejection: a client keeps those whose kind, `seq` and
+//! `message_stamp_ns` are those of a message it sent.
 
 use core::fmt;
 
@@ -34,10 +36,10 @@ impl RejectedKind {
     }
 }
 
-/// Core → sender: one refused message.
+/// Core → all: one refused message.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::Rejection.v5")]
+#[type_name("upm::Rejection.v6")]
 pub struct Rejection {
     pub protocol_version: u32,
     /// [`RejectedKind`] code of the refused message.

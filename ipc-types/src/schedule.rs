@@ -5,14 +5,14 @@ use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use crate::capacity::MAX_SLOTS;
+use crate::capacity::{MAX_CENTERS, MAX_SLOTS};
 use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag};
 
 /// One slot in play order: rotation about center `center_index` at (x, y)
 /// (m, plate coordinates; centers may lie off the plate) with intensity k.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ScheduleSlot.v5")]
+#[type_name("upm::ScheduleSlot.v6")]
 pub struct ScheduleSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -37,7 +37,7 @@ impl ScheduleSlot {
 /// one), with the solver's diagnostics.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Schedule.v5")]
+#[type_name("upm::Schedule.v6")]
 pub struct Schedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`.
@@ -56,7 +56,8 @@ pub struct Schedule {
     pub parts_stamp_ns: u64,
     /// `stamp_ns` of the request (or explicit schedule) it answers.
     pub request_stamp_ns: u64,
-    /// ‖A·K − b‖ in force units (N); finite, ≥ 0.
+    /// ‖A·K − b‖ over the request's rows: force rows in N, curl rows in
+    /// N/m, one Euclidean norm over both; finite, ≥ 0.
     pub residual: f64,
     /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient,
     /// 0 when not estimated (a saturated frame warm-started from the last
@@ -64,16 +65,23 @@ pub struct Schedule {
     pub condition: f64,
     /// Numerical rank of A; 0 when not estimated (as `condition`).
     pub rank: u32,
-    /// 1 when a bound on |k| (k_max, or the center's playable bound) was
-    /// active (request not fully met), else 0.
+    /// 1 when a bound on |k| keeps the request from being met: a bound is
+    /// active and `residual` exceeds the saturation tolerance (relative
+    /// 1e-3 of the request's norm, `RigInfo::saturation_tolerance`), else 0.
     pub saturated: u32,
+    /// Centers whose |k| is at their bound (k_max, or the center's playable
+    /// bound), whether or not the request is met; 0 for an explicit schedule.
+    pub at_bound: u32,
+    /// Unused, keep 0 (keeps the layout free of padding).
+    pub reserved: u32,
     /// The slots in play order. With sparse cycles (`motion.cycle_slots`)
     /// a center may fill several consecutive slots.
     pub slots: [ScheduleSlot; MAX_SLOTS],
 }
 
-const _: () =
-    assert!(size_of::<Schedule>() == 4 + 4 + 7 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>());
+const _: () = assert!(
+    size_of::<Schedule>() == 4 + 4 + 7 * 8 + 2 * 8 + 4 + 4 + 4 + 4 + MAX_SLOTS * size_of::<ScheduleSlot>()
+);
 
 /// Why a [`Schedule`] was rejected. Indices refer to `slots`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,6 +95,10 @@ pub enum ScheduleError {
     InvalidCondition,
     RankExceedsCapacity {
         rank: u32,
+    },
+    /// `at_bound` above the number of centers a rig can have.
+    AtBoundExceedsCapacity {
+        at_bound: u32,
     },
     NotAFlag {
         field: &'static str,
@@ -115,6 +127,9 @@ impl fmt::Display for ScheduleError {
             Self::RankExceedsCapacity { rank } => {
                 write!(f, "schedule.rank {rank} exceeds the capacity {MAX_SLOTS}")
             }
+            Self::AtBoundExceedsCapacity { at_bound } => {
+                write!(f, "schedule.at_bound {at_bound} exceeds the capacity {MAX_CENTERS}")
+            }
             Self::NotAFlag { field, value } => write!(f, "schedule.{field} is {value}, expected 0 or 1"),
             Self::UnknownCenter { index, center_index } => {
                 write!(f, "schedule.slots[{index}].center_index {center_index} is not a configured center")
@@ -130,7 +145,7 @@ impl core::error::Error for ScheduleError {}
 crate::counted_message::counted_message!(
     Schedule,
     slots / slots_mut: [ScheduleSlot; MAX_SLOTS],
-    new { cycle: 0, solve_time_ns: 0, parts_seq: 0, parts_stamp_ns: 0, request_stamp_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0 }
+    new { cycle: 0, solve_time_ns: 0, parts_seq: 0, parts_stamp_ns: 0, request_stamp_ns: 0, residual: 0.0, condition: 1.0, rank: 0, saturated: 0, at_bound: 0, reserved: 0 }
 );
 
 impl Schedule {
@@ -151,6 +166,9 @@ impl Schedule {
         }
         if !count_fits(self.rank, MAX_SLOTS) {
             return Err(ScheduleError::RankExceedsCapacity { rank: self.rank });
+        }
+        if !count_fits(self.at_bound, MAX_CENTERS) {
+            return Err(ScheduleError::AtBoundExceedsCapacity { at_bound: self.at_bound });
         }
         if !is_flag(self.saturated) {
             return Err(ScheduleError::NotAFlag { field: "saturated", value: self.saturated });

@@ -18,11 +18,16 @@ pub const CORE_COMMAND: &str = "upm/core_command";
 pub const SCHEDULE: &str = "upm/schedule";
 /// [`crate::Telemetry`], core → all.
 pub const TELEMETRY: &str = "upm/telemetry";
-/// [`crate::Rejection`], core → the sender of a refused message.
+/// [`crate::Rejection`], core → all: every refused message, whoever sent it.
 pub const REJECTION: &str = "upm/rejection";
+/// [`crate::RigInfo`], core → all: the rig describing itself, once at start.
+pub const RIG_INFO: &str = "upm/rig_info";
 
 /// Event: a client published to the core (see [`crate::wake_event`]).
 pub const INBOX_EVENT: &str = "upm/inbox";
+/// Event: vision published [`crate::PartStates`]; planners listen (the
+/// pub-sub service's name with the event pattern).
+pub const PART_STATES_EVENT: &str = PART_STATES;
 
 /// Simulator ground truth ([`crate::PartStates`], world frame), core → the
 /// simulated camera. Only published when the driver is a simulator.
@@ -32,8 +37,9 @@ pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 /// source → vision.
 pub const CAMERA_FRAME: &str = "upm/camera/frame";
 
-/// Every name above, e.g. for tools that list or clean up a rig.
-pub const ALL: [&str; 9] = [
+/// Every publish-subscribe service above, e.g. for tools that list or clean
+/// up a rig.
+pub const ALL: [&str; 10] = [
     PART_STATES,
     FORCE_REQUEST,
     EXPLICIT_SCHEDULE,
@@ -41,6 +47,7 @@ pub const ALL: [&str; 9] = [
     SCHEDULE,
     TELEMETRY,
     REJECTION,
+    RIG_INFO,
     SIM_GROUND_TRUTH,
     CAMERA_FRAME,
 ];

@@ -16,7 +16,7 @@ use crate::validation::{ValidationLimits, first_non_finite};
 /// Monotonic counters since core start.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreCounters.v5")]
+#[type_name("upm::CoreCounters.v6")]
 pub struct CoreCounters {
     /// Motor-loop ticks.
     pub ticks: u64,
@@ -49,7 +49,7 @@ const _: () = assert!(size_of::<CoreCounters>() == 12 * 8);
 /// Latency of each measured path (ns, see [`LatencyPercentiles`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreLatencies.v5")]
+#[type_name("upm::CoreLatencies.v6")]
 pub struct CoreLatencies {
     /// Motor-thread wake-up lateness against its period.
     pub motor_wakeup: LatencyPercentiles,
@@ -66,7 +66,7 @@ const _: () = assert!(size_of::<CoreLatencies>() == 4 * size_of::<LatencyPercent
 /// Core → all: a snapshot of the core, published periodically.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Telemetry.v5")]
+#[type_name("upm::Telemetry.v6")]
 pub struct Telemetry {
     pub protocol_version: u32,
     /// [`CoreState`] code: idle 0, running 1, hold 2, fault 3.

@@ -9,6 +9,12 @@
 //! - [`WakeEvent::Frame`] (`upm/camera/frame`, the frame service's name
 //!   with the event pattern): a frame source published a frame; vision
 //!   listens.
+//! - [`WakeEvent::PartStates`] (`upm/part_states`, the part states'
+//!   service name with the event pattern): vision published PartStates;
+//!   planners listen, up to [`PART_STATES_LISTENERS`] of them.
+//!
+//! Settings left to iceoryx2's defaults (0.10): event ids up to 255, no
+//! notifier created / dropped / dead events, no deadline.
 
 use core::fmt;
 
@@ -19,13 +25,14 @@ use iceoryx2::service::builder::event::EventOpenOrCreateError;
 use iceoryx2::service::port_factory::event::PortFactory;
 
 use crate::ports::{MAX_NODES, MAX_SUBSCRIBERS};
-use crate::service_names::{CAMERA_FRAME, INBOX_EVENT};
+use crate::service_names::{CAMERA_FRAME, INBOX_EVENT, PART_STATES_EVENT};
 
 /// Which wake-up event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WakeEvent {
     Inbox,
     Frame,
+    PartStates,
 }
 
 impl WakeEvent {
@@ -34,18 +41,26 @@ impl WakeEvent {
         match self {
             Self::Inbox => INBOX_EVENT,
             Self::Frame => CAMERA_FRAME,
+            Self::PartStates => PART_STATES_EVENT,
         }
     }
 
-    /// Listeners the event allows: the core's receiver (or vision), and one
-    /// more while a restarted one takes over.
+    /// Listeners the event allows: for the inbox and frames, the core's
+    /// receiver (or vision) and one more while a restarted one takes over;
+    /// for part states, any planners and tools.
     pub const fn max_listeners(self) -> usize {
-        MAX_LISTENERS
+        match self {
+            Self::Inbox | Self::Frame => MAX_LISTENERS,
+            Self::PartStates => PART_STATES_LISTENERS,
+        }
     }
 }
 
-/// Listeners every wake-up event allows (see [`WakeEvent::max_listeners`]).
+/// Listeners of the inbox and frame events (see [`WakeEvent::max_listeners`]).
 pub const MAX_LISTENERS: usize = 2;
+
+/// Listeners of the part states event.
+pub const PART_STATES_LISTENERS: usize = 16;
 
 /// Why a wake-up event or one of its ports could not be created.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -104,7 +119,7 @@ impl WakeNotifier {
     }
 }
 
-/// The listening side (the core's non-real-time receiver thread, vision).
+/// The listening side (the core's receiver thread, vision, planners).
 pub fn wake_listener(
     node: &Node<ipc::Service>,
     event: WakeEvent,

@@ -11,8 +11,8 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{
-    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, Schedule, Telemetry,
-    service_names,
+    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo, Schedule,
+    Telemetry, service_names,
 };
 
 /// Why bytes are not a message of the asked type.
@@ -41,7 +41,7 @@ pub trait WireMessage: ZeroCopySend + Copy + sealed::Sealed + 'static {
     /// The service this payload is published on.
     const SERVICE: &'static str;
 
-    /// The iceoryx2 type name, e.g. `upm::PartStates.v5`.
+    /// The iceoryx2 type name, e.g. `upm::PartStates.v6`.
     fn wire_type_name() -> &'static str {
         // SAFETY: only reads the name the derive generated.
         unsafe { <Self as ZeroCopySend>::type_name() }
@@ -87,6 +87,7 @@ wire_message!(
     Schedule => service_names::SCHEDULE,
     Telemetry => service_names::TELEMETRY,
     Rejection => service_names::REJECTION,
+    RigInfo => service_names::RIG_INFO,
     FrameHeader => service_names::CAMERA_FRAME,
 );
 
@@ -103,7 +104,7 @@ mod tests {
         assert_eq!(back, m);
         let e = PartStates::from_bytes(&[0; 3]).expect_err("3 bytes");
         assert_eq!(e.found, 3);
-        assert!(e.to_string().starts_with("upm::PartStates.v5 is "), "{e}");
+        assert!(e.to_string().starts_with("upm::PartStates.v6 is "), "{e}");
     }
 
     #[test]
@@ -119,6 +120,6 @@ mod tests {
         assert_eq!(bytes[36..40], SHAPE_POLYGON.to_ne_bytes());
         assert_eq!(PartStates::from_bytes(bytes), Ok(m));
         let e = PartStates::from_bytes(&[0; 4120]).expect_err("a v4 PartStates");
-        assert_eq!(e.to_string(), "upm::PartStates.v5 is 13336 bytes, found 4120");
+        assert_eq!(e.to_string(), "upm::PartStates.v6 is 13336 bytes, found 4120");
     }
 }

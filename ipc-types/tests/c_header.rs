@@ -58,6 +58,11 @@ fn render() -> String {
         "#define UPM_MAX_PARTS {MAX_PARTS}\n#define UPM_MAX_CURLS {MAX_CURLS}\n#define UPM_MAX_SLOTS {MAX_SLOTS}\n"
     );
     out += &format!("#define UPM_MAX_SHAPE_VERTICES {MAX_SHAPE_VERTICES}\n");
+    out += &format!(
+        "#define UPM_MAX_CENTERS {}\n#define UPM_RIG_PREFIX_BYTES {}\n",
+        ipc_types::MAX_CENTERS,
+        ipc_types::RIG_PREFIX_BYTES
+    );
     // PartState.shape codes.
     for (name, code) in [("POINT", SHAPE_POINT), ("DISC", SHAPE_DISC), ("POLYGON", SHAPE_POLYGON)] {
         out += &format!("#define UPM_SHAPE_{name} {code}u\n");

@@ -91,7 +91,7 @@ fn clean_up(config: &Config, name: &ServiceName, pattern: MessagingPattern) -> R
     Ok(())
 }
 
-/// A point, a disc and a polygon (a v5 payload, 13336 bytes).
+/// A point, a disc and a polygon (a PartStates of 13336 bytes).
 fn sample_payload() -> PartStates {
     let mut m = PartStates::new();
     let _ = m.push(PartState::new(1, 0, 0, [0.1, 0.0, 0.0], [0.0; 3]));

@@ -6,9 +6,10 @@
 mod wire_layout;
 
 use iceoryx2::prelude::ZeroCopySend;
+use ipc_types::wake_event::WakeEvent;
 use ipc_types::{
     CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PROTOCOL_VERSION, PartStates, RejectReason,
-    RejectedKind, Rejection, Schedule, Telemetry, service_names,
+    RejectedKind, Rejection, RigInfo, Schedule, Telemetry, service_names,
 };
 
 fn doc() -> String {
@@ -23,12 +24,16 @@ fn cells(line: &str) -> Vec<String> {
 
 /// Rows of the first table after the line that starts with `heading`.
 fn table_after(doc: &str, heading: &str) -> Vec<Vec<String>> {
+    table_with_header(doc, heading).into_iter().skip(2).collect() // header and |---|
+}
+
+/// The same table with its header row (and the |---| row).
+fn table_with_header(doc: &str, heading: &str) -> Vec<Vec<String>> {
     let start = doc.find(heading).unwrap_or_else(|| panic!("docs/protocol.md lacks {heading:?}"));
     doc[start..]
         .lines()
         .skip_while(|l| !l.starts_with('|'))
         .take_while(|l| l.starts_with('|'))
-        .skip(2) // header and |---|
         .map(cells)
         .collect()
 }
@@ -72,6 +77,7 @@ fn services_settings_version_and_reject_codes_match() {
         (service_names::SCHEDULE, type_name::<Schedule>()),
         (service_names::TELEMETRY, type_name::<Telemetry>()),
         (service_names::REJECTION, type_name::<Rejection>()),
+        (service_names::RIG_INFO, type_name::<RigInfo>()),
         (service_names::SIM_GROUND_TRUTH, type_name::<PartStates>()),
     ]
     .iter()
@@ -101,6 +107,8 @@ fn services_settings_version_and_reject_codes_match() {
     assert_eq!(frame_settings, expected_frame_settings, "the frame service settings table");
 
     use ipc_types::ports::{HISTORY, MAX_NODES, MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER};
+    // What UPM leaves to iceoryx2: the defaults of its built-in config.
+    let defaults = iceoryx2::config::Config::default().defaults;
     let settings = table_after(&doc, "| setting |");
     let expected = [
         ("max_publishers", MAX_PUBLISHERS.to_string()),
@@ -109,26 +117,40 @@ fn services_settings_version_and_reject_codes_match() {
         ("history_size", HISTORY.to_string()),
         ("enable_safe_overflow", "true".to_owned()),
         ("max_nodes", MAX_NODES.to_string()),
+        (
+            "subscriber_max_borrowed_samples",
+            defaults.publish_subscribe.subscriber_max_borrowed_samples.to_string(),
+        ),
     ];
     let documented: Vec<(String, String)> = settings.iter().map(|r| (r[0].clone(), r[1].clone())).collect();
     let expected: Vec<(String, String)> = expected.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
     assert_eq!(documented, expected, "the service settings table");
-    assert!(doc.contains(&format!("event service `{}`", service_names::INBOX_EVENT)), "the inbox event");
-    assert!(
-        doc.contains(&format!("event service `{}`", ipc_types::wake_event::WakeEvent::Frame.service())),
-        "the frame event"
-    );
-    let inbox: Vec<(String, String)> =
-        table_after(&doc, "| inbox setting |").iter().map(|r| (r[0].clone(), r[1].clone())).collect();
-    let expected: Vec<(String, String)> = [
-        ("max_notifiers", MAX_SUBSCRIBERS.to_string()),
-        ("max_listeners", ipc_types::wake_event::MAX_LISTENERS.to_string()),
-        ("max_nodes", MAX_NODES.to_string()),
-    ]
-    .iter()
-    .map(|(k, v)| (k.to_string(), v.clone()))
-    .collect();
-    assert_eq!(inbox, expected, "the inbox settings table");
+    let events = [WakeEvent::Inbox, WakeEvent::Frame, WakeEvent::PartStates];
+    for e in events {
+        assert!(doc.contains(&format!("event service `{}`", e.service())), "the {e:?} event");
+    }
+    // One column per event; every setting, UPM's and iceoryx2's defaults.
+    let table = table_with_header(&doc, "| event setting |");
+    let header: Vec<String> = table[0][1..].to_vec();
+    let want_header: Vec<String> = events.iter().map(|e| e.service().to_owned()).collect();
+    assert_eq!(header, want_header, "the event settings table's columns");
+    let ev = &defaults.event;
+    let none_or = |v: Option<usize>| v.map_or_else(|| "none".to_owned(), |v| v.to_string());
+    let deadline = ev.deadline.map_or_else(|| "none".to_owned(), |d| format!("{d:?}"));
+    let rows: Vec<(&str, Vec<String>)> = vec![
+        ("max_notifiers", events.iter().map(|_| MAX_SUBSCRIBERS.to_string()).collect()),
+        ("max_listeners", events.iter().map(|e| e.max_listeners().to_string()).collect()),
+        ("max_nodes", events.iter().map(|_| MAX_NODES.to_string()).collect()),
+        ("event_id_max_value", events.iter().map(|_| ev.event_id_max_value.to_string()).collect()),
+        ("notifier_created_event", events.iter().map(|_| none_or(ev.notifier_created_event)).collect()),
+        ("notifier_dropped_event", events.iter().map(|_| none_or(ev.notifier_dropped_event)).collect()),
+        ("notifier_dead_event", events.iter().map(|_| none_or(ev.notifier_dead_event)).collect()),
+        ("deadline", events.iter().map(|_| deadline.clone()).collect()),
+    ];
+    for (name, want) in rows {
+        let row = table.iter().find(|r| r[0] == name).unwrap_or_else(|| panic!("no {name} row"));
+        assert_eq!(row[1..].to_vec(), want, "the event settings table, {name}");
+    }
 
     let kinds: Vec<String> = RejectedKind::ALL
         .iter()

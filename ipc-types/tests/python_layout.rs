@@ -20,15 +20,15 @@ fn python_layout() -> BTreeMap<String, String> {
 import ctypes, importlib.util, sys
 spec = importlib.util.spec_from_file_location("messages", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
-for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader):
+for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader, m.RigCenter, m.RigInfo):
     print(f"{s.__name__}.size {ctypes.sizeof(s)}")
     print(f"{s.__name__}.align {ctypes.alignment(s)}")
     print(f"{s.__name__}.type_name {s.type_name()}")
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT",
-          "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER"):
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_CENTERS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "RIG_INFO", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT", "PART_STATES_EVENT",
+          "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "PART_STATES_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER", "RIG_PREFIX_BYTES"):
     print(f"{c} {getattr(m, c)}")
 print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
 print("REJECT_REASONS " + ",".join(m.REJECT_REASONS))
@@ -52,6 +52,8 @@ fn python_messages_match_the_rust_types_field_by_field() {
         "Schedule",
         "Rejection",
         "FrameHeader",
+        "RigCenter",
+        "RigInfo",
     ];
     let mut rust = BTreeMap::new();
     for l in wire_layout::all().into_iter().filter(|l| mirrored.contains(&l.rust)) {
@@ -68,6 +70,11 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("MAX_PARTS", MAX_PARTS.to_string()),
         ("MAX_CURLS", MAX_CURLS.to_string()),
         ("MAX_SLOTS", MAX_SLOTS.to_string()),
+        ("MAX_CENTERS", ipc_types::MAX_CENTERS.to_string()),
+        ("RIG_PREFIX_BYTES", ipc_types::RIG_PREFIX_BYTES.to_string()),
+        ("RIG_INFO", service_names::RIG_INFO.to_owned()),
+        ("PART_STATES_EVENT", ipc_types::wake_event::WakeEvent::PartStates.service().to_owned()),
+        ("PART_STATES_MAX_LISTENERS", ipc_types::wake_event::PART_STATES_LISTENERS.to_string()),
         ("MAX_SHAPE_VERTICES", MAX_SHAPE_VERTICES.to_string()),
         ("SHAPE_POINT", SHAPE_POINT.to_string()),
         ("SHAPE_DISC", SHAPE_DISC.to_string()),

@@ -49,6 +49,13 @@ fn validate_never_allocates() {
         schedule.push(ScheduleSlot::new(j, [2.0, 2.0], -0.5)).expect("within capacity");
     }
     let telemetry = Telemetry::new();
+    let mut rig = ipc_types::RigInfo::new();
+    (rig.slot_ticks, rig.cycle_period_ns, rig.tick_hz, rig.mu_m_g) = (40, 1, 10_000.0, 0.1);
+    (rig.plate_half_extent, rig.k_max, rig.max_part_force_n) = ([1.0, 1.0], 0.95, 0.1);
+    (rig.parts_max_age_ms, rig.request_max_age_ms) = (200.0, 200.0);
+    for j in 0..ipc_types::MAX_CENTERS {
+        rig.push(ipc_types::RigCenter { x: j as f64, y: 2.0, k_bound: 0.5 }).expect("within capacity");
+    }
     let mut bad_outline = parts;
     bad_outline.parts[PartStates::CAPACITY - 1].vertices.swap(1, 5); // a polygon, now not convex
     assert!(matches!(bad_outline.validate(&limits), Err(ipc_types::PartStatesError::Shape { .. })));
@@ -59,6 +66,7 @@ fn validate_never_allocates() {
             && black_box(explicit.validate(&limits)).is_ok()
             && black_box(schedule.validate(&limits)).is_ok()
             && black_box(telemetry.validate(&limits)).is_ok()
+            && black_box(rig.validate(&limits)).is_ok()
     });
     assert!(ok, "full-capacity messages must be valid");
     assert_eq!(n, 0, "validate() of valid messages allocated");
@@ -68,6 +76,7 @@ fn validate_never_allocates() {
     request.entries[PartStates::CAPACITY - 1].fx = f64::NAN;
     explicit.slots[ExplicitSchedule::CAPACITY - 1].k = 2.0;
     schedule.saturated = 7;
+    rig.centers[ipc_types::MAX_CENTERS - 1].k_bound = 2.0;
     let mut bad_telemetry = telemetry;
     bad_telemetry.latency.solver.p50_ns = 1;
     let (all_rejected, n) = count(|| {
@@ -77,6 +86,7 @@ fn validate_never_allocates() {
             && black_box(explicit.validate(&limits)).is_err()
             && black_box(schedule.validate(&limits)).is_err()
             && black_box(bad_telemetry.validate(&limits)).is_err()
+            && black_box(rig.validate(&limits)).is_err()
     });
     assert!(all_rejected, "corrupted messages must be rejected");
     assert_eq!(n, 0, "validate() of rejected messages allocated");

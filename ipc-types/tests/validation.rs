@@ -3,10 +3,10 @@
 
 use ipc_types::{
     CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, ForceEntry,
-    ForceRequest, ForceRequestError, HeaderError, MAX_CURLS, MAX_PARTS, MAX_SHAPE_VERTICES, MAX_SLOTS,
-    PROTOCOL_VERSION, PartState, PartStates, PartStatesError, RejectReason, RejectedKind, Rejection,
-    SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ScheduleError, ScheduleSlot, ShapeError, Telemetry,
-    TelemetryError, ValidationLimits,
+    ForceRequest, ForceRequestError, HeaderError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SHAPE_VERTICES,
+    MAX_SLOTS, PROTOCOL_VERSION, PartState, PartStates, PartStatesError, RejectReason, RejectedKind,
+    Rejection, RigCenter, RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule,
+    ScheduleError, ScheduleSlot, ShapeError, Telemetry, TelemetryError, ValidationLimits,
 };
 
 const NOW: u64 = 5_000_000_000;
@@ -61,6 +61,7 @@ fn good_schedule() -> Schedule {
     m.condition = f64::INFINITY; // rank-deficient solves report +∞
     m.rank = 3;
     m.saturated = 1;
+    m.at_bound = 1;
     for j in 0..4u32 {
         m.push(ScheduleSlot::new(j, [2.0, -1.0], -0.95 + 0.5 * f64::from(j))).expect("within capacity");
     }
@@ -387,6 +388,99 @@ fn schedules_check_centers_k_and_flags() {
     s.slots_mut()[0].k = -0.96;
     assert_eq!(s.validate(&l), Err(ScheduleError::KOutOfRange { index: 0 }));
     assert!(good_schedule().is_saturated());
+    let mut s = good_schedule();
+    s.at_bound = MAX_CENTERS as u32;
+    assert_eq!(s.validate(&l), Ok(()));
+    s.at_bound += 1;
+    assert_eq!(
+        s.validate(&l),
+        Err(ScheduleError::AtBoundExceedsCapacity { at_bound: MAX_CENTERS as u32 + 1 })
+    );
+    assert_eq!(
+        s.validate(&l).expect_err("too many").to_string(),
+        "schedule.at_bound 193 exceeds the capacity 192"
+    );
+}
+
+fn good_rig_info() -> RigInfo {
+    let mut m = RigInfo::new();
+    m.seq = 1;
+    m.stamp_ns = NOW;
+    m.core_pid = 42;
+    m.slot_ticks = 40;
+    m.cycle_period_ns = 16_000_000;
+    m.tick_hz = 10_000.0;
+    m.vision_frame_hz = 30.0;
+    m.mu_m_g = 0.1;
+    m.plate_half_extent = [0.2, 0.15];
+    m.k_max = 0.95;
+    m.max_part_force_n = 0.05;
+    m.keep_out_m = 0.1;
+    m.saturation_tolerance = 1e-3;
+    m.saturation_floor = 1e-12;
+    m.parts_max_age_ms = 200.0;
+    m.request_max_age_ms = 200.0;
+    m.max_future_skew_ms = 1.0;
+    m.set_prefix("upm_");
+    for (j, c) in [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]].iter().enumerate() {
+        m.push(RigCenter { x: c[0], y: c[1], k_bound: 0.95 - 0.1 * j as f64 }).expect("within capacity");
+    }
+    m
+}
+
+#[test]
+fn rig_info_is_checked_field_by_field_and_old_stamps_are_fine() {
+    let l = limits();
+    assert_eq!(good_rig_info().validate(&l), Ok(()));
+    let mut old = good_rig_info();
+    old.stamp_ns = 1;
+    assert_eq!(old.validate(&l), Ok(()), "published once at start: any age");
+    // How to break a good one, what validate() says, and its line.
+    type Case = (fn(&mut RigInfo), RigInfoError, &'static str);
+    let cases: [Case; 8] = [
+        (
+            |m| m.protocol_version = 5,
+            RigInfoError::Header(HeaderError::WrongProtocolVersion { found: 5 }),
+            "rig_info.protocol_version is 5, expected 6",
+        ),
+        (
+            |m| m.mu_m_g = f64::NAN,
+            RigInfoError::NonFinite { field: "mu_m_g" },
+            "rig_info.mu_m_g is not finite",
+        ),
+        (
+            |m| m.plate_half_extent[1] = 0.0,
+            RigInfoError::NotPositive { field: "plate_half_extent" },
+            "rig_info.plate_half_extent must be positive",
+        ),
+        (|m| m.count = 0, RigInfoError::NotPositive { field: "count" }, "rig_info.count must be positive"),
+        (|m| m.k_max = 1.0, RigInfoError::KMax, "rig_info.k_max must be in (0, 1)"),
+        (
+            |m| m.cycle_slots = 193,
+            RigInfoError::CycleSlots { slots: 193 },
+            "rig_info.cycle_slots 193 exceeds the capacity 192",
+        ),
+        (
+            |m| m.centers[2].y = f64::INFINITY,
+            RigInfoError::CenterNonFinite { index: 2 },
+            "rig_info.centers[2] is not finite",
+        ),
+        (
+            |m| m.centers[3].k_bound = 0.96,
+            RigInfoError::KBound { index: 3 },
+            "rig_info.centers[3].k_bound must be in (0, k_max]",
+        ),
+    ];
+    for (break_it, want, text) in cases {
+        let mut m = good_rig_info();
+        break_it(&mut m);
+        assert_eq!(m.validate(&l), Err(want));
+        assert_eq!(want.to_string(), text);
+    }
+    let mut m = good_rig_info();
+    m.count = u32::MAX;
+    assert!(matches!(m.validate(&l), Err(RigInfoError::Header(HeaderError::CountExceedsCapacity { .. }))));
+    assert_eq!(m.centers().len(), MAX_CENTERS, "a corrupt count is clamped");
 }
 
 #[test]
@@ -429,7 +523,7 @@ fn errors_display_the_offending_field() {
     assert!(boxed.to_string().contains("schedule.condition"));
 }
 
-// --- Part outlines (protocol v5) ---------------------------------------
+// --- Part outlines ------------------------------------------------------
 
 const SQUARE: [[f64; 2]; 4] = [[0.01, 0.01], [-0.01, 0.01], [-0.01, -0.01], [0.01, -0.01]];
 const TRIANGLE: [[f64; 2]; 3] = [[0.02, 0.0], [-0.01, 0.015], [-0.01, -0.015]];

@@ -25,6 +25,10 @@ fn payload_type_names_carry_the_protocol_version() {
         type_name::<Telemetry>(),
         type_name::<CoreCommand>(),
         type_name::<PartState>(),
+        type_name::<ipc_types::RigInfo>(),
+        type_name::<ipc_types::RigCenter>(),
+        type_name::<ipc_types::Rejection>(),
+        type_name::<ipc_types::FrameHeader>(),
     ];
     for name in names {
         assert!(name.starts_with("upm::") && name.ends_with(&suffix), "{name} lacks upm::…{suffix}");
@@ -55,10 +59,10 @@ fn monotonic_clock_moves_forward() {
     assert!(a > 0 && b >= a + 1_000_000, "a={a} b={b}");
 }
 
-/// v5's outline: `shape` where v4 had `reserved`, the rest after `omega`.
+/// A part's outline: `shape` after the class codes, the rest after `omega`.
 #[test]
-fn part_state_v5_carries_its_outline_where_the_contract_says() {
-    assert_eq!(PROTOCOL_VERSION, 5);
+fn part_state_carries_its_outline_where_the_contract_says() {
+    assert_eq!(PROTOCOL_VERSION, 6);
     assert_eq!((SHAPE_POINT, SHAPE_DISC, SHAPE_POLYGON, MAX_SHAPE_VERTICES), (0, 1, 2, 8));
     assert_eq!((size_of::<PartState>(), align_of::<PartState>()), (208, 8));
     assert_eq!(size_of::<PartStates>(), 24 + MAX_PARTS * 208);
@@ -71,6 +75,22 @@ fn part_state_v5_carries_its_outline_where_the_contract_says() {
         offset_of!(PartState, vertices),
     ];
     assert_eq!(offsets, [12, 56, 64, 72, 76, 80]);
+}
+
+/// v6: `Schedule.at_bound` (and `reserved`) after `saturated`, the slots after them.
+#[test]
+fn schedule_v6_counts_the_centers_at_their_bound_where_the_contract_says() {
+    let offsets = [
+        offset_of!(Schedule, rank),
+        offset_of!(Schedule, saturated),
+        offset_of!(Schedule, at_bound),
+        offset_of!(Schedule, reserved),
+        offset_of!(Schedule, slots),
+    ];
+    assert_eq!(offsets, [80, 84, 88, 92, 96]);
+    assert_eq!(size_of::<Schedule>(), 96 + ipc_types::MAX_SLOTS * 32);
+    let s = Schedule::new();
+    assert_eq!((s.saturated, s.at_bound, s.reserved), (0, 0, 0));
 }
 
 #[test]

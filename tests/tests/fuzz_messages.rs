@@ -81,8 +81,8 @@ fn shape_error_is_named(e: &PartStatesError) -> bool {
     }
 }
 
-/// Up to a whole `PartStates` (the largest inbound payload, 13336 bytes in
-/// v5); a shorter body is repeated.
+/// Up to a whole `PartStates` (the largest inbound payload, 13336 bytes);
+/// a shorter body is repeated.
 fn body() -> impl Strategy<Value = Vec<u8>> {
     prop::collection::vec(any::<u8>(), 1..=size_of::<PartStates>())
 }

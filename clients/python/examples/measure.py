@@ -1,7 +1,7 @@
 """Observer: request -> schedule latency on a running rig, whoever the
 planner is, read from the side (subscribes to upm/force_request and
-upm/schedule; Schedule.seq is the seq of the request it was solved from,
-Schedule.stamp_ns when the core picked it up).
+upm/schedule; Schedule.seq and request_stamp_ns are those of the request
+it was solved from, Schedule.stamp_ns when the core picked it up).
 
     python measure.py --prefix P --duration S [--json]
 """
@@ -25,19 +25,20 @@ node = (iox2.NodeBuilder.new().config(upm_ipc.config_with_prefix(args.prefix))
 reqs = open_pub_sub(node, upm_ipc.FORCE_REQUEST, upm_ipc.ForceRequest).subscriber_builder().create()
 scheds = open_pub_sub(node, upm_ipc.SCHEDULE, upm_ipc.Schedule).subscriber_builder().create()
 
-stamps = {}  # request seq -> request stamp_ns
+stamps = set()  # (seq, stamp_ns) of every request seen
 core_ms, seen_ms, solve_ms = [], [], []
 end = upm_ipc.monotonic_now_ns() + int(args.duration * 1e9)
 while upm_ipc.monotonic_now_ns() < end:
     while (s := reqs.receive()) is not None:
         r = copy_out(s, upm_ipc.ForceRequest)
-        stamps[r.seq] = r.stamp_ns
+        stamps.add((r.seq, r.stamp_ns))
     while (s := scheds.receive()) is not None:
         now = upm_ipc.monotonic_now_ns()
         sc = copy_out(s, upm_ipc.Schedule)
-        if sc.seq in stamps:
-            core_ms.append((sc.stamp_ns - stamps[sc.seq]) / 1e6)  # core picked it up
-            seen_ms.append((now - stamps[sc.seq]) / 1e6)  # observer saw the schedule
+        # By seq and stamp: history may hand us a schedule of an earlier request.
+        if (sc.seq, sc.request_stamp_ns) in stamps:
+            core_ms.append((sc.stamp_ns - sc.request_stamp_ns) / 1e6)  # core picked it up
+            seen_ms.append((now - sc.request_stamp_ns) / 1e6)  # observer saw the schedule
             solve_ms.append(sc.solve_time_ns / 1e6)
     node.wait(iox2.Duration.from_micros(100))
 

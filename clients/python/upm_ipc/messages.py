@@ -4,13 +4,15 @@ ipc-types/tests/python_layout.rs).
 """
 
 import ctypes
+import math
 import time
 
 # ipc-types/src/lib.rs and capacity.rs
-PROTOCOL_VERSION = 5
+PROTOCOL_VERSION = 6
 MAX_PARTS = 64
 MAX_CURLS = 16
 MAX_SLOTS = 192
+MAX_CENTERS = 192
 
 # ipc-types/src/part_shape.rs: PartState.shape codes
 SHAPE_POINT = 0  # the paper's point part (the field at its position)
@@ -27,10 +29,12 @@ PART_STATES = "upm/part_states"
 FORCE_REQUEST = "upm/force_request"
 SCHEDULE = "upm/schedule"
 TELEMETRY = "upm/telemetry"
-REJECTION = "upm/rejection"
+REJECTION = "upm/rejection"  # every refusal, whoever sent the message: filter
+RIG_INFO = "upm/rig_info"  # the rig describing itself, once, history 1
 CAMERA_FRAME = "upm/camera/frame"  # [u8] pixels, FrameHeader user header
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
 FRAME_EVENT = CAMERA_FRAME  # event service: a frame source notifies vision
+PART_STATES_EVENT = PART_STATES  # event service: vision notifies planners
 
 # ipc-types/src/ports.rs (open_pub_sub)
 MAX_PUBLISHERS = 4
@@ -41,9 +45,11 @@ MAX_NODES = 32
 # ipc-types/src/ports.rs (frame_publisher / frame_subscriber): history 0
 FRAME_SUBSCRIBERS = 4
 FRAME_BUFFER = 2
-# ipc-types/src/wake_event.rs (both events): max_notifiers = MAX_SUBSCRIBERS,
-# 2 listeners; notify() with the notifier's default event id, EventId 0.
+# ipc-types/src/wake_event.rs: max_notifiers = MAX_SUBSCRIBERS; the inbox
+# and frame events 2 listeners, the part states event 16; notify() with the
+# notifier's default event id, EventId 0.
 INBOX_MAX_LISTENERS = 2
+PART_STATES_MAX_LISTENERS = 16
 INBOX_EVENT_ID = 0
 
 
@@ -75,7 +81,7 @@ class PartState(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartState.v5"
+        return "upm::PartState.v6"
 
     @classmethod
     def point(cls, id, class_, friction_class, pose, velocity=(0.0, 0.0, 0.0)):
@@ -118,7 +124,7 @@ class PartStates(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::PartStates.v5"
+        return "upm::PartStates.v6"
 
     def __init__(self):
         super().__init__()
@@ -149,7 +155,7 @@ class ForceEntry(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceEntry.v5"
+        return "upm::ForceEntry.v6"
 
 
 class ForceRequest(ctypes.Structure):
@@ -165,7 +171,7 @@ class ForceRequest(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ForceRequest.v5"
+        return "upm::ForceRequest.v6"
 
     def __init__(self):
         super().__init__()
@@ -192,11 +198,14 @@ class ScheduleSlot(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::ScheduleSlot.v5"
+        return "upm::ScheduleSlot.v6"
 
 
 class Schedule(ctypes.Structure):
-    """Core -> all. `seq` is the seq of the request it was solved from."""
+    """Core -> all. `seq` and `request_stamp_ns` are those of the request it
+    was solved from (match on both: history hands a restarted planner the
+    last schedule, which may answer an earlier run's request of that seq).
+    `residual` is one norm over force rows (N) and curl rows (N/m)."""
     _fields_ = [
         ("protocol_version", ctypes.c_uint32),
         ("count", ctypes.c_uint32),
@@ -210,13 +219,15 @@ class Schedule(ctypes.Structure):
         ("residual", ctypes.c_double),
         ("condition", ctypes.c_double),
         ("rank", ctypes.c_uint32),
-        ("saturated", ctypes.c_uint32),
+        ("saturated", ctypes.c_uint32),  # 1: a bound keeps the request from being met
+        ("at_bound", ctypes.c_uint32),  # centers at their bound, request met or not
+        ("reserved", ctypes.c_uint32),
         ("slots", ScheduleSlot * MAX_SLOTS),
     ]
 
     @staticmethod
     def type_name():
-        return "upm::Schedule.v5"
+        return "upm::Schedule.v6"
 
 
 # Rejection.kind codes and the reject reasons (docs/protocol.md).
@@ -248,13 +259,117 @@ class Rejection(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::Rejection.v5"
+        return "upm::Rejection.v6"
 
     def __str__(self):
         kind = REJECTED_KINDS[self.kind] if self.kind < len(REJECTED_KINDS) else "unknown"
         reason = REJECT_REASONS[self.reason] if self.reason < len(REJECT_REASONS) else "unknown"
         text = bytes(self.detail).split(b"\0", 1)[0].decode("utf-8", "replace")
         return f"{kind} seq {self.seq} rejected: {reason} ({text})"
+
+
+RIG_PREFIX_BYTES = 64
+
+
+class RigCenter(ctypes.Structure):
+    """A rotation center (m, plate axes) and the bound on |k| the core solves under there."""
+    _fields_ = [("x", ctypes.c_double), ("y", ctypes.c_double), ("k_bound", ctypes.c_double)]
+
+    @staticmethod
+    def type_name():
+        return "upm::RigCenter.v6"
+
+
+class RigInfo(ctypes.Structure):
+    """Core -> all, once at start (history 1): the rig describing itself."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("count", ctypes.c_uint32),  # used entries of centers
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("core_pid", ctypes.c_uint32),
+        ("cycle_slots", ctypes.c_uint32),  # 0: one slot per center; N: sparse cycles of N slots
+        ("class_count", ctypes.c_uint32),  # codes below it; 0xFFFFFFFF: any
+        ("friction_class_count", ctypes.c_uint32),
+        ("slot_ticks", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("cycle_period_ns", ctypes.c_uint64),
+        ("tick_hz", ctypes.c_double),
+        ("vision_frame_hz", ctypes.c_double),  # PartStates rate; 0: not known
+        ("mu_m_g", ctypes.c_double),  # N
+        ("plate_half_extent", ctypes.c_double * 2),  # m
+        ("k_max", ctypes.c_double),
+        ("max_part_force_n", ctypes.c_double),  # anywhere on the plate; max_force() for a place
+        ("max_part_force_at", ctypes.c_double * 2),
+        ("keep_out_m", ctypes.c_double),
+        ("saturation_tolerance", ctypes.c_double),
+        ("saturation_floor", ctypes.c_double),
+        ("parts_max_age_ms", ctypes.c_double),
+        ("request_max_age_ms", ctypes.c_double),
+        ("max_future_skew_ms", ctypes.c_double),
+        ("prefix", ctypes.c_uint8 * RIG_PREFIX_BYTES),
+        ("centers", RigCenter * MAX_CENTERS),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::RigInfo.v6"
+
+    def used(self):
+        """The used centers (count clamped to the capacity, as in Rust)."""
+        return self.centers[: min(self.count, MAX_CENTERS)]
+
+    def prefix_str(self):
+        return bytes(self.prefix).split(b"\0", 1)[0].decode("utf-8", "replace")
+
+
+def max_force(info, x, y, ux, uy):
+    """The largest force (N) one point part at (x, y) can be given along the
+    direction (ux, uy), curl free, on the rig `info` (a RigInfo) describes:
+    where the ray along it leaves the set of forces one cycle can give
+    (docs/protocol.md, "How hard a part can be pushed"). Several parts
+    share a cycle: together they get less."""
+    norm = math.hypot(ux, uy)
+    if not norm > 0.0:
+        raise ValueError("the direction (ux, uy) must not be zero")
+    d = (ux / norm, uy / norm)
+    sparse = info.cycle_slots > 0
+    near = info.keep_out_m if sparse else 1e-9
+    tangents = []  # (t_j, u_j) of the centers that may push the part
+    for c in info.used():
+        rx, ry = x - c.x, y - c.y
+        r = math.hypot(rx, ry)
+        if r >= near:
+            tangents.append(((-ry / r, rx / r), c.k_bound))
+    if sparse:
+        # mu_m_g * conv{+-u_j t_j}: the farthest crossing with a chord.
+        q = [p for (t, u) in tangents for p in ((u * t[0], u * t[1]), (-u * t[0], -u * t[1]))]
+        best = 0.0
+        for a, qa in enumerate(q):
+            n = math.hypot(*qa)
+            if abs(d[0] * qa[1] - d[1] * qa[0]) <= 1e-12 * n and d[0] * qa[0] + d[1] * qa[1] > 0.0:
+                best = max(best, n)
+            for qb in q[a + 1:]:
+                ex, ey = qb[0] - qa[0], qb[1] - qa[1]
+                den = d[0] * ey - d[1] * ex
+                if den == 0.0:
+                    continue
+                s = (qa[0] * qb[1] - qa[1] * qb[0]) / den
+                lam = -(d[0] * qa[1] - d[1] * qa[0]) / den
+                if 0.0 <= lam <= 1.0 and s > best:
+                    best = s
+        return info.mu_m_g * best
+    # Paper's cycle: a zonotope whose facet normals are the radial e_k.
+    best = math.inf
+    for tk, _ in tangents:
+        e = (tk[1], -tk[0])
+        across = abs(e[0] * d[0] + e[1] * d[1])
+        if across > 1e-12:
+            h = sum(u * abs(e[0] * t[0] + e[1] * t[1]) for t, u in tangents)
+            best = min(best, h / across)
+    if best == math.inf:  # every tangent along d
+        best = sum(u * abs(d[0] * t[0] + d[1] * t[1]) for t, u in tangents)
+    return info.mu_m_g / max(len(info.used()), 1) * best
 
 
 class FrameHeader(ctypes.Structure):
@@ -274,7 +389,7 @@ class FrameHeader(ctypes.Structure):
 
     @staticmethod
     def type_name():
-        return "upm::FrameHeader.v5"
+        return "upm::FrameHeader.v6"
 
 
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
@@ -283,5 +398,7 @@ assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(Pa
 assert ctypes.sizeof(ForceEntry) == 4 * 4 + 3 * 8
 assert ctypes.sizeof(ForceRequest) == 4 + 4 + 3 * 8 + MAX_PARTS * ctypes.sizeof(ForceEntry)
 assert ctypes.sizeof(ScheduleSlot) == 4 + 4 + 3 * 8
-assert ctypes.sizeof(Schedule) == 4 + 4 + 7 * 8 + 2 * 8 + 4 + 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
+assert ctypes.sizeof(Schedule) == 4 + 4 + 7 * 8 + 2 * 8 + 4 * 4 + MAX_SLOTS * ctypes.sizeof(ScheduleSlot)
+assert ctypes.sizeof(RigCenter) == 3 * 8
+assert ctypes.sizeof(RigInfo) == 24 + 6 * 4 + 8 + 15 * 8 + RIG_PREFIX_BYTES + MAX_CENTERS * 24
 assert ctypes.sizeof(Rejection) == 4 + 4 + 5 * 8 + 4 + 4 + DETAIL_BYTES

@@ -6,8 +6,8 @@
 
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, FrameHeader,
-    LatencyPercentiles, PartState, PartStates, REJECT_REASONS, RejectReason, Rejection, Schedule,
-    ScheduleSlot, Telemetry,
+    LatencyPercentiles, PartState, PartStates, REJECT_REASONS, RejectReason, Rejection, RigCenter, RigInfo,
+    Schedule, ScheduleSlot, Telemetry,
 };
 use serde_json::{Map, Value, json};
 
@@ -106,11 +106,34 @@ impl Decoded for Schedule {
                "parts_stamp_ns": self.parts_stamp_ns, "request_stamp_ns": self.request_stamp_ns,
                "residual": self.residual,
                "condition": finite_or_null(self.condition), "rank": self.rank, "saturated": self.saturated,
-               "count": self.count, "slots": slots})
+               "at_bound": self.at_bound, "count": self.count, "slots": slots})
     }
     fn sample() -> Self {
         let mut m = Self::new();
         let _ = m.push(ScheduleSlot::ZERO);
+        m
+    }
+}
+
+impl Decoded for RigInfo {
+    fn decoded(&self) -> Value {
+        let centers: Vec<Value> =
+            self.centers().iter().map(|c| json!({"x": c.x, "y": c.y, "k_bound": c.k_bound})).collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "core_pid": self.core_pid, "cycle_slots": self.cycle_slots, "class_count": self.class_count,
+               "friction_class_count": self.friction_class_count, "slot_ticks": self.slot_ticks,
+               "cycle_period_ns": self.cycle_period_ns, "tick_hz": self.tick_hz,
+               "vision_frame_hz": self.vision_frame_hz, "mu_m_g": self.mu_m_g,
+               "plate_half_extent": self.plate_half_extent, "k_max": self.k_max,
+               "max_part_force_n": self.max_part_force_n, "max_part_force_at": self.max_part_force_at,
+               "keep_out_m": self.keep_out_m, "saturation_tolerance": self.saturation_tolerance,
+               "saturation_floor": self.saturation_floor, "parts_max_age_ms": self.parts_max_age_ms,
+               "request_max_age_ms": self.request_max_age_ms, "max_future_skew_ms": self.max_future_skew_ms,
+               "prefix": self.prefix_str(), "count": self.count, "centers": centers})
+    }
+    fn sample() -> Self {
+        let mut m = Self::new();
+        let _ = m.push(RigCenter::ZERO);
         m
     }
 }

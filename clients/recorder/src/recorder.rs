@@ -9,7 +9,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{FrameSub, Sub, subscriber};
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, PartStates, Rejection, Schedule, Telemetry,
+    CoreCommand, ExplicitSchedule, ForceRequest, PartStates, Rejection, RigInfo, Schedule, Telemetry,
     monotonic_now_ns, service_names,
 };
 
@@ -39,6 +39,7 @@ struct Subscriptions {
     schedule: Sub<Schedule>,
     telemetry: Sub<Telemetry>,
     rejection: Sub<Rejection>,
+    rig_info: Sub<RigInfo>,
     truth: Sub<PartStates>,
     frames: Option<FrameSub>,
 }
@@ -90,6 +91,7 @@ impl Recorder {
             schedule: subscriber(&node, service_names::SCHEDULE)?,
             telemetry: subscriber(&node, service_names::TELEMETRY)?,
             rejection: subscriber(&node, service_names::REJECTION)?,
+            rig_info: subscriber(&node, service_names::RIG_INFO)?,
             // Only a rig with a camera has the frame service.
             frames: ipc_types::ports::frame_subscriber(&node).ok(),
         };
@@ -149,6 +151,7 @@ impl Recorder {
         drain!(command, service_names::CORE_COMMAND);
         drain!(schedule, service_names::SCHEDULE);
         drain!(rejection, service_names::REJECTION);
+        drain!(rig_info, service_names::RIG_INFO);
         while let Some(s) = self.subs.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
             let at = self.log_ns();
             if at >= self.last_truth_ns.saturating_add(self.truth_period_ns) {

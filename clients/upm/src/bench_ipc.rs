@@ -2,7 +2,8 @@
 //! the core, against a raw iceoryx2 ping-pong of the same payload (round
 //! trip halved), in the same run: event-driven against event-driven, busy
 //! polling against busy polling. The solver thread's pick-up is reported
-//! separately.
+//! separately, and so is a planner's wake-up on the part states event
+//! (`bench_planner_wake`).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -278,11 +279,12 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
         raw_event_beside_core(if raw_event_rt.is_some() { like_receiver } else { EchoScheduling::Normal })?;
     let (event, event_pickup, upm_held) = upm_one_way(seconds, ReceiverWake::Event)?;
     let (spin, spin_pickup, _) = upm_one_way(seconds, ReceiverWake::Spin)?;
+    let wake = crate::bench_planner_wake::run(((seconds * 1000.0) as usize).clamp(500, 5000))?;
     drop(raw_qos);
     let (e, re, sp, rb) =
         (summary(&event), summary(&raw_event.one_way), summary(&spin), summary(&raw_busy.one_way));
     let (re_half, rb_half) = (summary(&raw_event.half_round_trip), summary(&raw_busy.half_round_trip));
-    Ok(json!({
+    let mut v = json!({
         "host": crate::host_facts::read_all(),
         "pm_qos": { "upm": upm_held, "raw_iceoryx2": raw_held, "same_policy": upm_held == raw_held },
         "payload_bytes": size_of::<PartStates>(),
@@ -306,14 +308,20 @@ pub fn run(seconds: f64) -> anyhow::Result<Value> {
         "ratio_p99_spin": sp.p99 / rb.p99,
         "solver_pickup_event": summary(&event_pickup),
         "solver_pickup_spin": summary(&spin_pickup),
-        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (woken by the receiver through a futex). raw: ping-pong of the same payload with listeners+notify (event, paced at the feeder's 1 ms; also at 200 µs) or busy polling; the reference is the ping leg alone (stamp → echo thread's receive), *_half_round_trip the round trip / 2.",
-    }))
+        "note": "upm: PartStates stamp (publisher) → received by the core's receiver thread, which then hands it wait-free to the solver thread; solver_pickup: received → validated on the solver thread (woken by the receiver through a futex). raw: ping-pong of the same payload with listeners+notify (event, paced at the feeder's 1 ms; also at 200 µs) or busy polling; the reference is the ping leg alone (stamp → echo thread's receive), *_half_round_trip the round trip / 2. planner_wake_*: PartStates stamp → published and the upm/part_states event notified (as vision does) → a planner's listener woken and the newest PartStates received, paced at 1 ms, in Rust and in Python (iceoryx2's package; null when no Python with iceoryx2 0.10 is found, planner_wake_python_run says why); raw_iceoryx2_event_wake: stamp → notify → a raw iceoryx2 event listener woken (default settings, no payload), the same pacing.",
+    });
+    if let (Some(all), Some(more)) = (v.as_object_mut(), wake.as_object()) {
+        all.extend(more.clone());
+    }
+    Ok(v)
 }
 
 pub fn to_text(v: &Value) -> String {
     let row = summary_row;
     format!(
-        "{}\nPM QoS held: upm {}, raw {}\none-way PartStates latency (µs), payload {} B\n{}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (futex wake):\n{}",
+        "{}\nPM QoS held: upm {}, raw {}\none-way PartStates latency (µs), payload {} B\n{}\n{}\n{}\n{}\n{}\n{}\n{}\nratio p99 (event) {:.2}\n{}\n{}\n{}\nratio p99 (spin) {:.2}\nthen to the solver thread (futex wake):\n{}\n\
+         a planner woken by the part states event (µs; JSON planner_wake_rust, planner_wake_python, \
+         raw_iceoryx2_event_wake):\n{}\n{}\n{}\nratio p50 to the raw event: Rust {:.2}, Python {:.2}",
         crate::host_facts::to_text(&v["host"]),
         v["pm_qos"]["upm"],
         v["pm_qos"]["raw_iceoryx2"],
@@ -331,5 +339,19 @@ pub fn to_text(v: &Value) -> String {
         row("  round trip / 2", &v["raw_iceoryx2_busy_poll_half_round_trip"]),
         v["ratio_p99_spin"].as_f64().unwrap_or(f64::NAN),
         row("pickup (event run)", &v["solver_pickup_event"]),
+        row("planner, Rust", &v["planner_wake_rust"]),
+        python_row(v),
+        row("raw iceoryx2 event", &v["raw_iceoryx2_event_wake"]),
+        v["ratio_p50_planner_wake_rust_vs_raw_event"].as_f64().unwrap_or(f64::NAN),
+        v["ratio_p50_planner_wake_python_vs_raw_event"].as_f64().unwrap_or(f64::NAN),
     )
+}
+
+/// The Python planner's row, or why it was skipped.
+fn python_row(v: &Value) -> String {
+    if v["planner_wake_python"].is_null() {
+        format!("planner, Python        skipped: {}", v["planner_wake_python_run"]["skipped"])
+    } else {
+        summary_row("planner, Python", &v["planner_wake_python"])
+    }
 }

@@ -27,7 +27,7 @@ pub struct LoopResult {
     pub schedules: usize,
     /// The largest of the per-center |k| bounds the core's solver used.
     pub k_max: f64,
-    /// Mean residual ‖A·K − b‖ (N) over the schedules.
+    /// Mean residual ‖A·K − b‖ over the schedules (N; curl rows in N/m).
     pub mean_residual: f64,
     /// Rank and condition of the first schedule.
     pub first_rank_condition: (u32, f64),

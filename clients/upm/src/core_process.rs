@@ -126,6 +126,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         histogram_dir: args.histograms.clone().or_else(|| config.histogram_dir().map(Into::into)),
         duration,
         truth_hz: args.truth_hz,
+        vision_frame_hz: config.vision_frame_hz(),
     };
     eprintln!(
         "upm-core: prefix {:?}, {} centers, {} Hz motor loop, driver {:?}, pid {}",

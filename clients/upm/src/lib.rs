@@ -11,6 +11,7 @@ pub mod bench_fidelity_loop;
 pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_least_squares;
+pub mod bench_planner_wake;
 pub mod bench_record;
 pub mod bench_solver;
 pub mod bench_solver_shapes;

@@ -488,8 +488,9 @@ pub fn run_command(file: &Path, planner: Option<&str>, out: &Path, as_json: bool
             println!("{}", serde_json::to_string_pretty(&r.to_json())?);
         } else {
             println!(
-                "planner {}: {} part states -> {} requests, {} schedules ({} saturated, mean residual {:.3e} N), \
-                 {} rejections; recorded: {} schedules ({} saturated, mean residual {:.3e} N); wrote {}",
+                "planner {}: {} part states -> {} requests, {} schedules ({} saturated, mean residual {:.3e}), \
+                 {} rejections; recorded: {} schedules ({} saturated, mean residual {:.3e}); residuals in N, \
+                 curl rows in N/m; wrote {}",
                 r.planner,
                 r.part_states,
                 r.requests,

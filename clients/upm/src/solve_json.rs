@@ -104,11 +104,16 @@ pub struct SolveOutput {
     pub order: Vec<usize>,
     pub priority: Vec<f64>,
     pub achieved: Achieved,
+    /// ‖A·K − b‖ over the request: force rows in N, curl rows in N/m.
     pub residual: f64,
     pub rank: usize,
     /// Estimated κ₂; rank-deficient systems report f64::MAX (JSON has no ∞).
     pub condition: f64,
+    /// A bound keeps the request from being met: a bound is active and the
+    /// residual exceeds `solver::SATURATION_TOLERANCE` of the request's norm.
     pub saturated: bool,
+    /// Centers whose |k| is at their bound, whether or not the request is met.
+    pub at_bound: usize,
     /// Wall time of `Solver::solve` alone (µs), on a fresh solver (cold).
     pub solve_time_us: f64,
     /// Free-block solves of the bounded path (0 on the exact path).
@@ -317,6 +322,7 @@ pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
         rank: s.rank,
         condition: if s.condition.is_finite() { s.condition } else { f64::MAX },
         saturated: s.saturated,
+        at_bound: s.at_bound,
         solve_time_us,
         iterations: s.iterations,
         k_bounds: Vec::new(),

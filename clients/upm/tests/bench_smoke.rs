@@ -1,6 +1,9 @@
 //! The benches run and report well-formed figures (never judged against a
 //! time: that is BENCHMARKS.md's job). `bench ipc` also exercises both
-//! receiver modes of the core (event-driven and busy-polling) end to end.
+//! receiver modes of the core (event-driven and busy-polling) end to end,
+//! and a planner's wake-up on the part states event in Rust and in Python.
+
+mod common;
 
 use std::process::Command;
 
@@ -14,6 +17,7 @@ fn summary_ok(name: &str, s: &serde_json::Value) {
 fn bench_ipc_reports_both_receiver_modes_against_their_references() {
     let out = Command::new(env!("CARGO_BIN_EXE_upm"))
         .args(["bench", "ipc", "--quick", "--json"])
+        .env("UPM_PYTHON", common::python_with_iceoryx2())
         .output()
         .expect("upm bench ipc");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -25,10 +29,19 @@ fn bench_ipc_reports_both_receiver_modes_against_their_references() {
         "raw_iceoryx2_busy_poll",
         "solver_pickup_event",
         "solver_pickup_spin",
+        "planner_wake_rust",
+        "planner_wake_python",
+        "raw_iceoryx2_event_wake",
     ] {
         summary_ok(key, &v[key]);
     }
-    for key in ["ratio_p99_event", "ratio_p99_spin"] {
+    assert!(v["planner_wake_python_run"]["iceoryx2"].as_str().is_some_and(|s| s.starts_with("0.10.")), "{v}");
+    for key in [
+        "ratio_p99_event",
+        "ratio_p99_spin",
+        "ratio_p50_planner_wake_rust_vs_raw_event",
+        "ratio_p50_planner_wake_python_vs_raw_event",
+    ] {
         assert!(v[key].as_f64().is_some_and(|r| r.is_finite() && r > 0.0), "{key}: {v}");
     }
 }

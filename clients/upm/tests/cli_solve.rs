@@ -36,6 +36,36 @@ fn rejects(input: &str, needle: &str) {
     assert!(out.stdout.is_empty());
 }
 
+/// `saturated` says a bound keeps the request from being met; a bound
+/// active while the request is met shows in `at_bound` alone.
+#[test]
+fn saturated_means_unmet_and_at_bound_counts_the_centers_at_their_bound() {
+    let centers = [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]];
+    let ask = |force: [f64; 2]| {
+        let input = format!(
+            "{{\"mu_m_g\": 0.1, \"centers\": {centers:?}, \"parts\": [{{\"position\": [0.5, 0.0], \"force\": {force:?}}}]}}"
+        );
+        json(&upm(&["solve", "-"], Some(&input)))
+    };
+    let zero = ask([0.0, 0.0]);
+    assert_eq!(
+        (&zero["saturated"], &zero["at_bound"], &zero["residual"]),
+        (&false.into(), &0.into(), &0.0.into())
+    );
+    // 98 % of the most the bounds (the validation rig's) allow, in the best
+    // direction: only K near the box's corner gives it.
+    let bounds: Vec<f64> =
+        zero["k_bounds"].as_array().expect("k_bounds").iter().filter_map(|b| b.as_f64()).collect();
+    let (most, d) = rt_core::solver::max_force_at(&centers, &bounds, 0.1, 0, 0.0, [0.5, 0.0]);
+    let met = ask([0.98 * most * d[0], 0.98 * most * d[1]]);
+    assert!(met["at_bound"].as_u64() >= Some(1), "{met}");
+    assert_eq!(met["saturated"], false, "{met}");
+    assert!(met["residual"].as_f64().is_some_and(|r| r < 1e-9 * most), "{met}");
+    let beyond = ask([0.5, 0.0]);
+    assert_eq!(beyond["saturated"], true, "{beyond}");
+    assert!(beyond["at_bound"].as_u64() >= Some(1) && beyond["residual"].as_f64() > Some(0.1), "{beyond}");
+}
+
 #[test]
 fn paper_3_1_from_a_file() {
     let v = json(&upm(&["solve", "examples/paper-3-1.json"], None));
@@ -45,7 +75,7 @@ fn paper_3_1_from_a_file() {
     }
     assert_eq!(v["order"], serde_json::json!([0, 2, 1, 3]));
     assert_eq!(v["rank"], 4);
-    assert_eq!(v["saturated"], false);
+    assert_eq!((&v["saturated"], &v["at_bound"]), (&false.into(), &0.into()));
     assert_eq!(v["iterations"], 0, "the exact path iterates not");
     assert!(v["solve_time_us"].as_f64().is_some_and(|t| t > 0.0), "solve_time_us: {}", v["solve_time_us"]);
     // The plate's four corners, alike by symmetry, play less than the

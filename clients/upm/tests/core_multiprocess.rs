@@ -166,10 +166,81 @@ fn a_service_created_with_other_settings_is_named_with_its_creator() {
     eprintln!("{line}");
     for want in [
         "service upm/schedule",
-        "it exists with payload upm::Schedule.v5",
+        "it exists with payload upm::Schedule.v6",
         "where UPM needs 4, 16, 8, 1, true, 32",
         &format!("created by a client still running: pid {}", std::process::id()),
     ] {
         assert!(line.contains(want), "{want:?} missing from: {line}");
+    }
+}
+
+/// The rig describes itself over the wire: a client on `ipc-types` alone
+/// (no config file) reads `RigInfo` from a running core, twice (history 1
+/// hands it to a late subscriber too), and it is the rig the core was
+/// configured as.
+#[test]
+fn a_client_reads_the_rig_description_from_a_running_core() {
+    use ipc_types::{PROTOCOL_VERSION, RigInfo, ValidationLimits};
+    let prefix = common::unique_prefix("riginfo");
+    let dir = std::env::temp_dir().join(format!("{prefix}cfg"));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let config = dir.join("rig.toml");
+    let centers = [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5], [0.0, 0.8]];
+    std::fs::write(
+        &config,
+        format!(
+            "[plate]\nhalf_extent = [1.0, 0.5]\nmu_m_g = 0.12\ncenters = {centers:?}\n\n\
+             [safety]\nparts_max_age_ms = 150.0\nrequest_max_age_ms = 250.0\n\n[vision]\nframe_hz = 50.0\n"
+        ),
+    )
+    .expect("config");
+    let core = Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        .args(["--prefix", &prefix, "--duration", "60", "--config"])
+        .arg(&config)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn upm-core");
+    let core = Core(core);
+    let pid = core.0.id();
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        assert!(wait_state(&prefix, CoreState::Idle, Duration::from_secs(20)), "core came up idle");
+        let node = common::plain_node(&prefix);
+        let read = || {
+            let sub =
+                ipc_types::ports::subscriber::<RigInfo>(&node, service_names::RIG_INFO).expect("subscriber");
+            let start = Instant::now();
+            while start.elapsed() < Duration::from_secs(5) {
+                if let Some(s) = sub.receive().expect("receive") {
+                    return Some((*s.payload(), start.elapsed()));
+                }
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            None
+        };
+        let (info, after) = read().expect("the core's RigInfo arrives");
+        let (again, _) = read().expect("a later subscriber gets it too");
+        assert_eq!(again, info);
+        eprintln!("RigInfo after {after:?}: {info:?}");
+        assert_eq!(info.validate(&ValidationLimits::new([1.0, 0.5], ipc_types::monotonic_now_ns())), Ok(()));
+        assert_eq!(info.protocol_version, PROTOCOL_VERSION);
+        assert_eq!(info.core_pid, pid);
+        assert_eq!(info.prefix_str(), prefix);
+        assert_eq!((info.mu_m_g, info.plate_half_extent), (0.12, [1.0, 0.5]));
+        assert_eq!((info.parts_max_age_ms, info.request_max_age_ms), (150.0, 250.0));
+        assert_eq!((info.vision_frame_hz, info.max_future_skew_ms), (50.0, 1.0));
+        assert_eq!((info.cycle_slots, info.slot_ticks, info.tick_hz), (0, 40, 10_000.0));
+        assert_eq!(info.cycle_period_ns, 5 * 40 * 100_000, "5 slots of 40 ticks at 10 kHz");
+        let got: Vec<[f64; 2]> = info.centers().iter().map(|c| [c.x, c.y]).collect();
+        assert_eq!(got, centers);
+        assert!(info.centers().iter().all(|c| c.k_bound > 0.0 && c.k_bound <= info.k_max), "{info:?}");
+        // The most one part can get: at most μmg·k_max, and more than a
+        // single center's share.
+        assert!(info.max_part_force_n <= 0.12 * info.k_max && info.max_part_force_n > 0.12 * 0.5 / 5.0);
+    }));
+    drop(core);
+    common::remove_prefix(&prefix);
+    let _ = std::fs::remove_dir_all(&dir);
+    if let Err(p) = result {
+        std::panic::resume_unwind(p);
     }
 }

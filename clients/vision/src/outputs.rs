@@ -1,6 +1,7 @@
 //! What vision publishes, whatever its source: the tracked parts as
-//! `PartStates`, then a wake-up of the core's inbox; and the node it waits
-//! on, which says when the core goes or comes back.
+//! `PartStates`, then a wake-up of the core's inbox and of the planners
+//! (`upm/part_states` event); and the node it waits on, which says when the
+//! core goes or comes back.
 
 use std::time::Duration;
 
@@ -31,6 +32,8 @@ pub struct Outputs {
     node: Node<ipc::Service>,
     publisher: Pub<PartStates>,
     wake: WakeNotifier,
+    /// Planners sleep on it.
+    planners: WakeNotifier,
     core: CoreWatch,
     /// The last message published (its stamp is the previous frame's).
     last: PartStates,
@@ -45,8 +48,9 @@ impl Outputs {
         )?;
         let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::PART_STATES)?;
         let wake = WakeNotifier::new(&node, WakeEvent::Inbox)?;
+        let planners = WakeNotifier::new(&node, WakeEvent::PartStates)?;
         let core = CoreWatch::new(prefix, Duration::from_secs(1));
-        Ok(Self { node, publisher, wake, core, last: PartStates::new() })
+        Ok(Self { node, publisher, wake, planners, core, last: PartStates::new() })
     }
 
     pub fn node(&self) -> &Node<ipc::Service> {
@@ -63,6 +67,7 @@ impl Outputs {
         part_states(tracks, seq, stamp_ns, &mut self.last);
         self.publisher.send_copy(self.last).map_err(|e| anyhow::anyhow!("publishing part states: {e:?}"))?;
         self.wake.notify();
+        self.planners.notify();
         Ok(())
     }
 

@@ -117,7 +117,7 @@ fn the_simulated_camera_and_tracker_pass_truth_outlines_through() {
 }
 
 #[test]
-fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
+fn vision_process_publishes_tracked_part_states_from_the_ground_truth_and_wakes_planners() {
     // Sections vision does not read (here [sim]) are left to other processes.
     let rig = TestRig::new("vision", |prefix| {
         format!(
@@ -128,6 +128,10 @@ fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
         .expect("publisher");
     let sub = ipc_types::ports::subscriber::<PartStates>(rig.node(), service_names::PART_STATES)
         .expect("subscriber");
+    // A planner's wake-up: vision notifies it after each PartStates.
+    let woken =
+        ipc_types::wake_event::wake_listener(rig.node(), ipc_types::wake_event::WakeEvent::PartStates)
+            .expect("listener");
     let _vision = Running(
         Command::new(env!("CARGO_BIN_EXE_upm-vision"))
             .arg("--config")
@@ -158,6 +162,9 @@ fn vision_process_publishes_tracked_part_states_from_the_ground_truth() {
     }
     // Frames are ordered and stamped.
     assert!(frames.windows(2).all(|w| w[0].seq < w[1].seq && w[0].stamp_ns < w[1].stamp_ns));
+    let mut wake_ups = 0;
+    woken.try_wait(|_| wake_ups += 1).expect("the listener works");
+    assert!(wake_ups > 0, "vision never notified the part states event");
 }
 
 #[test]

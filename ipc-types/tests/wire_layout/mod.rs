@@ -6,8 +6,8 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
     CoreCommand, CoreCounters, CoreLatencies, DriverTelemetry, ExplicitSchedule, ExplicitSlot, ForceEntry,
-    ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, Rejection, Schedule, ScheduleSlot,
-    Telemetry,
+    ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, Rejection, RigCenter, RigInfo,
+    Schedule, ScheduleSlot, Telemetry,
 };
 
 /// One field: where it is, how wide, and its Rust type (paths dropped).
@@ -23,7 +23,7 @@ pub struct Field {
 pub struct Layout {
     /// The Rust name (`PartStates`).
     pub rust: &'static str,
-    /// The iceoryx2 type name (`upm::PartStates.v5`).
+    /// The iceoryx2 type name (`upm::PartStates.v6`).
     pub type_name: &'static str,
     pub size: usize,
     pub align: usize,
@@ -106,6 +106,8 @@ pub fn all() -> Vec<Layout> {
             condition,
             rank,
             saturated,
+            at_bound,
+            reserved,
             slots
         }),
         layout!(ScheduleSlot { center_index, reserved, x, y, k }),
@@ -121,6 +123,35 @@ pub fn all() -> Vec<Layout> {
             reserved,
             detail
         }),
+        layout!(RigInfo {
+            protocol_version,
+            count,
+            seq,
+            stamp_ns,
+            core_pid,
+            cycle_slots,
+            class_count,
+            friction_class_count,
+            slot_ticks,
+            reserved,
+            cycle_period_ns,
+            tick_hz,
+            vision_frame_hz,
+            mu_m_g,
+            plate_half_extent,
+            k_max,
+            max_part_force_n,
+            max_part_force_at,
+            keep_out_m,
+            saturation_tolerance,
+            saturation_floor,
+            parts_max_age_ms,
+            request_max_age_ms,
+            max_future_skew_ms,
+            prefix,
+            centers
+        }),
+        layout!(RigCenter { x, y, k_bound }),
         layout!(FrameHeader {
             protocol_version,
             pixel_format,

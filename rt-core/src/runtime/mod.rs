@@ -24,6 +24,7 @@ mod part_dynamics;
 mod part_friction;
 mod process;
 mod rejection_log;
+mod rig_info;
 pub mod rt_setup;
 mod samples;
 mod shared;
@@ -55,6 +56,7 @@ pub use part_friction::{
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
 };
+pub use rig_info::rig_info;
 pub use samples::{MotorSample, SolverSample, StageOutputs, StageOutputsRx};
 pub use shared::{CoreShared, HealthReport, InertiaReport};
 pub use solve_stage::{RequestError, SolveStage};

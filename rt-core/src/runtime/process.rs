@@ -2,8 +2,8 @@
 //! highest), a solver thread (SCHED_FIFO, below it), the iceoryx2 receiver
 //! thread (SCHED_FIFO between them on the motor's CPU in event mode, else
 //! normal priority) and the io thread (the caller's, normal priority) that
-//! publishes Schedule and Telemetry and handles SIGINT/SIGTERM through
-//! iceoryx2's node.
+//! publishes RigInfo (once), Schedule and Telemetry and handles
+//! SIGINT/SIGTERM through iceoryx2's node.
 
 use core::sync::atomic::AtomicBool;
 use core::sync::atomic::Ordering::Relaxed;
@@ -14,11 +14,13 @@ use std::sync::mpsc;
 use std::thread::JoinHandle;
 
 use iceoryx2::node::NodeWaitFailure;
+use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use ipc_types::ports::config_with_prefix;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{
-    CoreState, HealthSource, PartStates, RejectReason, Schedule, Telemetry, monotonic_now_ns, service_names,
+    CoreState, HealthSource, PartStates, RejectReason, RigInfo, Schedule, Telemetry, monotonic_now_ns,
+    service_names,
 };
 
 use super::alloc_count;
@@ -59,6 +61,9 @@ pub struct RunOptions {
     /// Ground truth published on `upm/sim/ground_truth` at this rate (Hz);
     /// 0 = off. Only meaningful with a simulator driver and a `truth` fill.
     pub truth_hz: f64,
+    /// The rate vision publishes PartStates at (Hz), told to clients in
+    /// `RigInfo`; 0: not known.
+    pub vision_frame_hz: f64,
 }
 
 /// What the run achieved, for the caller to report.
@@ -171,6 +176,15 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     let rejection_pub = ipc_types::ports::publisher::<ipc_types::Rejection>(&node, service_names::REJECTION)
         .map_err(StartError::Port)?;
     let mut rejection_log = RejectionLog::default();
+    // The rig describes itself once, before a client can need it. History 1
+    // hands it to every later subscriber, on the publisher's next
+    // update_connections (the io loop's every pass).
+    let rig = params.plate_rig().map_err(StartError::Params)?;
+    let k_bounds = super::solve_stage::playable_k_bounds(params, &rig).map_err(StartError::Params)?;
+    let rig_info_pub =
+        ipc_types::ports::publisher::<RigInfo>(&node, service_names::RIG_INFO).map_err(StartError::Port)?;
+    let info = super::rig_info::rig_info(params, &k_bounds, &options.prefix, options.vision_frame_hz);
+    rig_info_pub.send_copy(info).map_err(|_| StartError::RigInfo)?;
 
     // Held until this function returns; the kernel drops it if the process dies.
     let pm_qos = params.rt.cpu_dma_latency_us.map(hold_cpu_dma_latency);
@@ -190,7 +204,6 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             super::rt_setup::CPU_DMA_LATENCY
         );
     }
-    let rig = params.plate_rig().map_err(StartError::Params)?;
     let empty =
         PlateMotion::new(params.motion).map_err(|e| StartError::Params(CoreParamsError::Motion(e)))?;
     let (writer, reader) = motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
@@ -266,6 +279,8 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         while let Ok(s) = stage_rx.samples.pop() {
             hist.record_solver(&s);
         }
+        // A new subscriber gets the rig's description here.
+        let _ = rig_info_pub.update_connections();
         while let Ok(s) = stage_rx.schedules.pop() {
             let _ = schedule_pub.send_copy(s);
         }

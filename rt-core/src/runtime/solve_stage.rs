@@ -25,7 +25,6 @@ use super::shared::CoreShared;
 use crate::motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry, playable_k};
 use crate::solver::{
     CurlConstraint, ForceConstraint, PartShape, Problem, Solution, SolveError, Solver, SolverCapacity,
-    SolverParams,
 };
 
 // Every explicit schedule the protocol can carry fits the motion.
@@ -235,8 +234,7 @@ impl SolveStage {
         let k_bounds = playable_k_bounds(params, &rig)?;
         let k_max = k_bounds.iter().fold(0.0, |a: f64, &k| a.max(k));
         let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
-        let mut solver =
-            Solver::new(cap, SolverParams { cycle_slots: params.cycle_slots, ..SolverParams::default() });
+        let mut solver = Solver::new(cap, super::rig_info::stage_solver_params(params));
         // First gemm on this thread allocates a thread-local buffer; the
         // stage is built on the thread that will use it.
         solver.warm_up();
@@ -245,10 +243,7 @@ impl SolveStage {
         let dynamics =
             PartDynamics::new(params.part_dynamics, probe, params.longest_cycle(), solver.new_solution())
                 .map_err(super::params::CoreParamsError::PartDynamics)?;
-        let mut limits = ValidationLimits::new(params.motion.plate_half_extent, 0);
-        limits.max_future_skew_ns = params.max_future_skew_ns;
-        limits.center_count = params.centers.len() as u32;
-        limits.k_max = k_max;
+        let limits = super::rig_info::stage_limits(params, k_max);
         Ok(Self {
             solver,
             solution,
@@ -490,6 +485,8 @@ impl SolveStage {
         m.condition = s.condition;
         m.rank = s.rank as u32;
         m.saturated = u32::from(s.saturated);
+        // At most the centers' count, which fits MAX_CENTERS.
+        m.at_bound = s.at_bound as u32;
         for &j in s.order() {
             let j = usize::from(j);
             for _ in 0..s.counts()[j] {
@@ -535,6 +532,7 @@ impl SolveStage {
         m.condition = 0.0;
         m.rank = 0;
         m.saturated = 0;
+        m.at_bound = 0;
         for (e, entry) in msg.slots().iter().zip(&self.entries) {
             let _ = m.push(ScheduleSlot::new(e.center_index, entry.center, e.k));
         }

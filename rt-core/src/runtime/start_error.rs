@@ -22,6 +22,8 @@ pub enum StartError {
     Port(PortError),
     /// Another live upm-core owns this prefix.
     AlreadyRunning,
+    /// The rig's description could not be published.
+    RigInfo,
     Thread {
         thread: &'static str,
     },
@@ -47,6 +49,7 @@ impl fmt::Display for StartError {
             Self::AlreadyRunning => f.write_str(
                 "another upm-core is already running on this service prefix (stop it, or use another service.prefix)",
             ),
+            Self::RigInfo => f.write_str("cannot publish the rig's description on upm/rig_info"),
             Self::Thread { thread } => write!(f, "cannot spawn the {thread} thread"),
             Self::ThreadStartup { thread } => write!(f, "the {thread} thread failed during start-up"),
         }

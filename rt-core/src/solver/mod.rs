@@ -18,6 +18,16 @@
 //!    `bounded.rs`);
 //! 5. achieved forces/curls, residual, priorities and play order.
 //!
+//! **Residual and saturation.** `residual` is ‖A·K − b‖ scaled back by
+//! μmg/N: force rows in N, curl rows in N/m, one Euclidean norm over both.
+//! `at_bound` counts the centers whose |k_j| is at their bound (within a
+//! relative 1e-9). `saturated` says a bound keeps the request from being
+//! met: some bound is active (a center at its bound, or a sparse cycle's
+//! ℓ1 budget) *and* `residual` > [`SATURATION_TOLERANCE`] · ‖b‖ +
+//! [`SATURATION_FLOOR`], ‖b‖ being the request's norm in the same units
+//! (forces in N and curls in N/m). A bound that is active while the request
+//! is met shows in `at_bound` alone; a zero request is never saturated.
+//!
 //! **Shaped parts** (`ForceConstraint::shape`, `CurlConstraint::shape`):
 //! their rows are the rotation's friction averaged over the part's contact
 //! patch, at rest (`shape.rs`), not the field at the centre; a point keeps
@@ -65,6 +75,7 @@ mod order;
 mod params;
 mod pivoted_qr;
 mod problem;
+mod reach;
 mod shape;
 mod solution;
 mod sparse;
@@ -74,6 +85,7 @@ mod validate;
 pub use error::{InputField, MAX_INPUT_MAGNITUDE, SolveError};
 pub use params::{SolverCapacity, SolverParams};
 pub use problem::{CurlConstraint, ForceConstraint, Problem};
+pub use reach::{CENTER_CLEARANCE, MaxForce, max_force_at, max_force_in, max_force_on_plate};
 pub use shape::{MAX_PATCH_POINTS, MAX_SHAPE_VERTICES, PartShape, PatchPoints, ShapeError, wrench_row};
 pub use solution::{Solution, SolveMethod};
 pub use system::LeastSquaresSystem;
@@ -81,6 +93,14 @@ pub use system::LeastSquaresSystem;
 use bounded::{BoundedBuffers, BoundedInput};
 use min_norm::QrBuffers;
 use sparse::SparseBuffers;
+
+/// Relative tolerance of [`Solution::saturated`]: a request is met when
+/// the residual is at most this share of its norm (module doc).
+pub const SATURATION_TOLERANCE: f64 = 1e-3;
+
+/// Absolute floor of that tolerance (N, or N/m on curl rows): rounding on
+/// a (near) zero request is not saturation.
+pub const SATURATION_FLOOR: f64 = 1e-12;
 
 /// The allocation-free force-synthesis solver.
 pub struct Solver {
@@ -418,7 +438,7 @@ impl Solver {
         out.condition = 0.0;
         out.iterations = report.iterations + polish.iterations;
         out.converged = polish.converged;
-        out.saturated = report.budget_active;
+        out.budget_active = report.budget_active;
         self.warm.valid = false;
     }
 
@@ -467,6 +487,7 @@ impl Solver {
         out.converged = true;
         out.warm_started = false;
         out.saturated = false;
+        out.budget_active = false;
         let slots = self.params.cycle_slots;
         if slots > 0 {
             self.sparse_solve(problem, m, n, slots, out);
@@ -480,8 +501,9 @@ impl Solver {
         {
             self.cold_solve(problem, m, n, out);
         }
-        // A bound counts as active within a relative 1e-9 of k_max.
-        out.saturated |= out.k.iter().any(|k| k.abs() >= problem.k_max * (1.0 - 1e-9));
+        // A bound counts as active within a relative 1e-9 of k_max (the
+        // scaled k: every center's own bound).
+        out.at_bound = out.k.iter().filter(|k| k.abs() >= problem.k_max * (1.0 - 1e-9)).count();
 
         // The cycle's weights w_j = c_j·k_j / N times n, in the units of the
         // assembled b (N/μmg per unit force with N = n): in the paper's
@@ -498,6 +520,10 @@ impl Solver {
         bounded::mat_vec(&self.rows, m, n, weights, &mut self.residual);
         let r2: f64 = self.residual[..m].iter().zip(&self.b[..m]).map(|(ak, b)| (ak - b) * (ak - b)).sum();
         out.residual = r2.sqrt() * problem.mu_m_g / n as f64;
+        let b2: f64 = self.b[..m].iter().map(|b| b * b).sum();
+        let request = b2.sqrt() * problem.mu_m_g / n as f64;
+        out.saturated = (out.at_bound > 0 || out.budget_active)
+            && out.residual > SATURATION_TOLERANCE * request + SATURATION_FLOOR;
         if scaled {
             for j in 0..n {
                 out.k[j] *= self.column_scale[j];

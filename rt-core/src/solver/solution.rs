@@ -27,7 +27,8 @@ pub struct Solution {
     pub(crate) priority: Vec<f64>,
     pub(crate) achieved_forces: Vec<[f64; 2]>,
     pub(crate) achieved_curls: Vec<f64>,
-    /// ‖A·K − b‖ scaled back to force units (μmg/N).
+    /// ‖A·K − b‖ scaled back by μmg/N: force rows in N, curl rows in N/m
+    /// (one norm over both).
     pub residual: f64,
     /// Numerical rank of A (from the column-pivoted QR whenever it is
     /// short); 0 when not estimated (a warm-started solve).
@@ -35,7 +36,13 @@ pub struct Solution {
     /// Estimated 2-norm condition number of A (∞ when rank-deficient, 0 when
     /// not estimated: a warm-started solve).
     pub condition: f64,
-    /// True when a bound |k_j| = k_max is active.
+    /// Centers whose |k_j| is at their bound (within a relative 1e-9).
+    pub at_bound: usize,
+    /// A sparse cycle's ℓ1 budget was active (false on the paper's cycle).
+    pub budget_active: bool,
+    /// A bound keeps the request from being met: some bound is active and
+    /// `residual` exceeds [`super::SATURATION_TOLERANCE`] of the request's
+    /// norm (module doc of `solver`).
     pub saturated: bool,
     pub method: SolveMethod,
     /// Free-block solves of the bounded path (0 on the exact path).
@@ -60,6 +67,8 @@ impl Solution {
             residual: 0.0,
             rank: 0,
             condition: 1.0,
+            at_bound: 0,
+            budget_active: false,
             saturated: false,
             method: SolveMethod::Trivial,
             iterations: 0,

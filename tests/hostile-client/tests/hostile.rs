@@ -433,7 +433,7 @@ fn every_value_the_types_allow_is_played_or_rejected_and_counted() {
         });
     }
 
-    // --- PartState outlines (v5): good ones are taken and solved against.
+    // --- PartState outlines: good ones are taken and solved against.
     c.taken_and_solved("a disc and a square", |m| {
         m.parts_mut()[0] = m.parts[0].with_disc(0.015);
         with_polygon(m, 1, &SQUARE);

@@ -144,6 +144,12 @@ impl Config {
         self.sim.parts(self.plate.half_extent).map_err(|m| ConfigError::invalid(path, m))
     }
 
+    /// The rate vision publishes PartStates at: the camera's frame rate
+    /// when it reads camera frames, else its own `frame_hz`.
+    pub fn vision_frame_hz(&self) -> f64 {
+        if self.vision.source == "frames" { self.camera.frame_hz } else { self.vision.frame_hz }
+    }
+
     /// Camera and tracker parameters; errors name the field.
     pub fn vision_params(&self, path: &str) -> Result<(CameraParams, TrackerParams), ConfigError> {
         self.vision.params().map_err(|m| ConfigError::invalid(path, m))

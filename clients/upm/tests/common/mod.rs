@@ -29,3 +29,34 @@ pub fn remove_prefix(prefix: &str) {
 pub fn feed(prefix: &str, period: std::time::Duration, stop: &std::sync::atomic::AtomicBool) {
     upm_cli::feeder::feed(prefix, period, stop).expect("feeder");
 }
+
+/// A Python that can `import iceoryx2` 0.10: `UPM_PYTHON`, else a venv
+/// under target/tmp with `pip install iceoryx2==0.10.0` (made once).
+pub fn python_with_iceoryx2() -> std::path::PathBuf {
+    use std::path::{Path, PathBuf};
+    use std::process::Command;
+    if let Some(p) = std::env::var_os("UPM_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("upm-python");
+    let py = venv.join("bin/python");
+    let imports = |py: &Path| {
+        Command::new(py).args(["-c", "import iceoryx2"]).output().is_ok_and(|o| o.status.success())
+    };
+    if !imports(&py) {
+        let run = |cmd: &mut Command| {
+            let o = cmd.output().expect("runs");
+            assert!(o.status.success(), "{cmd:?}: {}", String::from_utf8_lossy(&o.stderr));
+        };
+        // --clear: a venv left half-made by an interrupted run starts over.
+        run(Command::new("python3").args(["-m", "venv", "--clear"]).arg(&venv));
+        run(Command::new(venv.join("bin/pip")).args([
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            "iceoryx2==0.10.0",
+        ]));
+    }
+    assert!(imports(&py), "{} cannot import iceoryx2", py.display());
+    py
+}
