@@ -22,6 +22,9 @@ fn temp(tag: &str) -> PathBuf {
     dir
 }
 
+/// One rig at a time: each pins its motor thread to the same CPU.
+static ONE_RIG: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// `upm run local` with `planner` as `--planner-cmd`, started (not waited).
 fn start_run(prefix: &str, seconds: &str, planner: &str, out: &Path) -> Child {
     Command::new(UPM)
@@ -95,6 +98,7 @@ enum End {
 }
 
 fn nothing_outlives_the_run(end: End) {
+    let _turn = ONE_RIG.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let prefix = common::unique_prefix(&format!("orphan_{end:?}"));
     let dir = temp(&format!("orphan_{end:?}"));
     let out = dir.join("run");
@@ -167,6 +171,7 @@ fn a_grandchild_that_ignores_sigterm_is_gone_after_the_core_died() {
 /// a row the run stops non-zero with that line.
 #[test]
 fn a_crash_loop_ends_the_run_non_zero_naming_the_command_status_and_log() {
+    let _turn = ONE_RIG.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let prefix = common::unique_prefix("crashloop");
     let dir = temp("crashloop");
     let out = dir.join("run");
@@ -207,6 +212,7 @@ fn a_crash_loop_ends_the_run_non_zero_naming_the_command_status_and_log() {
 /// A planner that runs but never sends: the run ends non-zero and says so.
 #[test]
 fn a_planner_that_never_had_a_request_accepted_fails_the_run() {
+    let _turn = ONE_RIG.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let prefix = common::unique_prefix("silent");
     let dir = temp("silent");
     let out = dir.join("run");
@@ -225,6 +231,7 @@ fn a_planner_that_never_had_a_request_accepted_fails_the_run() {
 /// killed with its group, restarted and named; the run goes on.
 #[test]
 fn a_hung_planner_is_killed_with_its_group_restarted_and_named() {
+    let _turn = ONE_RIG.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let prefix = common::unique_prefix("hung");
     let dir = temp("hung");
     let out = dir.join("run");

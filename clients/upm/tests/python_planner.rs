@@ -67,15 +67,27 @@ fn upm_run(scenario: &str, seconds: &str, planner: &str, tag: &str) -> Run {
 
 /// `upm run` with `role` ("planner" or "vision") replaced by `cmd`.
 fn upm_run_as(role: &str, scenario: &str, seconds: &str, cmd: &str, tag: &str) -> Run {
+    upm_run_with(role, scenario, seconds, cmd, tag, Some(&Path::new(ROOT).join("clients/python")))
+}
+
+/// `upm_run_as`, with `python_path` as PYTHONPATH (none: unset).
+fn upm_run_with(
+    role: &str,
+    scenario: &str,
+    seconds: &str,
+    cmd: &str,
+    tag: &str,
+    python_path: Option<&Path>,
+) -> Run {
     let dir = std::env::temp_dir().join(format!("upm_run_{tag}_{}", std::process::id()));
     let flag = format!("--{role}-cmd");
-    let out = Command::new(env!("CARGO_BIN_EXE_upm"))
-        .args(["run", scenario, "--duration", seconds, "--quiet", &flag, cmd, "--out"])
-        .arg(&dir)
-        .env("PYTHONPATH", Path::new(ROOT).join("clients/python"))
-        .current_dir(ROOT)
-        .output()
-        .expect("upm run");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_upm"));
+    command.args(["run", scenario, "--duration", seconds, "--quiet", &flag, cmd, "--out"]).arg(&dir);
+    match python_path {
+        Some(p) => command.env("PYTHONPATH", p),
+        None => command.env_remove("PYTHONPATH"),
+    };
+    let out = command.current_dir(ROOT).output().expect("upm run");
     let read = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap_or_default();
     let metrics = serde_json::from_str(&read("metrics.json")).unwrap_or(serde_json::Value::Null);
     let client_log = read(&format!("logs/{role}.log"));
@@ -127,7 +139,11 @@ while rig.wait(0.01):
     let planner = format!("exec '{}' '{}'", py.display(), script_path.display());
     let r = upm_run("local", "4", &planner, "refused");
     let _ = std::fs::remove_file(&script_path);
-    assert!(r.out.status.success(), "{}", String::from_utf8_lossy(&r.out.stderr));
+    // Its only request was refused: the run fails, and says why.
+    let stderr = String::from_utf8_lossy(&r.out.stderr);
+    assert!(!r.out.status.success(), "{stderr}");
+    assert!(stderr.contains("never had a request accepted in"), "{stderr}");
+    assert!(stderr.contains("(1 requests rejected: wrong_protocol_version 1; see "), "{stderr}");
     let why = format!(
         "force_request seq 42 rejected: wrong_protocol_version \
          (force_request.protocol_version is 2, expected {})",
@@ -209,4 +225,48 @@ print(f"vision.py: {seq} sent, {len(bad_seqs)} malformed", flush=True)
     assert_eq!(m["core"]["rejected_parts"], 4, "{m}");
     // The shaped parts were taken and solved: the Rust planner was answered.
     assert!(m["schedules_seen"].as_u64().unwrap_or(0) > 0, "no request answered: {m}\n{log}");
+}
+
+/// A stranger's planner (`tests/stranger/planner.py`): its message layouts,
+/// service names and settings are read from docs/protocol.md's tables when
+/// it starts, checked against the doc's offsets and sizes, and used with
+/// iceoryx2's own Python package only (no `clients/python`). It learns the
+/// rig from the rig-info service, wakes on vision's event, and matches its
+/// answers and refusals the way the doc says. Its requests are answered,
+/// none is refused, and nothing of it runs once `upm run` has ended.
+#[test]
+fn a_planner_built_from_the_protocol_doc_alone_is_answered_and_leaves_nothing_behind() {
+    let py = python();
+    let pidfile = std::env::temp_dir().join(format!("upm_stranger_{}.pid", std::process::id()));
+    let _ = std::fs::remove_file(&pidfile);
+    let planner = format!(
+        "exec '{}' '{}/clients/upm/tests/stranger/planner.py' '{ROOT}/docs/protocol.md' '{}'",
+        py.display(),
+        ROOT,
+        pidfile.display()
+    );
+    let Run { out, metrics: m, client_log: log, .. } =
+        upm_run_with("planner", "local", "6", &planner, "stranger", None);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}\nplanner.log:\n{log}");
+    let pid: i32 =
+        std::fs::read_to_string(&pidfile).ok().and_then(|t| t.trim().parse().ok()).expect("planner pid");
+    let _ = std::fs::remove_file(&pidfile);
+    // SAFETY: kill(2) with signal 0 only asks whether the pid exists.
+    let alive = unsafe { libc::kill(pid, 0) } == 0
+        && !std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| s.contains(") Z "));
+    assert!(!alive, "the stranger's planner {pid} outlived upm run");
+    let (sent, answered, refused) = log
+        .lines()
+        .find_map(|l| {
+            let rest = l.strip_prefix("planner.py: sent ")?;
+            let w: Vec<&str> = rest.split_whitespace().collect();
+            Some((w[0].parse::<u64>().ok()?, w[2].parse::<u64>().ok()?, w[4].parse::<u64>().ok()?))
+        })
+        .unwrap_or_else(|| panic!("no final line in planner.log:\n{log}"));
+    assert!(sent > 0 && answered > 0, "sent {sent}, answered {answered}:\n{log}");
+    assert_eq!(refused, 0, "{log}");
+    assert_eq!(m["core"]["rejected_requests"], 0, "{m}");
+    assert_eq!(m["core"]["rejected_parts"], 0, "{m}");
+    assert_eq!(m["clients"]["planner"]["restarts"], 0, "{m}\n{log}");
 }

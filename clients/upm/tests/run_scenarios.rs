@@ -317,7 +317,10 @@ fn a_killed_planner_is_restarted() {
         serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
             .expect("json");
     assert!(m["restarts"]["planner"].as_u64().unwrap_or(0) >= 1, "{m}");
-    assert!(String::from_utf8_lossy(&o.stderr).contains("upm-planner died; restarted"));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    let event = "upm run: planner (upm-planner) was killed by signal 9 (SIGKILL) after ";
+    let line = stderr.lines().find(|l| l.starts_with(event)).unwrap_or_else(|| panic!("{stderr}"));
+    assert!(line.contains("logs/planner.log); restart 1 in 0.1 s"), "{line}");
     assert_eq!(m["core"]["rt_thread_allocations"], 0);
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -348,10 +351,19 @@ fn upm_run_takes_your_own_planner_command() {
     assert_eq!(m["core"]["rejected_requests"], 0, "{m}");
     assert_eq!(m["restarts"]["planner"], 0, "{m}");
 
-    // A command that fails at once is restarted with backoff; the run
-    // still ends cleanly and says so.
-    let m = metrics(
-        upm_run_with("spin", "3", &out, &["--planner-cmd", "exit 3"]).wait_with_output().expect("wait"),
+    // A command that fails at once is restarted with backoff, twice; the
+    // third failure in a row ends the run non-zero with its line.
+    let o = upm_run_with("spin", "30", &out, &["--planner-cmd", "exit 3"]).wait_with_output().expect("wait");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{stderr}");
+    assert!(stderr.contains("planner command \"exit 3\" exited with status 3 after"), "{stderr}");
+    assert!(
+        stderr.contains("3 failures in a row, each within 5 s of its start, so the run stops"),
+        "{stderr}"
     );
-    assert!(m["restarts"]["planner"].as_u64().unwrap_or(0) >= 2, "{m}");
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(m["restarts"]["planner"], 2, "{m}");
 }
