@@ -32,7 +32,7 @@ pub fn setup(config: &Config, params: ExciteParams) -> anyhow::Result<CalibrateS
         frame_period_s: 1.0 / config.vision.frame_hz,
         prior_correction: core.twist_correction,
         // The drives as the rig specifies them (not as a hidden truth has them).
-        follow: crate::validate::drive_servo(&config.sim_config("config")?).servo,
+        follow: config.sim_config("config")?.drive_servo().servo,
         params,
     })
 }

@@ -66,9 +66,9 @@ impl Config {
         let simulated = self.driver.kind == self::driver::DriverChoice::Sim;
         match (self.motion.adapt_plate_inertia, simulated) {
             (Some(false), _) | (None, false) => Ok(None),
-            (Some(true) | None, true) => Ok(Some(crate::validate::drive_servo(
-                &self.sim.config(self.motion.tick_hz, self.plate.half_extent)?,
-            ))),
+            (Some(true) | None, true) => {
+                Ok(Some(self.sim.config(self.motion.tick_hz, self.plate.half_extent)?.drive_servo()))
+            }
             (Some(true), false) => Err(format!(
                 "motion.adapt_plate_inertia: needs the simulator's drives, driver.kind is {:?}",
                 self.driver.kind
