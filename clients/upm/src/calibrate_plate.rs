@@ -125,7 +125,7 @@ pub fn command(a: &PlateArgs) -> anyhow::Result<()> {
             if let Some(t) = &a.truth {
                 config.sim.truth = crate::config::truth::TruthSection::Preset(t.clone());
             }
-            config.validate(&path.display().to_string())?;
+            crate::config::validate(&config, &path.display().to_string())?;
             if a.lockstep {
                 lockstep(&config, ExciteParams::default())?
             } else {

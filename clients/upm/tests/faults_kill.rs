@@ -337,7 +337,7 @@ fn the_prefix_shared_memory_is_owner_only() {
     // would tighten them itself).
     let prefix = common::unique_prefix("perm");
     let mut core = Proc(
-        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        Command::new(common::core_exe())
             .args(["--prefix", &prefix, "--duration", "60"])
             .stderr(Stdio::null())
             .spawn()
