@@ -34,9 +34,6 @@ pub enum Command {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
     },
-    /// The RT core (same as the `upm-core` binary); `upm run` starts it so.
-    #[command(hide = true)]
-    Core(upm_core::core_process::CoreArgs),
     /// The camera client (same as `upm-vision`).
     #[command(hide = true)]
     Vision(upm_vision::args::VisionArgs),
@@ -366,7 +363,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }
-        Command::Core(args) => upm_core::core_process::report(&upm_core::core_process::run(args)?),
         Command::Vision(args) => {
             let frames = upm_vision::args::run_vision(args)?;
             eprintln!("upm-vision: stopped after {frames} frames");
