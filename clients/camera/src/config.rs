@@ -59,7 +59,7 @@ impl Default for CameraSection {
             mount_mm: [4.0, -3.0, 1600.0],
             yaw_deg: 0.25,
             tilt_deg: [2.0, -1.5],
-            frame_hz: 30.0,
+            frame_hz: rig_config::frame_rate::DEFAULT_FRAME_HZ,
             exposure_ms: 8.0,
             noise: 2.0,
             gradient: [0.12, -0.08],

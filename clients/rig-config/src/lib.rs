@@ -5,6 +5,7 @@
 
 mod error;
 mod file;
+pub mod frame_rate;
 pub mod plate_calibration;
 mod process_args;
 mod service;

@@ -45,7 +45,7 @@ fn chain(rate_hz: f64, cpu: usize) -> anyhow::Result<ChainServer<SimulatedRig>> 
     let p = EthercatParams::default();
     let ticks = (PLANT_HZ / rate_hz).round() as u32;
     let mut rig = SimulatedRig::new(sim, p.counts_per_metre, p.rated_force_n, ticks);
-    crate::plate_driver::keep_real_time(&mut rig);
+    upm_core::plate_driver::keep_real_time(&mut rig);
     ChainServer::start(pair, rig, ServerPlacement { realtime: Some((CHAIN_PRIORITY, cpu)) })
         .map_err(|why| anyhow::anyhow!("the simulated chain: {why}"))
 }

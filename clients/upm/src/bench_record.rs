@@ -32,7 +32,7 @@ fn one_run(
     let sc = Scenario::load(&path)?;
     let prefix = format!("upm_bench_record_{}_", std::process::id());
     let config = sc.config(sc.seed, &prefix)?;
-    config.validate(&path.display().to_string())?;
+    crate::config::validate(&config, &path.display().to_string())?;
     let plan = RunPlan {
         scenario: sc.name.clone(),
         seed: sc.seed,

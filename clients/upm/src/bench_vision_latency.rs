@@ -76,15 +76,16 @@ pub fn measure(
     let mut out = FrameOut::open(&node, (w * h) as usize)?;
     let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)?;
     let woken = wake_listener(&node, WakeEvent::Inbox)?;
-    let mut child = Command::new(crate::launcher::upm_exe()?)
-        .arg("vision")
+    let (program, first) = crate::launcher::programs::client("upm-vision")?;
+    let mut child = Command::new(program)
+        .args(first)
         .arg("--config")
         .arg(&rig)
         .args(["--prefix", &prefix])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
-        .context("starting upm vision")?;
+        .context("starting upm-vision")?;
     let pm_qos = rt_core::runtime::rt_setup::hold_cpu_dma_latency(0).ok();
     let result = exchange(&mut out, &parts, &woken, frames, rounds, frame_hz, (w, h))
         .map(|l| Latency { pm_qos: pm_qos.is_some(), ..l });

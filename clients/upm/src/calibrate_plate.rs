@@ -32,7 +32,7 @@ pub fn setup(config: &Config, params: ExciteParams) -> anyhow::Result<CalibrateS
         frame_period_s: 1.0 / config.vision.frame_hz,
         prior_correction: core.twist_correction,
         // The drives as the rig specifies them (not as a hidden truth has them).
-        follow: crate::validate::drive_servo(&config.sim_config("config")?).servo,
+        follow: config.sim_config("config")?.drive_servo().servo,
         params,
     })
 }
@@ -125,7 +125,7 @@ pub fn command(a: &PlateArgs) -> anyhow::Result<()> {
             if let Some(t) = &a.truth {
                 config.sim.truth = crate::config::truth::TruthSection::Preset(t.clone());
             }
-            config.validate(&path.display().to_string())?;
+            crate::config::validate(&config, &path.display().to_string())?;
             if a.lockstep {
                 lockstep(&config, ExciteParams::default())?
             } else {

@@ -34,9 +34,6 @@ pub enum Command {
         /// Input JSON file, or `-` for stdin.
         file: PathBuf,
     },
-    /// The RT core (same as the `upm-core` binary); `upm run` starts it so.
-    #[command(hide = true)]
-    Core(crate::core_process::CoreArgs),
     /// The camera client (same as `upm-vision`).
     #[command(hide = true)]
     Vision(upm_vision::args::VisionArgs),
@@ -366,7 +363,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }
-        Command::Core(args) => crate::core_process::report(&crate::core_process::run(args)?),
         Command::Vision(args) => {
             let frames = upm_vision::args::run_vision(args)?;
             eprintln!("upm-vision: stopped after {frames} frames");
@@ -426,7 +422,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
-            config.validate(&path.display().to_string())?;
+            crate::config::validate(&config, &path.display().to_string())?;
             let round = |p: &crate::config::SimPartSection| matches!(p.shape.as_str(), "disc" | "point");
             if camera == crate::launcher::CameraChoice::Rendered
                 && config.planner.name() == "spin"

@@ -12,9 +12,9 @@ use rt_core::runtime::lockstep::Lockstep;
 
 use crate::config::{Config, DriverChoice, SimParts};
 use crate::launcher::{CameraChoice, PartTrail, Trails};
-use crate::plate_driver::SimulatedPlant;
 use crate::rendered_sight::RenderedSight;
 use crate::truth_sight::TruthSight;
+use upm_core::plate_driver::SimulatedPlant;
 use upm_planner::Planner;
 
 /// What a lock-step run leaves behind.
@@ -89,11 +89,11 @@ pub fn run_client(
     let shown = "scenario";
     match config.driver.kind {
         DriverChoice::Sim => {
-            let (sim, parts) = crate::plate_driver::simulator(config, shown)?;
+            let (sim, parts) = upm_core::plate_driver::simulator(config, shown)?;
             run_on(config, sim, parts, client, seconds, camera)
         }
         DriverChoice::EthercatSim => {
-            let (driver, parts) = crate::plate_driver::ethercat_sim(config, shown)?;
+            let (driver, parts) = upm_core::plate_driver::ethercat_sim(config, shown)?;
             run_on(config, driver, parts, client, seconds, camera)
         }
         DriverChoice::Ethercat => anyhow::bail!(
@@ -113,7 +113,7 @@ fn run_on<D: SimulatedPlant>(
 ) -> anyhow::Result<LoopResult> {
     let params = config.core_params("scenario")?;
     let mut core = Lockstep::new(&params, driver, 1_000_000_000).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut fill = crate::core_process::truth_fill::<D>(&parts);
+    let mut fill = upm_core::core_process::truth_fill::<D>(&parts);
     let tick_hz = params.motion.tick_hz;
     let frame_ticks = (tick_hz / config.vision.frame_hz).round().max(1.0) as u64;
     let total = (seconds * tick_hz) as u64;

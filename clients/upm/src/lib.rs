@@ -1,8 +1,9 @@
 //! The `upm` command line: configuration, the launcher of the closed loop,
-//! status, plots and benchmarks. It runs the core, vision and planner
-//! through hidden subcommands (`upm core|vision|planner`), so one binary
-//! is all a fresh checkout needs; vision and planner are their own crates
-//! (`upm-vision`, `upm-planner`) with their own thin binaries.
+//! status, plots and benchmarks. `upm run` starts the RT core's own binary
+//! (`upm-core`) and each client's (`upm-vision`, `upm-planner`,
+//! `upm-camera`, `upm-recorder`), or the client's hidden subcommand of
+//! `upm` (`upm vision|planner|camera|recorder`) where its binary is not
+//! built.
 
 pub mod bench_calibration;
 pub mod bench_ethercat;
@@ -24,14 +25,12 @@ pub mod calibrate_plate;
 pub mod cli;
 pub mod closed_loop;
 pub mod config;
-pub mod core_process;
 pub mod cpu_load;
 pub mod die_with_parent;
 pub mod faer_reference;
 pub mod feeder;
 pub mod host_facts;
 pub mod launcher;
-pub mod plate_driver;
 pub mod recording;
 pub mod rendered_sight;
 pub mod replay;

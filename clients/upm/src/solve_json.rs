@@ -276,7 +276,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
     let mut dynamics = None;
     if input.part_dynamics {
         // The drives as the rig is specified (not as any hidden truth has them).
-        let follow = crate::validate::drive_servo(&setup.sim).servo;
+        let follow = setup.sim.drive_servo().servo;
         let params = PartDynamicsParams {
             steps: MAX_DYNAMICS_STEPS,
             about: LinearizeAbout::Rest,

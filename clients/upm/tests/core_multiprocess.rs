@@ -45,7 +45,7 @@ fn start_feeder(prefix: &str) -> (Arc<AtomicBool>, std::thread::JoinHandle<()>) 
 fn core_process_round_trip_hold_single_instance_and_clean_stop() {
     let prefix = common::unique_prefix("mp");
     let hgrm = std::env::temp_dir().join(format!("{prefix}hgrm"));
-    let core = Command::new(env!("CARGO_BIN_EXE_upm-core"))
+    let core = Command::new(common::core_exe())
         .args(["--prefix", &prefix, "--duration", "120", "--histograms"])
         .arg(&hgrm)
         .stderr(Stdio::piped())
@@ -89,7 +89,7 @@ fn core_process_round_trip_hold_single_instance_and_clean_stop() {
         assert!(v["latency_us"]["motor_wakeup"]["p99"].as_f64().is_some());
 
         // A second core on the same prefix refuses to start.
-        let second = Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        let second = Command::new(common::core_exe())
             .args(["--prefix", &prefix, "--duration", "1"])
             .output()
             .expect("second core");
@@ -152,7 +152,7 @@ fn a_service_created_with_other_settings_is_named_with_its_creator() {
         .publish_subscribe::<Schedule>()
         .open_or_create()
         .expect("a service with iceoryx2's defaults");
-    let out = Command::new(env!("CARGO_BIN_EXE_upm-core"))
+    let out = Command::new(common::core_exe())
         .args(["--prefix", &prefix, "--duration", "5"])
         .stderr(Stdio::piped())
         .output()
@@ -194,7 +194,7 @@ fn a_client_reads_the_rig_description_from_a_running_core() {
         ),
     )
     .expect("config");
-    let core = Command::new(env!("CARGO_BIN_EXE_upm-core"))
+    let core = Command::new(common::core_exe())
         .args(["--prefix", &prefix, "--duration", "60", "--config"])
         .arg(&config)
         .stderr(Stdio::piped())

@@ -17,7 +17,7 @@ use upm_test_harness::Running;
 fn hostile_messages_are_rejected_counted_and_the_core_survives() {
     let prefix = common::unique_prefix("hostile");
     let core = Running(
-        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        Command::new(common::core_exe())
             .args(["--prefix", &prefix, "--duration", "60"])
             .spawn()
             .expect("core"),

@@ -118,9 +118,9 @@ fn upm_run(scenario: &str, prefix: &str, seconds: &str, out: &Path) -> Proc {
     Proc(c.arg(out).spawn().expect("upm run"))
 }
 
-/// Pid of the `upm ROLE --config CFG` process, if one runs.
+/// Pid of the `upm-ROLE --config CFG` (or `upm ROLE …`) process, if one runs.
 fn pid_of(role: &str, cfg: &Path) -> Option<i32> {
-    let pattern = format!("upm {role} --config {}", cfg.display());
+    let pattern = format!("upm[- ]{role} --config {}", cfg.display());
     let ps = Command::new("pgrep").args(["-f", &pattern]).output().ok()?;
     String::from_utf8_lossy(&ps.stdout).split_whitespace().next()?.parse().ok()
 }
@@ -284,7 +284,11 @@ fn hand_started_clients_wait_for_a_new_core_and_serve_it() {
     let cfg = dir.join("config.toml");
     std::fs::write(&cfg, toml::to_string(&config).expect("toml")).expect("write config");
     let cfg_s = cfg.display().to_string();
-    let core = || Proc(upm(&["core", "--config", &cfg_s, "--truth-hz", "1000"]).spawn().expect("core"));
+    let core = || {
+        let mut c = Command::new(common::core_exe());
+        c.args(["--config", &cfg_s, "--truth-hz", "1000"]).current_dir(ROOT);
+        Proc(c.stdout(Stdio::null()).stderr(Stdio::piped()).spawn().expect("core"))
+    };
     let mut first_core = core();
     let watch = TelemetryWatch::new(&prefix);
     assert!(watch.state(CoreState::Idle, Duration::from_secs(30)).is_some(), "core came up");
@@ -337,7 +341,7 @@ fn the_prefix_shared_memory_is_owner_only() {
     // would tighten them itself).
     let prefix = common::unique_prefix("perm");
     let mut core = Proc(
-        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        Command::new(common::core_exe())
             .args(["--prefix", &prefix, "--duration", "60"])
             .stderr(Stdio::null())
             .spawn()

@@ -34,7 +34,7 @@ impl Rig {
     /// upm-core with `UPM_INJECT_FAULT=fault`, fed the §3.1 inputs.
     fn start(tag: &str, fault: &str, config: Option<&str>) -> Self {
         let prefix = common::unique_prefix(tag);
-        let mut cmd = Command::new(env!("CARGO_BIN_EXE_upm-core"));
+        let mut cmd = Command::new(common::core_exe());
         cmd.args(["--prefix", &prefix]).env("UPM_INJECT_FAULT", fault).stderr(Stdio::piped());
         let cfg = std::env::temp_dir().join(format!("{prefix}.toml"));
         if let Some(text) = config {

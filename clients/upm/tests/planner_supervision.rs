@@ -81,7 +81,7 @@ fn planner_with_stubborn_grandchild(pidfile: &Path) -> String {
 }
 
 fn pid_of_core(out: &Path) -> Option<i32> {
-    let pattern = format!("upm core --config {}", out.join("config.toml").display());
+    let pattern = format!("upm-core --config {}", out.join("config.toml").display());
     let ps = Command::new("pgrep").args(["-f", &pattern]).output().ok()?;
     String::from_utf8_lossy(&ps.stdout).split_whitespace().next()?.parse().ok()
 }

@@ -169,7 +169,7 @@ fn start_core(prefix: &str, config: &Path) -> Killed {
     std::fs::write(config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
         .expect("write");
     let core = Killed(
-        Command::new(env!("CARGO_BIN_EXE_upm-core"))
+        Command::new(common::core_exe())
             .args(["--prefix", prefix, "--duration", "60", "--config"])
             .arg(config)
             .stderr(Stdio::null())

@@ -29,7 +29,7 @@ pub struct CameraParams {
 impl Default for CameraParams {
     fn default() -> Self {
         Self {
-            frame_hz: 30.0,
+            frame_hz: rig_config::frame_rate::DEFAULT_FRAME_HZ,
             noise_m: 0.0005,
             noise_rad: 0.005,
             latency_s: 0.0,

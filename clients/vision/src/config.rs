@@ -94,7 +94,7 @@ impl VisionSection {
     pub fn frames(&self) -> Result<Option<FrameParams>, String> {
         match self.source.as_str() {
             "truth" => return Ok(None),
-            "frames" => {}
+            rig_config::frame_rate::FRAMES_SOURCE => {}
             other => return Err(format!("vision.source {other:?}: expected \"truth\" or \"frames\"")),
         }
         if self.calibration.is_empty() {

@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use rt_core::motion::RigParams;
+use rt_core::motion::{InertiaParams, PlateFollow, RigParams};
 
 use super::truth::{PlateTruth, TruthError};
 
@@ -101,6 +101,18 @@ impl fmt::Display for SimConfigError {
 impl core::error::Error for SimConfigError {}
 
 impl SimConfig {
+    /// The motor's inertia estimate for these drives as specified (not as
+    /// any hidden truth has the plate): their servo and its updates per tick.
+    pub fn drive_servo(&self) -> InertiaParams {
+        let servo = match self.actuator {
+            ActuatorModel::Ideal => PlateFollow::Exact,
+            ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
+                PlateFollow::Servo { bandwidth_hz, damping }
+            }
+        };
+        InertiaParams { servo, servo_substeps: self.substeps, ..InertiaParams::default() }
+    }
+
     pub fn validate(&self) -> Result<(), SimConfigError> {
         let pos = |x: f64| x.is_finite() && x > 0.0;
         if !pos(self.tick_hz) {

@@ -1,16 +1,18 @@
 //! `upm run SCENARIO`: start upm-core, upm-vision and upm-planner as
-//! separate processes on the scenario's own service prefix, show progress,
-//! restart a client that dies (with backoff), stop everything cleanly at
-//! the end or on Ctrl-C, and write `metrics.json`, `trails.svg` and
-//! `latency/*.hgrm` into the output directory.
+//! separate processes (which binaries: [`programs`]) on the scenario's own
+//! service prefix, show progress, restart a client that dies (with
+//! backoff), stop everything cleanly at the end or on Ctrl-C, and write
+//! `metrics.json`, `trails.svg` and `latency/*.hgrm` into the output
+//! directory.
 
 pub mod observer;
 pub mod plot;
 pub mod process_group;
+pub mod programs;
 pub mod summary;
 pub mod supervisor;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
@@ -21,6 +23,7 @@ use serde_json::{Value, json};
 
 use crate::config::Config;
 pub use observer::{Observer, PartTrail, Trails};
+pub(crate) use programs::upm_exe;
 use supervisor::Supervised;
 
 /// Everything the launcher needs to run one scenario.
@@ -70,16 +73,6 @@ pub struct RunOutcome {
     pub interrupted: bool,
 }
 
-/// The `upm` executable: it runs each process through a hidden
-/// subcommand (`upm core|vision|planner`), so `cargo run --bin upm` is all a
-/// fresh checkout needs. Set `UPM_EXE` to use another build.
-pub(crate) fn upm_exe() -> anyhow::Result<PathBuf> {
-    if let Some(p) = std::env::var_os("UPM_EXE") {
-        return Ok(PathBuf::from(p));
-    }
-    std::env::current_exe().context("locating the upm binary")
-}
-
 fn latency_json(p: &ipc_types::LatencyPercentiles) -> Value {
     let us = |ns: u64| ns as f64 / 1e3;
     json!({ "p50": us(p.p50_ns), "p99": us(p.p99_ns), "p999": us(p.p999_ns), "max": us(p.max_ns), "samples": p.samples })
@@ -99,6 +92,7 @@ pub fn run_plan(
             "a upm-core is already running on service prefix {prefix:?}; stop it first or use another prefix"
         );
     }
+    let core_exe = programs::core_exe()?;
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let mut config = plan.config.clone();
     let rendered = plan.camera == CameraChoice::Rendered;
@@ -119,12 +113,10 @@ pub fn run_plan(
     std::fs::create_dir_all(&logs)?;
     let cfg = cfg_path.display().to_string();
 
-    let exe = upm_exe()?;
     let mut core = Supervised::new(
         "upm-core",
-        exe.clone(),
+        core_exe,
         vec![
-            "core".into(),
             "--config".into(),
             cfg.clone(),
             "--truth-hz".into(),
@@ -134,36 +126,36 @@ pub fn run_plan(
         ],
         Some(logs.join("core.log")),
     );
-    let client = |name: &'static str, own: &Option<String>, log: &str| {
-        match own {
+    let client = |name: &'static str, own: &Option<String>, log: &str| -> anyhow::Result<Supervised> {
+        let supervised = match own {
             Some(command) => Supervised::shell(name, command, Some(logs.join(log))),
-            None => Supervised::new(
-                name,
-                exe.clone(),
-                vec![name.trim_start_matches("upm-").into(), "--config".into(), cfg.clone()],
-                Some(logs.join(log)),
-            ),
-        }
-        .env("UPM_PREFIX", &prefix)
-        .env("UPM_CONFIG", &cfg)
-        .avoiding_cpu(plan.config.cpu_to_avoid())
+            None => {
+                let (program, mut args) = programs::client(name)?;
+                args.extend(["--config".into(), cfg.clone()]);
+                Supervised::new(name, program, args, Some(logs.join(log)))
+            }
+        };
+        Ok(supervised
+            .env("UPM_PREFIX", &prefix)
+            .env("UPM_CONFIG", &cfg)
+            .avoiding_cpu(plan.config.cpu_to_avoid()))
     };
     let vision_stats = out.join("vision_stats.json");
     let _ = std::fs::remove_file(&vision_stats);
-    let mut vision = client("upm-vision", &plan.vision_cmd, "vision.log");
+    let mut vision = client("upm-vision", &plan.vision_cmd, "vision.log")?;
     if rendered && plan.vision_cmd.is_none() {
         vision = vision.arg("--stats").arg(&vision_stats.display().to_string());
     }
-    let mut camera = rendered.then(|| client("upm-camera", &None, "camera.log"));
+    let mut camera = rendered.then(|| client("upm-camera", &None, "camera.log")).transpose()?;
     let planner_stats = out.join("planner_stats.json");
     let _ = std::fs::remove_file(&planner_stats);
-    let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log");
+    let mut planner = client("upm-planner", &plan.planner_cmd, "planner.log")?;
     if plan.planner_cmd.is_none() {
         planner = planner.arg("--stats").arg(&planner_stats.display().to_string());
     }
     let recording = out.join(RECORDING);
-    let mut recorder = (plan.record || plan.monitor.is_some()).then(|| {
-        let mut r = client("upm-recorder", &None, "recorder.log")
+    let recorder = (plan.record || plan.monitor.is_some()).then(|| -> anyhow::Result<Supervised> {
+        let mut r = client("upm-recorder", &None, "recorder.log")?
             .arg("--info")
             .arg(&format!("scenario={}", plan.scenario))
             .arg("--info")
@@ -174,8 +166,9 @@ pub fn run_plan(
         if let Some(port) = plan.monitor {
             r = r.arg("--serve").arg(&port.to_string());
         }
-        r
+        Ok(r)
     });
+    let mut recorder = recorder.transpose()?;
     if plan.record {
         // The recorder never overwrites a file; this run's output is ours.
         let _ = std::fs::remove_file(&recording);

@@ -5,7 +5,7 @@ use drivers::playback::play_estimating;
 use drivers::rng::SplitMix64;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
 use rt_core::driver::PlateState;
-use rt_core::motion::{InertiaEstimate, InertiaParams, MotionParams, PlateMotion, Rig};
+use rt_core::motion::{InertiaEstimate, MotionParams, PlateMotion, Rig};
 
 use crate::solve_json::SolveInput;
 use rt_core::PartShape;
@@ -182,7 +182,7 @@ pub fn measure(
     let mut sum_f2 = vec![[0.0; 2]; probes.len()];
     let mut sum_tau = vec![0.0; probes.len()];
     let mut state = PlateState::default();
-    let mut estimate = setup.inertia_warmup.map(|_| InertiaEstimate::new(drive_servo(&setup.sim)));
+    let mut estimate = setup.inertia_warmup.map(|_| InertiaEstimate::new(setup.sim.drive_servo()));
     // One cycle from motion tick `c·n`; the estimate, if any, ends it.
     let mut play_cycle = |sim: &mut Simulator, c: u64| -> anyhow::Result<()> {
         play_estimating(sim, &rig, &motion, c * n, n, &mut state, estimate.as_mut())
@@ -234,16 +234,4 @@ pub fn measure(
         clamped: counters.clamped,
         fence_hits: counters.fence_hits,
     })
-}
-
-/// The estimate's parameters for the simulator's drives as specified
-/// (not as any hidden truth has the plate).
-pub fn drive_servo(sim: &SimConfig) -> InertiaParams {
-    let servo = match sim.actuator {
-        drivers::ActuatorModel::Ideal => rt_core::motion::PlateFollow::Exact,
-        drivers::ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
-            rt_core::motion::PlateFollow::Servo { bandwidth_hz, damping }
-        }
-    };
-    InertiaParams { servo, servo_substeps: sim.substeps, ..InertiaParams::default() }
 }

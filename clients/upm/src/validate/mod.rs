@@ -23,7 +23,7 @@ use serde_json::json;
 
 use crate::solve_json::{SolveInput, solve};
 
-pub use measure::{DISC_RADIUS, MEASURE_SUBSTEPS, Measured, ValidateSetup, drive_servo, measure};
+pub use measure::{DISC_RADIUS, MEASURE_SUBSTEPS, Measured, ValidateSetup, measure};
 
 /// Solve `input`, simulate `cycles` cycles, and return the solve output plus
 /// `simulated` (forces, curls, errors) as JSON. `plot` writes an SVG of the

@@ -3,6 +3,23 @@
 
 pub use upm_cli::feeder::{PAPER_PARTS, part_states, request};
 
+/// The RT core's binary, as `upm run` finds it: `UPM_CORE_EXE`, else
+/// `upm-core` next to the `upm` under test. `cargo test --workspace` builds
+/// it (with fault injection); `cargo test -p upm-cli` does not, since it is
+/// another package's.
+pub fn core_exe() -> std::path::PathBuf {
+    if let Some(p) = std::env::var_os("UPM_CORE_EXE") {
+        return p.into();
+    }
+    let exe = std::path::Path::new(env!("CARGO_BIN_EXE_upm")).with_file_name("upm-core");
+    assert!(
+        exe.is_file(),
+        "{} is missing: build it with `cargo test --release -p upm-core --no-run` (or test the workspace)",
+        exe.display()
+    );
+    exe
+}
+
 /// A service prefix no other test or rig uses.
 pub fn unique_prefix(tag: &str) -> String {
     ipc_types::rig_node::unique_prefix(&format!("upmt_{tag}"))

@@ -1,10 +1,12 @@
-//! The rig's one TOML config, as `upm` and `upm-core` validate it whole:
-//! every section and field is optional and has a default; unknown fields
-//! are errors, and every message names the field. One module per concern:
-//! [`rig`] (plate, motion), [`core`] (rt, safety, telemetry), [`sim`],
-//! [`driver`]; the
-//! `[vision]`, `[planner]` and `[camera]` sections belong to their crates,
-//! which read them alone from the same file. Parsing has no side effects.
+//! The rig's one TOML config, as the core reads it: every section and
+//! field is optional and has a default; unknown fields are errors, and
+//! every message names the field. One module per concern: [`rig`] (plate,
+//! motion), [`core`] (rt, safety, telemetry), [`sim`] (and its hidden
+//! [`truth`]), [`driver`]. The `[vision]`, `[planner]` and `[camera]`
+//! sections belong to their crates: [`CoreConfig`] keeps them as written
+//! (TOML tables) for the core, and `upm` reads the same schema with them
+//! typed (`CoreConfig<VisionSection, PlannerConfig, CameraSection>`), so
+//! the file's sections are declared once. Parsing has no side effects.
 
 pub mod core;
 pub mod driver;
@@ -17,18 +19,20 @@ use std::path::Path;
 pub use rig_config::{ConfigError, ServiceSection};
 use rt_core::motion::RigParams;
 use rt_core::runtime::CoreParams;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-use upm_planner::PlannerConfig;
-use upm_vision::{CameraParams, TrackerParams, VisionSection};
 
 pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
 pub use driver::{DriverChoice, DriverSection, SubDeviceSection};
 pub use rig::{AboutSection, MotionSection, PartDynamicsSection, PlateSection};
 pub use sim::{SimPartSection, SimParts, SimSection};
 
+/// The rig file. `V`, `P` and `C` are the clients' sections (`[vision]`,
+/// `[planner]`, `[camera]`): tables the core does not read, unless a
+/// caller that links the clients' crates types them.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
-pub struct Config {
+pub struct CoreConfig<V = toml::Table, P = toml::Table, C = toml::Table> {
     pub service: ServiceSection,
     pub plate: PlateSection,
     pub motion: MotionSection,
@@ -37,14 +41,17 @@ pub struct Config {
     pub telemetry: TelemetrySection,
     pub sim: SimSection,
     pub driver: DriverSection,
-    pub vision: VisionSection,
-    pub planner: PlannerConfig,
-    pub camera: upm_camera::CameraSection,
+    pub vision: V,
+    pub planner: P,
+    pub camera: C,
     /// The plate calibration file core and planner load.
     pub calibration: rig_config::CalibrationSection,
 }
 
-impl Config {
+impl<V, P, C> CoreConfig<V, P, C>
+where
+    Self: DeserializeOwned,
+{
     /// Parse TOML text; errors name the field (`motion.tick_hz: invalid type …`).
     pub fn parse(text: &str, path: &str) -> Result<Self, ConfigError> {
         rig_config::parse_toml(text, path)
@@ -53,7 +60,25 @@ impl Config {
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
         rig_config::load_toml(path)
     }
+}
 
+impl<P> CoreConfig<toml::Table, P, toml::Table> {
+    /// The rate vision publishes PartStates at, as the clients will read
+    /// it: the camera's `frame_hz` when vision reads camera frames, else
+    /// vision's own.
+    pub fn vision_frame_hz(&self) -> f64 {
+        use rig_config::frame_rate::{DEFAULT_FRAME_HZ, FRAMES_SOURCE};
+        let hz = |t: &toml::Table| {
+            t.get("frame_hz")
+                .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
+                .unwrap_or(DEFAULT_FRAME_HZ)
+        };
+        let frames = self.vision.get("source").and_then(toml::Value::as_str) == Some(FRAMES_SOURCE);
+        if frames { hz(&self.camera) } else { hz(&self.vision) }
+    }
+}
+
+impl<V, P, C> CoreConfig<V, P, C> {
     /// The validated core parameters.
     pub fn core_params(&self, path: &str) -> Result<CoreParams, ConfigError> {
         self.core_params_inner().map_err(|message| ConfigError::invalid(path, message))
@@ -66,9 +91,9 @@ impl Config {
         let simulated = self.driver.kind == self::driver::DriverChoice::Sim;
         match (self.motion.adapt_plate_inertia, simulated) {
             (Some(false), _) | (None, false) => Ok(None),
-            (Some(true) | None, true) => Ok(Some(crate::validate::drive_servo(
-                &self.sim.config(self.motion.tick_hz, self.plate.half_extent)?,
-            ))),
+            (Some(true) | None, true) => {
+                Ok(Some(self.sim.config(self.motion.tick_hz, self.plate.half_extent)?.drive_servo()))
+            }
             (Some(true), false) => Err(format!(
                 "motion.adapt_plate_inertia: needs the simulator's drives, driver.kind is {:?}",
                 self.driver.kind
@@ -144,30 +169,15 @@ impl Config {
         self.sim.parts(self.plate.half_extent).map_err(|m| ConfigError::invalid(path, m))
     }
 
-    /// The rate vision publishes PartStates at: the camera's frame rate
-    /// when it reads camera frames, else its own `frame_hz`.
-    pub fn vision_frame_hz(&self) -> f64 {
-        if self.vision.source == "frames" { self.camera.frame_hz } else { self.vision.frame_hz }
-    }
-
-    /// Camera and tracker parameters; errors name the field.
-    pub fn vision_params(&self, path: &str) -> Result<(CameraParams, TrackerParams), ConfigError> {
-        self.vision.params().map_err(|m| ConfigError::invalid(path, m))
-    }
-
-    /// Every section checked, as each process will check its own.
-    pub fn validate(&self, path: &str) -> Result<(), ConfigError> {
+    /// The core's sections checked, as the core will check them at start
+    /// (`upm` checks the clients' sections too).
+    pub fn validate_core(&self, path: &str) -> Result<(), ConfigError> {
         self.core_params(path)?;
         self.sim_parts(path)?;
         self.sim_config(path)?;
         if self.driver.kind != DriverChoice::Sim {
             self.ethercat_params(path)?;
         }
-        self.vision_params(path)?;
-        self.vision.frames().map_err(|m| ConfigError::invalid(path, m))?;
-        self.camera.model().map_err(|m| ConfigError::invalid(path, m))?;
-        self.camera.scene().map_err(|m| ConfigError::invalid(path, m))?;
-        self.planner.build().map_err(|m| ConfigError::invalid(path, m))?;
         Ok(())
     }
 
@@ -183,5 +193,21 @@ impl Config {
 
     pub fn histogram_dir(&self) -> Option<&Path> {
         (!self.telemetry.histogram_dir.is_empty()).then(|| Path::new(&self.telemetry.histogram_dir))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_clients_sections_are_kept_as_written_and_others_are_refused() {
+        let text = "[vision]\nframe_hz = \"not the core's\"\n[planner]\nname = \"sort\"\n";
+        let c: CoreConfig = CoreConfig::parse(text, "x.toml").expect("the core does not read them");
+        assert_eq!(c.vision["frame_hz"].as_str(), Some("not the core's"));
+        assert_eq!(c.planner["name"].as_str(), Some("sort"));
+        let e = CoreConfig::<toml::Table>::parse("[visio]\n", "x.toml").expect_err("unknown section");
+        let e = e.to_string();
+        assert!(e.starts_with("x.toml: visio: ") && e.contains("`vision`, `planner`, `camera`"), "{e}");
     }
 }

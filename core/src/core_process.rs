@@ -9,13 +9,14 @@ use clap::Parser;
 use ipc_types::PartStates;
 use rt_core::runtime::{CoreParams, RunOptions, RunReport, TruthFill, run_core_with_truth};
 
-use crate::config::{Config, DriverChoice};
+use crate::config::{CoreConfig, DriverChoice};
 use crate::plate_driver::SimulatedPlant;
 
 #[derive(Debug, Parser)]
 #[command(name = "upm-core", version, about = "UPM real-time core: motor loop, solver, iceoryx2 messages")]
 pub struct CoreArgs {
-    /// `--config` is validated whole.
+    /// `--config`: the core's sections are validated; the clients' are
+    /// theirs (`upm run` validates the whole file).
     #[command(flatten)]
     pub process: rig_config::ProcessArgs,
     /// Write latency histograms (*.hgrm) here at exit.
@@ -109,9 +110,9 @@ pub fn report(report: &RunReport) -> anyhow::Result<()> {
 
 /// Run the core; prints one loud warning when it is not real-time.
 pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
-    let (mut config, shown) = match &args.process.config {
-        Some(p) => (Config::load(p)?, p.display().to_string()),
-        None => (Config::default(), "built-in defaults".to_string()),
+    let (mut config, shown): (CoreConfig, _) = match &args.process.config {
+        Some(p) => (CoreConfig::load(p)?, p.display().to_string()),
+        None => (CoreConfig::default(), "built-in defaults".to_string()),
     };
     if let Some(prefix) = &args.process.prefix {
         config.service.prefix.clone_from(prefix);

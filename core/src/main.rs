@@ -1,4 +1,4 @@
-//! The RT kernel process; all logic lives in `upm_cli::core_process`.
+//! The RT kernel process; all logic lives in `upm_core::core_process`.
 
 use clap::Parser;
 use rt_core::runtime::RtAllocCounter;
@@ -9,8 +9,8 @@ use rt_core::runtime::RtAllocCounter;
 static ALLOC: RtAllocCounter = RtAllocCounter;
 
 fn main() {
-    let args = upm_cli::core_process::CoreArgs::parse();
-    let result = upm_cli::core_process::run(args).and_then(|r| upm_cli::core_process::report(&r));
+    let args = upm_core::core_process::CoreArgs::parse();
+    let result = upm_core::core_process::run(args).and_then(|r| upm_core::core_process::report(&r));
     if let Err(e) = result {
         eprintln!("upm-core: error: {}", format!("{e:#}").replace('\n', " "));
         std::process::exit(1);

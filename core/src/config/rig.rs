@@ -137,13 +137,17 @@ impl MotionSection {
 
 #[cfg(test)]
 mod tests {
-    use crate::config::Config;
+    use crate::config::{ConfigError, CoreConfig};
     use rt_core::runtime::LinearizeAbout;
+
+    fn parse(text: &str) -> Result<CoreConfig, ConfigError> {
+        CoreConfig::parse(text, "x.toml")
+    }
 
     #[test]
     fn part_dynamics_is_read_and_its_errors_name_the_field() {
         let text = "[motion.part_dynamics]\nsteps = 2\nabout = \"rest\"\nmu_g = 3.0\nsubsteps = 8\n";
-        let params = Config::parse(text, "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        let params = parse(text).expect("parses").core_params("x.toml").expect("valid");
         assert_eq!((params.part_dynamics.steps, params.part_dynamics.about), (2, LinearizeAbout::Rest));
         assert_eq!((params.part_dynamics.mu_g, params.part_dynamics.substeps), (3.0, 8));
         for (bad, field) in [
@@ -152,29 +156,29 @@ mod tests {
             ("steps = 1\nsubsteps = 0", "motion.part_dynamics.substeps"),
         ] {
             let text = format!("[motion.part_dynamics]\n{bad}\n");
-            let e = Config::parse(&text, "x.toml").expect("parses").core_params("x.toml").expect_err(bad);
+            let e = parse(&text).expect("parses").core_params("x.toml").expect_err(bad);
             let e = e.to_string();
             assert!(e.contains(field) && !e.contains('\n'), "{bad}: {e}");
         }
-        let e = Config::parse("[motion.part_dynamics]\nabout = \"later\"\n", "x.toml").expect_err("unknown");
+        let e = parse("[motion.part_dynamics]\nabout = \"later\"\n").expect_err("unknown");
         assert!(e.to_string().contains("about"), "{e}");
     }
 
     #[test]
     fn plate_inertia_adaptation_is_on_unless_the_file_turns_it_off() {
-        let on = Config::parse("", "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        let on = parse("").expect("parses").core_params("x.toml").expect("valid");
         assert_eq!(on.inertia_adaptation, Some(rt_core::motion::InertiaParams::default()));
         let text = "[motion]\nadapt_plate_inertia = false\n";
-        let off = Config::parse(text, "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        let off = parse(text).expect("parses").core_params("x.toml").expect("valid");
         assert_eq!(off.inertia_adaptation, None);
         // EtherCAT's drives: off unless asked, and asking is refused.
         let bus = "[driver]\nkind = \"ethercat-sim\"\n";
-        let off = Config::parse(bus, "x.toml").expect("parses").core_params("x.toml").expect("valid");
+        let off = parse(bus).expect("parses").core_params("x.toml").expect("valid");
         assert_eq!(off.inertia_adaptation, None);
         let asked = format!("{bus}[motion]\nadapt_plate_inertia = true\n");
-        let e = Config::parse(&asked, "x.toml").expect("parses").core_params("x.toml").expect_err("bus");
+        let e = parse(&asked).expect("parses").core_params("x.toml").expect_err("bus");
         assert!(e.to_string().contains("motion.adapt_plate_inertia") && !e.to_string().contains('\n'), "{e}");
-        let e = Config::parse("[motion]\nadapt_plate_inertia = 1\n", "x.toml").expect_err("not a bool");
+        let e = parse("[motion]\nadapt_plate_inertia = 1\n").expect_err("not a bool");
         assert!(e.to_string().contains("adapt_plate_inertia"), "{e}");
     }
 }

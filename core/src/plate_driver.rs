@@ -1,6 +1,7 @@
 //! The driver `[driver]` names, built for the core process and for
 //! lock-step runs, and the physics simulator behind it when there is one
-//! (the truth camera and the rendered camera read its parts).
+//! (the truth camera and the rendered camera read its parts). Any
+//! [`CoreConfig`] will do, whatever it makes of the clients' sections.
 
 use anyhow::Context;
 use drivers::Simulator;
@@ -10,7 +11,7 @@ use ethercat_sim::{ChainTime, SimulatedRig};
 use rt_core::driver::PlateDriver;
 use upm_ethercat::EthercatDriver;
 
-use crate::config::{Config, SimParts};
+use crate::config::{CoreConfig, SimParts};
 
 /// A driver whose plate is the physics simulator's.
 pub trait SimulatedPlant: PlateDriver + Send + 'static {
@@ -32,7 +33,10 @@ impl SimulatedPlant for EthercatDriver<SimulatedRig> {
 }
 
 /// The physics simulator with `[sim]`'s parts.
-pub fn simulator(config: &Config, shown: &str) -> anyhow::Result<(Simulator, SimParts)> {
+pub fn simulator<V, P, C>(
+    config: &CoreConfig<V, P, C>,
+    shown: &str,
+) -> anyhow::Result<(Simulator, SimParts)> {
     let parts = config.sim_parts(shown)?;
     let mut sim = Simulator::new(config.sim_config(shown)?, &parts.specs)
         .map_err(|e| anyhow::anyhow!("simulator: {e}"))?;
@@ -45,8 +49,8 @@ pub fn simulator(config: &Config, shown: &str) -> anyhow::Result<(Simulator, Sim
 
 /// The EtherCAT driver over a simulated chain whose servos move the
 /// simulator (started: the bus is in OP and every drive enabled).
-pub fn ethercat_sim(
-    config: &Config,
+pub fn ethercat_sim<V, P, C>(
+    config: &CoreConfig<V, P, C>,
     shown: &str,
 ) -> anyhow::Result<(EthercatDriver<SimulatedRig>, SimParts)> {
     ethercat_sim_with(config, shown, |_| {})
@@ -54,8 +58,8 @@ pub fn ethercat_sim(
 
 /// [`ethercat_sim`], the chain prepared by `prepare` before start-up (so
 /// that its clocks are what the bus starts with).
-pub fn ethercat_sim_with(
-    config: &Config,
+pub fn ethercat_sim_with<V, P, C>(
+    config: &CoreConfig<V, P, C>,
     shown: &str,
     prepare: impl FnOnce(&mut SimulatedRig),
 ) -> anyhow::Result<(EthercatDriver<SimulatedRig>, SimParts)> {
@@ -69,8 +73,8 @@ pub fn ethercat_sim_with(
 
 /// The simulated chain `[driver]` and `[sim]` describe, the driver's
 /// parameters and the rig's.
-fn simulated_chain(
-    config: &Config,
+fn simulated_chain<V, P, C>(
+    config: &CoreConfig<V, P, C>,
     shown: &str,
 ) -> anyhow::Result<(SimulatedRig, upm_ethercat::EthercatParams, rt_core::motion::RigParams, SimParts)> {
     let (sim, parts) = simulator(config, shown)?;
@@ -91,7 +95,10 @@ pub fn keep_real_time(rig: &mut SimulatedRig) {
 }
 
 /// The EtherCAT driver on `driver.interface` (needs CAP_NET_RAW).
-pub fn ethercat(config: &Config, shown: &str) -> anyhow::Result<EthercatDriver<upm_ethercat::RawSocketWire>> {
+pub fn ethercat<V, P, C>(
+    config: &CoreConfig<V, P, C>,
+    shown: &str,
+) -> anyhow::Result<EthercatDriver<upm_ethercat::RawSocketWire>> {
     let p = config.ethercat_params(shown)?;
     let wire = upm_ethercat::RawSocketWire::open(&config.driver.interface, p.frame_deadline())
         .map_err(anyhow::Error::msg)
@@ -166,8 +173,8 @@ impl SimulatedPlant for EthercatOverVeth {
 /// `ethercat-sim` over a veth pair, when this process may create one
 /// (root); `Ok(Err(why))` when it may not, so the caller can fall back to
 /// the in-process chain and say why.
-pub fn ethercat_over_veth(
-    config: &Config,
+pub fn ethercat_over_veth<V, P, C>(
+    config: &CoreConfig<V, P, C>,
     shown: &str,
 ) -> anyhow::Result<Result<(EthercatOverVeth, SimParts), String>> {
     let pair = match VethPair::create(&format!("c{}", std::process::id() % 10_000_000)) {

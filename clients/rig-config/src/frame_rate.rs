@@ -1,0 +1,10 @@
+//! The rate vision publishes part states at, as every process reads it:
+//! vision and the camera default to it, and the core announces it
+//! (`RigInfo.vision_frame_hz`) from the same file without linking them.
+
+/// `[vision] frame_hz` and `[camera] frame_hz` when the file gives none.
+pub const DEFAULT_FRAME_HZ: f64 = 30.0;
+
+/// `[vision] source` when vision reads camera frames (at the camera's
+/// `frame_hz`) instead of the simulator's ground truth (at its own).
+pub const FRAMES_SOURCE: &str = "frames";
