@@ -52,14 +52,6 @@ fn finish(child: Child, within: Duration) -> Output {
     waiter.join().expect("waiter")
 }
 
-/// True while `pid` runs (a zombie does not).
-fn running(pid: u32) -> bool {
-    std::fs::read_to_string(format!("/proc/{pid}/stat"))
-        .ok()
-        .and_then(|s| s.rfind(')').map(|i| s[i + 1..].split_whitespace().next().unwrap_or("").to_owned()))
-        .is_some_and(|state| state != "Z" && state != "X")
-}
-
 fn wait_for_pid(file: &Path, within: Duration) -> u32 {
     let start = Instant::now();
     loop {
@@ -106,7 +98,7 @@ fn nothing_outlives_the_run(end: End) {
     let seconds = if matches!(end, End::Normal) { "4" } else { "60" };
     let run = start_run(&prefix, seconds, &planner_with_stubborn_grandchild(&pidfile), &out);
     let grandchild = wait_for_pid(&pidfile, Duration::from_secs(30));
-    assert!(running(grandchild));
+    assert!(upm_cli::launcher::process_group::running(grandchild));
     match end {
         End::Normal => {}
         End::CtrlC => {
@@ -125,7 +117,7 @@ fn nothing_outlives_the_run(end: End) {
     let stderr = text(&o.stderr);
     common::remove_prefix(&prefix);
     assert!(
-        !running(grandchild),
+        !upm_cli::launcher::process_group::running(grandchild),
         "{end:?}: the planner's grandchild {grandchild} outlived upm run\n{stderr}"
     );
     match end {

@@ -5,6 +5,8 @@
 //! PyPI) under target/tmp, or uses `UPM_PYTHON`; the package itself is taken
 //! from the source tree (PYTHONPATH), so it is always the current one.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -15,39 +17,7 @@ const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 /// others wait for it).
 fn python() -> PathBuf {
     static PYTHON: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    PYTHON.get_or_init(install_python).clone()
-}
-
-fn install_python() -> PathBuf {
-    if let Some(p) = std::env::var_os("UPM_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("upm-python");
-    let py = venv.join("bin/python");
-    let imports = |py: &Path| {
-        Command::new(py).args(["-c", "import iceoryx2"]).output().is_ok_and(|o| o.status.success())
-    };
-    if !imports(&py) {
-        let run = |cmd: &mut Command| {
-            let o = cmd.output().expect("runs");
-            assert!(
-                o.status.success(),
-                "{cmd:?}: {}{}",
-                String::from_utf8_lossy(&o.stdout),
-                String::from_utf8_lossy(&o.stderr)
-            );
-        };
-        // --clear: a venv left half-made by an interrupted run starts over.
-        run(Command::new("python3").args(["-m", "venv", "--clear"]).arg(&venv));
-        run(Command::new(venv.join("bin/pip")).args([
-            "install",
-            "--quiet",
-            "--disable-pip-version-check",
-            "iceoryx2==0.10.0",
-        ]));
-    }
-    assert!(imports(&py), "{} cannot import iceoryx2", py.display());
-    py
+    PYTHON.get_or_init(common::python_with_iceoryx2).clone()
 }
 
 /// What `upm run SCENARIO --planner-cmd CMD` left: its output, metrics.json,
@@ -249,13 +219,10 @@ fn a_planner_built_from_the_protocol_doc_alone_is_answered_and_leaves_nothing_be
         upm_run_with("planner", "local", "6", &planner, "stranger", None);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}\nplanner.log:\n{log}");
-    let pid: i32 =
+    let pid: u32 =
         std::fs::read_to_string(&pidfile).ok().and_then(|t| t.trim().parse().ok()).expect("planner pid");
     let _ = std::fs::remove_file(&pidfile);
-    // SAFETY: kill(2) with signal 0 only asks whether the pid exists.
-    let alive = unsafe { libc::kill(pid, 0) } == 0
-        && !std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| s.contains(") Z "));
-    assert!(!alive, "the stranger's planner {pid} outlived upm run");
+    assert!(!upm_cli::launcher::process_group::running(pid), "the stranger's planner {pid} outlived upm run");
     let (sent, answered, refused) = log
         .lines()
         .find_map(|l| {
