@@ -60,8 +60,8 @@ pub struct Schedule {
     /// N/m, one Euclidean norm over both; finite, ≥ 0.
     pub residual: f64,
     /// Estimated 2-norm condition number of A; ≥ 0, +∞ when rank-deficient,
-    /// 0 when not estimated (a saturated frame warm-started from the last
-    /// frame's active set, and a sparse cycle, do not factor A).
+    /// 0 when not estimated (a frame warm-started from the last frame's
+    /// active bounds, and a sparse cycle, do not factor A).
     pub condition: f64,
     /// Numerical rank of A; 0 when not estimated (as `condition`).
     pub rank: u32,

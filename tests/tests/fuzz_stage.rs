@@ -28,7 +28,8 @@ fn stage() -> Stage {
         motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
     let shared = Arc::new(CoreShared::new());
     let (out, outputs) = rt_core::runtime::StageOutputs::rings();
-    let stage = SolveStage::new(&params, rig, writer, shared.clone(), out).expect("stage");
+    let k_bounds = params.playable_k_bounds().expect("playable");
+    let stage = SolveStage::new(&params, rig, k_bounds, writer, shared.clone(), out).expect("stage");
     Stage { stage, shared, outputs }
 }
 

@@ -20,13 +20,14 @@ use serde_json::{Value, json};
 
 use crate::bench_latency::{new_histogram, summary_ns as summary, summary_row};
 
-fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
+/// A node of its own on `prefix`.
+pub(crate) fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
     Ok(rig_node(prefix, None, SignalHandlingMode::Disabled)?)
 }
 
 /// An event service of the raw reference (`upm/inbox`'s settings are the
 /// product's; these are the bench's own).
-fn raw_event(
+pub(crate) fn raw_event(
     n: &Node<ipc::Service>,
     name: &str,
 ) -> anyhow::Result<iceoryx2::service::port_factory::event::PortFactory<ipc::Service>> {

@@ -14,12 +14,12 @@ use std::time::{Duration, Instant};
 
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::*;
-use ipc_types::ports::{HISTORY, MAX_NODES, MAX_PUBLISHERS, MAX_SUBSCRIBERS, SUBSCRIBER_BUFFER};
-use ipc_types::rig_node::{remove_prefix_segment, rig_node};
+use ipc_types::rig_node::remove_prefix_segment;
 use ipc_types::wake_event::{WakeEvent, WakeNotifier, wake_listener};
-use ipc_types::{PartStates, WireMessage, monotonic_now_ns, service_names};
+use ipc_types::{PartStates, monotonic_now_ns, service_names};
 use serde_json::{Value, json};
 
+use crate::bench_ipc::node;
 use crate::bench_latency::{new_histogram, summary_ns as summary};
 
 /// Wake-ups before recording starts (connections, caches, Python's start).
@@ -48,11 +48,6 @@ pub fn run(samples: usize) -> anyhow::Result<Value> {
         "ratio_p50_planner_wake_rust_vs_raw_event": r.p50 / w.p50,
         "ratio_p50_planner_wake_python_vs_raw_event": python.as_ref().map(|p| p.p50 / w.p50),
     }))
-}
-
-/// A node of its own on `prefix`.
-fn node(prefix: &str) -> anyhow::Result<Node<ipc::Service>> {
-    Ok(rig_node(prefix, None, SignalHandlingMode::Disabled)?)
 }
 
 /// Vision's side: publish a stamped PartStates and notify the planners'
@@ -125,12 +120,7 @@ fn raw_event(samples: usize) -> anyhow::Result<Histogram<u64>> {
     let stop = Arc::new(AtomicBool::new(false));
     let stamp = Arc::new(AtomicU64::new(0));
     let (ready_tx, ready_rx) = std::sync::mpsc::channel();
-    let event = |n: &Node<ipc::Service>| {
-        n.service_builder(&ServiceName::new("bench/event")?)
-            .event()
-            .open_or_create()
-            .map_err(|e| anyhow::anyhow!("{e:?}"))
-    };
+    let event = |n: &Node<ipc::Service>| crate::bench_ipc::raw_event(n, "bench/event");
     let listener = {
         let (prefix, stop, stamp) = (prefix.clone(), stop.clone(), stamp.clone());
         std::thread::spawn(move || -> anyhow::Result<Histogram<u64>> {
@@ -194,61 +184,32 @@ fn find_python() -> Result<(PathBuf, String), String> {
     }
 }
 
-/// The Python planner: the same event and subscriber through iceoryx2's
-/// Python package, with the rig's settings; prints one latency (ns) a line.
+/// The Python planner, as the shipped package (`clients/python`,
+/// `upm_ipc`) does it: `wait_part_states`, then `newest_part_states`;
+/// prints one latency (ns) a line.
 const PYTHON_LISTENER: &str = r#"
-import ctypes, sys, time
-import iceoryx2 as iox2
-prefix, type_name, size, samples, pubs, subs, buf, hist, nodes, listeners = sys.argv[1:]
-size, samples = int(size), int(samples)
-class PartStates(ctypes.Structure):
-    _fields_ = [("protocol_version", ctypes.c_uint32), ("count", ctypes.c_uint32),
-                ("seq", ctypes.c_uint64), ("stamp_ns", ctypes.c_uint64), ("rest", ctypes.c_uint8 * (size - 24))]
-    @staticmethod
-    def type_name():
-        return type_name
-cfg = iox2.config.default()
-cfg.global_cfg.prefix = iox2.FileName.new(prefix)
-node = iox2.NodeBuilder.new().config(cfg).name(iox2.NodeName.new("upm-bench-py")).create(iox2.ServiceType.Ipc)
-name = iox2.ServiceName.new("upm/part_states")
-sub = (node.service_builder(name).publish_subscribe(PartStates).max_publishers(int(pubs))
-       .max_subscribers(int(subs)).subscriber_max_buffer_size(int(buf)).history_size(int(hist))
-       .enable_safe_overflow(True).max_nodes(int(nodes)).open_or_create().subscriber_builder().create())
-listener = (node.service_builder(name).event().max_notifiers(int(subs)).max_listeners(int(listeners))
-            .max_nodes(int(nodes)).open_or_create().listener_builder().create())
+import sys, time, upm_ipc
+prefix, samples = sys.argv[1], int(sys.argv[2])
+rig = upm_ipc.connect(prefix, name="upm-bench-py")
 print("ready", flush=True)
 got, end = 0, time.monotonic() + 60
 while got < samples and time.monotonic() < end:
-    if not listener.timed_wait(iox2.Duration.from_millis(100)):
-        continue
-    stamp = None
-    while (s := sub.receive()) is not None:
-        stamp = ctypes.c_uint64.from_address(s.payload_ptr + 16).value
-        s.delete()
-    now = time.clock_gettime_ns(time.CLOCK_MONOTONIC)
-    if stamp is not None:
+    woken = rig.wait_part_states(0.1)
+    if woken is None:
+        break
+    states = rig.newest_part_states() if woken else None
+    now = upm_ipc.monotonic_now_ns()
+    if states is not None:
         got += 1
-        print(now - stamp, flush=True)
+        print(now - states.stamp_ns, flush=True)
 "#;
 
 fn python_listener(py: &std::path::Path, samples: usize) -> anyhow::Result<Histogram<u64>> {
     let prefix = ipc_types::rig_node::unique_prefix("upm_bench_pywake");
     let total = samples + WARM_UP;
     let mut child = Command::new(py)
-        .args(["-c", PYTHON_LISTENER, &prefix, PartStates::wire_type_name()])
-        .args(
-            [
-                size_of::<PartStates>(),
-                total,
-                MAX_PUBLISHERS,
-                MAX_SUBSCRIBERS,
-                SUBSCRIBER_BUFFER,
-                HISTORY,
-                MAX_NODES,
-            ]
-            .map(|v| v.to_string()),
-        )
-        .arg(WakeEvent::PartStates.max_listeners().to_string())
+        .args(["-c", PYTHON_LISTENER, &prefix, &total.to_string()])
+        .env("PYTHONPATH", concat!(env!("CARGO_MANIFEST_DIR"), "/../python"))
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()?;

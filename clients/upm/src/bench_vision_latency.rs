@@ -64,7 +64,7 @@ pub fn measure(
     let cal_path = dir.join(format!("latency_calibration_{w}x{h}.toml"));
     cal.save(&cal_path).map_err(anyhow::Error::msg)?;
     let section = VisionSection {
-        source: "frames".into(),
+        source: rig_config::frame_rate::FRAMES_SOURCE.into(),
         calibration: cal_path.display().to_string(),
         frame_hz,
         ..vision.clone()

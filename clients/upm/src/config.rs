@@ -23,3 +23,8 @@ pub fn validate(config: &Config, path: &str) -> Result<(), ConfigError> {
     config.planner.build().map_err(invalid)?;
     Ok(())
 }
+
+/// The rate vision publishes part states at, as the core announces it.
+pub fn vision_publish_hz(config: &Config) -> f64 {
+    rig_config::frame_rate::publish_hz(&config.vision.source, config.vision.frame_hz, config.camera.frame_hz)
+}

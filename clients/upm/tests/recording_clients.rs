@@ -29,42 +29,10 @@ fn one_rig() -> MutexGuard<'static, ()> {
     RIG.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-fn run_ok(cmd: &mut Command) {
-    let o = cmd.output().unwrap_or_else(|e| panic!("{cmd:?}: {e}"));
-    assert!(
-        o.status.success(),
-        "{cmd:?}: {}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
-
-/// A venv under target/tmp named `name` whose Python can `import module`
-/// (pip-installing `package` into it the first time).
-fn venv(name: &str, module: &str, package: &str) -> PathBuf {
-    let venv = Path::new(TMP).join(name);
-    let py = venv.join("bin/python");
-    let imports = |py: &Path| {
-        Command::new(py).args(["-c", &format!("import {module}")]).output().is_ok_and(|o| o.status.success())
-    };
-    if !imports(&py) {
-        // --clear: a venv left half-made by an interrupted run starts over.
-        run_ok(Command::new("python3").args(["-m", "venv", "--clear"]).arg(&venv));
-        run_ok(Command::new(venv.join("bin/pip")).args([
-            "install",
-            "--quiet",
-            "--disable-pip-version-check",
-            package,
-        ]));
-    }
-    assert!(imports(&py), "{} cannot import {module}", py.display());
-    py
-}
-
 /// A Python with the `mcap` package (the MCAP reader from PyPI).
 fn mcap_python() -> PathBuf {
     static PY: OnceLock<PathBuf> = OnceLock::new();
-    PY.get_or_init(|| venv("upm-mcap-python", "mcap", "mcap==1.6.0")).clone()
+    PY.get_or_init(|| common::venv("upm-mcap-python", "mcap", "mcap==1.6.0")).clone()
 }
 
 /// The Foxglove WebSocket client the live test uses.
@@ -90,7 +58,11 @@ fn live_client() -> LiveClient {
             if forced || !has("node") || !has("npm") {
                 // Fallback: our own code (live_topic.py), not a stranger's client.
                 eprintln!("recording_clients: the live test uses its own Python client (forced: {forced})");
-                return LiveClient::Python(venv("upm-websockets-python", "websockets", "websockets>=13,<16"));
+                return LiveClient::Python(common::venv(
+                    "upm-websockets-python",
+                    "websockets",
+                    "websockets>=13,<16",
+                ));
             }
             let dir = Path::new(TMP).join("upm-foxglove-node");
             let modules = dir.join("node_modules");
@@ -103,7 +75,7 @@ fn live_client() -> LiveClient {
             };
             if !resolves() {
                 std::fs::create_dir_all(&dir).expect("node dir");
-                run_ok(
+                common::run_ok(
                     Command::new("npm")
                         .args(["install", "--no-audit", "--no-fund", "--loglevel=error", "--prefix"])
                         .arg(&dir)

@@ -67,14 +67,14 @@ impl<P> CoreConfig<toml::Table, P, toml::Table> {
     /// it: the camera's `frame_hz` when vision reads camera frames, else
     /// vision's own.
     pub fn vision_frame_hz(&self) -> f64 {
-        use rig_config::frame_rate::{DEFAULT_FRAME_HZ, FRAMES_SOURCE};
+        use rig_config::frame_rate::{DEFAULT_FRAME_HZ, publish_hz};
         let hz = |t: &toml::Table| {
             t.get("frame_hz")
                 .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
                 .unwrap_or(DEFAULT_FRAME_HZ)
         };
-        let frames = self.vision.get("source").and_then(toml::Value::as_str) == Some(FRAMES_SOURCE);
-        if frames { hz(&self.camera) } else { hz(&self.vision) }
+        let source = self.vision.get("source").and_then(toml::Value::as_str).unwrap_or_default();
+        publish_hz(source, hz(&self.vision), hz(&self.camera))
     }
 }
 

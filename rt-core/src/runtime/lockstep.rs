@@ -50,7 +50,8 @@ impl<D: PlateDriver> Lockstep<D> {
         let shared = Arc::new(CoreShared::new());
         let (motor_tx, motor_rx) = rtrb::RingBuffer::new(MOTOR_RING);
         let (out, outputs) = StageOutputs::rings();
-        let stage = SolveStage::new(params, rig.clone(), writer, shared.clone(), out)?;
+        let k_bounds = super::solve_stage::playable_k_bounds(params, &rig)?;
+        let stage = SolveStage::new(params, rig.clone(), k_bounds, writer, shared.clone(), out)?;
         let motor =
             MotorLoop::new(driver, rig, reader, shared.clone(), motor_tx, MotorPolicy::from_params(params));
         Ok(Self {

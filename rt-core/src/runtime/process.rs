@@ -232,7 +232,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         spawn_receiver(params, &options.prefix, shared.clone(), inbound_tx, motor_fifo.clone())?;
     threads.receiver = Some(receiver_thread);
     realtime.receiver = placement;
-    let solver = spawn_solver(params, rig.clone(), writer, shared.clone(), inbound_rx, stage_out);
+    let solver = spawn_solver(params, (rig.clone(), k_bounds), writer, shared.clone(), inbound_rx, stage_out);
     match solver {
         Ok((t, placement)) => {
             threads.solver = Some(t);
@@ -477,9 +477,11 @@ fn spawn_receiver(
 }
 
 /// The solver thread: the stage is built (and warmed up) on it.
+/// `plate`: the rig and its per-center bounds on |k| (computed once, at
+/// start-up, for RigInfo and the solve stage alike).
 fn spawn_solver(
     params: &CoreParams,
-    rig: Rig,
+    plate: (Rig, Vec<f64>),
     writer: super::handoff::MotionWriter,
     shared: Arc<CoreShared>,
     inbound: rtrb::Consumer<Received>,
@@ -494,7 +496,8 @@ fn spawn_solver(
             let _guard = CoreThread::enter(HealthSource::SolverThread, shared.clone());
             let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
             prefault_stack();
-            let mut stage = match SolveStage::new(&params, rig, writer, shared.clone(), out) {
+            let (rig, k_bounds) = plate;
+            let mut stage = match SolveStage::new(&params, rig, k_bounds, writer, shared.clone(), out) {
                 Ok(s) => s,
                 Err(e) => {
                     let _ = ready_tx.send(Err(StartError::Params(e)));

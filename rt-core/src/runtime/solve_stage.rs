@@ -219,19 +219,20 @@ impl SolveStage {
         }
     }
 
-    /// Build with every buffer the stage will ever use. Each center's bound
-    /// on |k| is the smaller of the configured `k_max` and what it can play
-    /// within the motion and actuator limits, so a solved schedule is always
-    /// playable.
+    /// Build with every buffer the stage will ever use. `k_bounds` holds
+    /// each center's bound on |k| ([`CoreParams::playable_k_bounds`]: the
+    /// smaller of `k_max` and what it can play within the motion and
+    /// actuator limits), so a solved schedule is always playable; computed
+    /// once at start-up by the caller, which also announces them.
     pub fn new(
         params: &CoreParams,
         rig: Rig,
+        k_bounds: Vec<f64>,
         writer: MotionWriter,
         shared: Arc<CoreShared>,
         out: StageOutputs,
     ) -> Result<Self, super::params::CoreParamsError> {
         params.validate()?;
-        let k_bounds = playable_k_bounds(params, &rig)?;
         let k_max = k_bounds.iter().fold(0.0, |a: f64, &k| a.max(k));
         let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
         let mut solver = Solver::new(cap, super::rig_info::stage_solver_params(params));

@@ -103,7 +103,7 @@ pub fn run_plan(
         let path = out.join("calibration.toml");
         cal.save(&path).map_err(anyhow::Error::msg)?;
         std::fs::write(out.join("calibration.json"), serde_json::to_string_pretty(&report)?)?;
-        config.vision.source = "frames".into();
+        config.vision.source = rig_config::frame_rate::FRAMES_SOURCE.into();
         config.vision.calibration = path.display().to_string();
     }
     let cfg_path = out.join("config.toml");
@@ -174,7 +174,7 @@ pub fn run_plan(
         let _ = std::fs::remove_file(&recording);
     }
 
-    let mut observer = Observer::new(&prefix, 20.0, plan.config.vision.frame_hz)?;
+    let mut observer = Observer::new(&prefix, 20.0, crate::config::vision_publish_hz(&config))?;
     core.start()?;
     if let Some(cpu) = plan.config.cpu_to_avoid() {
         // The observer and progress bar need no RT CPU (the core, started
@@ -222,7 +222,7 @@ pub fn run_plan(
     let mut planner_exit = None;
     // The line that ends the run: a client that cannot start.
     let mut fatal: Option<String> = None;
-    let mut hung = HungWatch::new(&plan.config);
+    let mut hung = HungWatch::new(&plan.config, !plan.planner_ends_run);
     let say = |msg: &str| if bar.is_hidden() { eprintln!("{msg}") } else { bar.println(msg) };
     while sim_s < plan.duration_s {
         sim_s = observer.poll()?;
@@ -233,7 +233,7 @@ pub fn run_plan(
             planner_exit = Some(s);
             break;
         }
-        hung.check(observer.last_telemetry.as_ref(), &mut vision, &mut planner, &say);
+        hung.check(observer.last_telemetry.as_ref(), observer.parts_seen, &mut vision, &mut planner, &say);
         for c in [Some(&mut vision), Some(&mut planner), camera.as_mut()].into_iter().flatten() {
             if let Some(event) = c.restart_if_dead()? {
                 if c.crash_looping() {
@@ -317,7 +317,7 @@ pub fn run_plan(
             "pm_qos_held": t.realtime_flags & ipc_types::Telemetry::RT_PM_QOS_HELD != 0,
             "driver": crate::status::driver_json(&t),
             "exit_ok": core_exit.is_some_and(|s| s.success()),
-            "died": core_failed,
+            "died": &core_failed,
         },
         "latency_us": {
             "motor_wakeup": latency_json(&t.latency.motor_wakeup),
@@ -351,7 +351,7 @@ pub fn run_plan(
         &observer.trails,
     )?;
     // What was recorded is written first: a dead core loses nothing.
-    if let Some(line) = &metrics["core"]["died"].as_str() {
+    if let Some(line) = &core_failed {
         bail!("{line}; the run stopped; what was recorded is in {}", out.display());
     }
     if let Some(line) = fatal {
@@ -391,6 +391,9 @@ fn client_json(c: &Supervised) -> Value {
 /// longer than its staleness limit, for `HUNG_GRACE`: killed and restarted.
 #[derive(Debug)]
 struct HungWatch {
+    /// False for a planner with a job to finish (its exit ends the run):
+    /// it may go quiet to compute once it has played what it needed.
+    judge_planner: bool,
     parts_limit_ms: f64,
     request_limit_ms: f64,
     vision_since: Option<Instant>,
@@ -402,8 +405,9 @@ struct HungWatch {
 const HUNG_GRACE: Duration = Duration::from_secs(5);
 
 impl HungWatch {
-    fn new(config: &Config) -> Self {
+    fn new(config: &Config, judge_planner: bool) -> Self {
         Self {
+            judge_planner,
             parts_limit_ms: config.safety.parts_max_age_ms,
             request_limit_ms: config.safety.request_max_age_ms,
             vision_since: None,
@@ -412,11 +416,12 @@ impl HungWatch {
     }
 
     /// Judge vision by the part states' age and the planner by the
-    /// request's while the part states are fresh (a planner without parts
-    /// has nothing to answer).
+    /// request's while the part states are fresh and name a part (a
+    /// planner without parts has nothing to answer).
     fn check(
         &mut self,
         t: Option<&ipc_types::Telemetry>,
+        parts_seen: Option<usize>,
         vision: &mut Supervised,
         planner: &mut Supervised,
         say: &dyn Fn(&str),
@@ -427,7 +432,10 @@ impl HungWatch {
             return;
         };
         let parts_stale = t.parts_age_ms > self.parts_limit_ms;
-        let request_stale = t.request_age_ms > self.request_limit_ms && !parts_stale;
+        let request_stale = self.judge_planner
+            && t.request_age_ms > self.request_limit_ms
+            && !parts_stale
+            && parts_seen.is_some_and(|n| n > 0);
         let judged = [
             (vision, &mut self.vision_since, parts_stale, "part states", t.parts_age_ms, self.parts_limit_ms),
             (
@@ -451,7 +459,7 @@ impl HungWatch {
             // Stale since this start at the earliest.
             let from =
                 *since.get_or_insert_with(|| Instant::now() - up.min(Duration::from_millis(age_ms as u64)));
-            if from.elapsed() >= HUNG_GRACE && up >= HUNG_GRACE {
+            if from.elapsed() >= HUNG_GRACE {
                 let why = format!(
                     "alive, but no {what} accepted for {:.1} s, limit {:.0} ms",
                     age_ms / 1e3,

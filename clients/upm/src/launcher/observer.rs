@@ -1,7 +1,7 @@
 //! What `upm run` watches while the loop runs (the flight recording is
 //! upm-recorder's): part trails from the simulator's ground truth, the
-//! core's newest telemetry, and how many schedules took longer to solve
-//! than a camera frame lasts.
+//! core's newest telemetry, how many parts vision sees, and how many
+//! schedules took longer to solve than a camera frame lasts.
 
 use std::collections::BTreeMap;
 
@@ -37,6 +37,10 @@ pub struct Observer {
     truth: Sub<PartStates>,
     telemetry: Sub<Telemetry>,
     schedules: Sub<Schedule>,
+    /// Vision's part states, for how many parts it sees.
+    parts: Sub<PartStates>,
+    /// Parts in vision's newest PartStates (None before the first).
+    pub parts_seen: Option<usize>,
     pub trails: Trails,
     /// Schedules seen, and those whose solve took longer than a frame.
     pub schedules_seen: u64,
@@ -56,11 +60,14 @@ impl Observer {
         let truth = ipc_types::ports::subscriber::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
         let telemetry = ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY)?;
         let schedules = ipc_types::ports::subscriber::<Schedule>(&node, service_names::SCHEDULE)?;
+        let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)?;
         Ok(Self {
             _node: node,
             truth,
             telemetry,
             schedules,
+            parts,
+            parts_seen: None,
             trails: Trails::default(),
             schedules_seen: 0,
             frames_late: 0,
@@ -80,6 +87,9 @@ impl Observer {
         while let Some(s) = self.schedules.receive().map_err(|e| anyhow::anyhow!("schedule: {e:?}"))? {
             self.schedules_seen += 1;
             self.frames_late += u64::from(s.payload().solve_time_ns > self.frame_period_ns);
+        }
+        while let Some(s) = self.parts.receive().map_err(|e| anyhow::anyhow!("part states: {e:?}"))? {
+            self.parts_seen = Some(s.payload().parts().len());
         }
         while let Some(s) = self.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
             let m = s.payload();

@@ -4,14 +4,38 @@
 
 use std::time::{Duration, Instant};
 
-/// Send `signal` to every process of group `pgid`. Only while the group
-/// has a live member: a pgid is not reused while any process holds it, so
-/// this never reaches another group.
+/// Send `signal` to every process of group `pgid`, if one runs. The
+/// caller keeps the group's leader unreaped until the last signal, so the
+/// id cannot have passed to another group.
 pub fn signal(pgid: u32, signal: libc::c_int) {
     if pgid > 0 && alive(pgid) {
         // SAFETY: kill(2) with a negative pid signals a group we created.
         unsafe { libc::kill(-(pgid as libc::pid_t), signal) };
     }
+}
+
+/// The exit status of child `pid` if it has ended, without reaping it
+/// (`waitid` with `WNOWAIT`): it stays a zombie, holding its pid.
+pub fn peek_exit(pid: u32) -> Option<std::process::ExitStatus> {
+    use std::os::unix::process::ExitStatusExt;
+    // SAFETY: an all-zero siginfo_t is valid; waitid fills it for our child.
+    let mut info: libc::siginfo_t = unsafe { std::mem::zeroed() };
+    let flags = libc::WEXITED | libc::WNOHANG | libc::WNOWAIT;
+    // SAFETY: waitid(2) on our own child, into a local siginfo_t.
+    if unsafe { libc::waitid(libc::P_PID, pid as libc::id_t, &mut info, flags) } != 0 {
+        return None;
+    }
+    // SAFETY: si_pid and si_status are set for a child that changed state.
+    let (who, status) = unsafe { (info.si_pid(), info.si_status()) };
+    // Encoded as wait(2) would, so ExitStatus reads it back.
+    let raw = match info.si_code {
+        _ if who == 0 => return None,
+        libc::CLD_EXITED => (status & 0xff) << 8,
+        libc::CLD_KILLED => status,
+        libc::CLD_DUMPED => status | 0x80,
+        _ => return None,
+    };
+    Some(std::process::ExitStatus::from_raw(raw))
 }
 
 /// True while a process of group `pgid` is running (zombies do not count:
@@ -70,6 +94,32 @@ mod tests {
         assert!(!member(line, 1));
         assert!(!member("4242 (x) Z 1 777 777 0", 777), "a zombie is not alive");
         assert!(!member("garbage", 777));
+    }
+
+    #[test]
+    fn an_exit_is_seen_without_reaping_the_child() {
+        let mut child = std::process::Command::new("sh").args(["-c", "exit 7"]).spawn().expect("sh");
+        let pid = child.id();
+        let seen = loop {
+            if let Some(s) = peek_exit(pid) {
+                break s;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        assert_eq!(seen.code(), Some(7));
+        assert!(std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok(), "still a zombie, not reaped");
+        assert_eq!(child.wait().expect("wait").code(), Some(7));
+        let mut killed = std::process::Command::new("sleep").arg("30").spawn().expect("sleep");
+        let _ = killed.kill();
+        let seen = loop {
+            if let Some(s) = peek_exit(killed.id()) {
+                break s;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        use std::os::unix::process::ExitStatusExt;
+        assert_eq!(seen.signal(), Some(libc::SIGKILL));
+        let _ = killed.wait();
     }
 
     #[test]

@@ -47,8 +47,9 @@ pub struct Supervised {
     pub quick_failures: u32,
     /// Kills because the client was alive but its input stale.
     pub hung_kills: u32,
-    /// The process group of a start that ended, until it is empty.
-    old_group: Option<u32>,
+    /// The leader of a start that ended, unreaped until its group is
+    /// killed (it holds the group's id).
+    old_group: Option<Child>,
 }
 
 impl Supervised {
@@ -146,8 +147,11 @@ impl Supervised {
     }
 
     /// Exit status if the process has ended (and is not yet restarted).
+    /// The leader is not reaped: while it is a zombie its pid, which is
+    /// the group's id, cannot be reused, so signalling the group later
+    /// never reaches another one.
     pub fn exited(&mut self) -> Option<ExitStatus> {
-        self.child.as_mut().and_then(|c| c.try_wait().ok().flatten())
+        self.child.as_ref().and_then(|c| process_group::peek_exit(c.id()))
     }
 
     /// Restart a dead process once its backoff has passed. Returns one line
@@ -158,26 +162,20 @@ impl Supervised {
             if Instant::now() >= at {
                 self.restart_at = None;
                 self.restarts += 1;
-                if let Some(pgid) = self.old_group.take() {
-                    // The old start's leftovers must not publish beside the new one.
-                    process_group::signal(pgid, libc::SIGKILL);
-                }
+                // The old start's leftovers must not publish beside the new one.
+                self.reap_old_group();
                 self.start()?;
             }
             return Ok(None);
         }
         let Some(status) = self.exited() else { return Ok(None) };
         let ran = self.uptime().unwrap_or_default();
-        let pgid = self.child.take().map(|c| c.id());
         // The leader is gone; its group goes too (SIGKILL at the restart).
-        if let Some(pgid) = pgid {
-            process_group::signal(pgid, libc::SIGTERM);
+        if let Some(child) = self.child.take() {
+            process_group::signal(child.id(), libc::SIGTERM);
+            self.old_group = Some(child);
         }
-        self.old_group = pgid;
         self.quick_failures = if ran < QUICK_EXIT { self.quick_failures + 1 } else { 0 };
-        if ran >= HEALTHY_RUN {
-            self.backoff = FIRST_BACKOFF;
-        }
         let event = self.note_exit(&describe_exit(status), ran);
         if self.crash_looping() {
             // Restarting would not help: the launcher ends the run.
@@ -186,15 +184,27 @@ impl Supervised {
                 QUICK_EXIT.as_secs()
             )));
         }
-        Ok(Some(self.schedule_restart(event)))
+        Ok(Some(self.schedule_restart(event, ran)))
     }
 
-    /// Restart after the backoff; returns `event` with when.
-    fn schedule_restart(&mut self, event: String) -> String {
+    /// Restart after the backoff (starting over after a healthy run);
+    /// returns `event` with when.
+    fn schedule_restart(&mut self, event: String, ran: Duration) -> String {
+        if ran >= HEALTHY_RUN {
+            self.backoff = FIRST_BACKOFF;
+        }
         let line = format!("{event}; restart {} in {:.1} s", self.restarts + 1, self.backoff.as_secs_f64());
         self.restart_at = Some(Instant::now() + self.backoff);
         self.backoff = (self.backoff * 2).min(MAX_BACKOFF);
         line
+    }
+
+    /// SIGKILL what is left of an ended start's group, then reap its leader.
+    fn reap_old_group(&mut self) {
+        if let Some(mut old) = self.old_group.take() {
+            process_group::signal(old.id(), libc::SIGKILL);
+            let _ = old.wait();
+        }
     }
 
     /// True once the client failed `CRASH_LOOP` times in a row, each within
@@ -209,12 +219,11 @@ impl Supervised {
         let ran = self.uptime().unwrap_or_default();
         let Some(mut child) = self.child.take() else { return String::new() };
         process_group::signal(child.id(), libc::SIGKILL);
-        let _ = child.kill();
         let _ = child.wait();
         self.hung_kills += 1;
         self.quick_failures = 0;
         let event = self.note_exit(&format!("is hung ({why}) and was killed with its process group"), ran);
-        self.schedule_restart(event)
+        self.schedule_restart(event, ran)
     }
 
     /// One line for a person on how this start ended with `status`.
@@ -239,27 +248,22 @@ impl Supervised {
 
     /// Signal the group (SIGINT), wait up to `grace` for all of it, then
     /// SIGKILL the group. Returns the leader's exit status and keeps it in
-    /// `last_exit`.
+    /// `last_exit`. The leader is reaped last, once its group is gone.
     pub fn stop(&mut self, grace: Duration) -> Option<ExitStatus> {
         self.restart_at = None;
-        if let Some(pgid) = self.old_group.take() {
-            process_group::signal(pgid, libc::SIGKILL);
-        }
+        self.reap_old_group();
         let mut child = self.child.take()?;
         let pgid = child.id();
         process_group::signal(pgid, libc::SIGINT);
         let start = Instant::now();
-        let mut status = None;
-        while start.elapsed() < grace && (status.is_none() || process_group::alive(pgid)) {
-            status = status.or_else(|| child.try_wait().ok().flatten());
+        while start.elapsed() < grace && process_group::alive(pgid) {
             std::thread::sleep(Duration::from_millis(10));
         }
         if process_group::alive(pgid) {
             process_group::signal(pgid, libc::SIGKILL);
             process_group::wait_empty(pgid, GROUP_GRACE);
         }
-        let _ = child.kill();
-        let status = status.or_else(|| child.wait().ok());
+        let status = child.wait().ok();
         if let Some(s) = status {
             self.last_exit = Some(format!("{} when stopped", describe_exit(s)));
         }
@@ -325,7 +329,7 @@ mod tests {
     use super::*;
 
     fn wait_exit(s: &mut Supervised) {
-        while s.child.as_mut().is_some_and(|c| c.try_wait().ok().flatten().is_none()) {
+        while s.child.is_some() && s.exited().is_none() {
             std::thread::sleep(Duration::from_millis(5));
         }
     }

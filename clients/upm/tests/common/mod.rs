@@ -50,30 +50,43 @@ pub fn feed(prefix: &str, period: std::time::Duration, stop: &std::sync::atomic:
 /// A Python that can `import iceoryx2` 0.10: `UPM_PYTHON`, else a venv
 /// under target/tmp with `pip install iceoryx2==0.10.0` (made once).
 pub fn python_with_iceoryx2() -> std::path::PathBuf {
-    use std::path::{Path, PathBuf};
-    use std::process::Command;
-    if let Some(p) = std::env::var_os("UPM_PYTHON") {
-        return PathBuf::from(p);
+    match std::env::var_os("UPM_PYTHON") {
+        Some(p) => p.into(),
+        None => venv("upm-python", "iceoryx2", "iceoryx2==0.10.0"),
     }
-    let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("upm-python");
+}
+
+/// A venv under target/tmp named `name` whose Python can `import module`
+/// (pip-installing `package` into it the first time).
+pub fn venv(name: &str, module: &str, package: &str) -> std::path::PathBuf {
+    use std::path::Path;
+    use std::process::Command;
+    let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let py = venv.join("bin/python");
     let imports = |py: &Path| {
-        Command::new(py).args(["-c", "import iceoryx2"]).output().is_ok_and(|o| o.status.success())
+        Command::new(py).args(["-c", &format!("import {module}")]).output().is_ok_and(|o| o.status.success())
     };
     if !imports(&py) {
-        let run = |cmd: &mut Command| {
-            let o = cmd.output().expect("runs");
-            assert!(o.status.success(), "{cmd:?}: {}", String::from_utf8_lossy(&o.stderr));
-        };
         // --clear: a venv left half-made by an interrupted run starts over.
-        run(Command::new("python3").args(["-m", "venv", "--clear"]).arg(&venv));
-        run(Command::new(venv.join("bin/pip")).args([
+        run_ok(Command::new("python3").args(["-m", "venv", "--clear"]).arg(&venv));
+        run_ok(Command::new(venv.join("bin/pip")).args([
             "install",
             "--quiet",
             "--disable-pip-version-check",
-            "iceoryx2==0.10.0",
+            package,
         ]));
     }
-    assert!(imports(&py), "{} cannot import iceoryx2", py.display());
+    assert!(imports(&py), "{} cannot import {module}", py.display());
     py
+}
+
+/// Run `cmd`; panic with its output unless it succeeds.
+pub fn run_ok(cmd: &mut std::process::Command) {
+    let o = cmd.output().unwrap_or_else(|e| panic!("{cmd:?}: {e}"));
+    assert!(
+        o.status.success(),
+        "{cmd:?}: {}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
