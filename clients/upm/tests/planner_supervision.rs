@@ -78,6 +78,11 @@ fn pid_of_core(out: &Path) -> Option<i32> {
     String::from_utf8_lossy(&ps.stdout).split_whitespace().next()?.parse().ok()
 }
 
+/// The run's metrics.json.
+fn metrics(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics")).expect("json")
+}
+
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
@@ -132,9 +137,7 @@ fn nothing_outlives_the_run(end: End) {
         let summary = text(&o.stdout);
         assert!(summary.starts_with("local seed 1: "), "a summary for a person, not JSON: {summary}");
         assert!(summary.lines().count() <= 5, "{summary}");
-        let m: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
-                .expect("json");
+        let m = metrics(&out);
         let planner = &m["clients"]["planner"];
         assert!(planner["command"].as_str().is_some_and(|c| c.starts_with("planner command \"(trap")), "{m}");
         assert_eq!(planner["restarts"], 0, "{m}");
@@ -191,9 +194,7 @@ fn a_crash_loop_ends_the_run_non_zero_naming_the_command_status_and_log() {
         "{last}"
     );
     assert!(!last.contains("restart 3"), "{last}");
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
-            .expect("json");
+    let m = metrics(&out);
     assert_eq!(m["clients"]["planner"]["restarts"], 2, "{m}");
     assert!(
         m["clients"]["planner"]["last_exit"].as_str().is_some_and(|e| e.starts_with("exited with status 1"))
@@ -235,9 +236,7 @@ fn a_hung_planner_is_killed_with_its_group_restarted_and_named() {
     let hung = format!("upm run: planner command {cmd:?} is hung (alive, but no request accepted for ");
     assert!(stderr.contains(&hung), "{stderr}");
     assert!(stderr.contains("and was killed with its process group after"), "{stderr}");
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
-            .expect("json");
+    let m = metrics(&out);
     assert!(m["clients"]["planner"]["hung_kills"].as_u64() >= Some(1), "{m}");
     assert!(m["clients"]["planner"]["restarts"].as_u64() >= Some(1), "{m}");
     let _ = std::fs::remove_dir_all(&dir);
