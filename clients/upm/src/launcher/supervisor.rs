@@ -17,8 +17,8 @@ const MAX_BACKOFF: Duration = Duration::from_secs(2);
 const HEALTHY_RUN: Duration = Duration::from_secs(10);
 /// An exit this soon after the start is a failure to start; `CRASH_LOOP`
 /// of them in a row end the run (restarting would not help).
-pub const QUICK_EXIT: Duration = Duration::from_secs(5);
-pub const CRASH_LOOP: u32 = 3;
+const QUICK_EXIT: Duration = Duration::from_secs(5);
+const CRASH_LOOP: u32 = 3;
 /// Time the rest of an exited client's group gets before SIGKILL.
 const GROUP_GRACE: Duration = Duration::from_secs(2);
 
@@ -255,11 +255,7 @@ impl Supervised {
         let mut child = self.child.take()?;
         let pgid = child.id();
         process_group::signal(pgid, libc::SIGINT);
-        let start = Instant::now();
-        while start.elapsed() < grace && process_group::alive(pgid) {
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        if process_group::alive(pgid) {
+        if !process_group::wait_empty(pgid, grace) {
             process_group::signal(pgid, libc::SIGKILL);
             process_group::wait_empty(pgid, GROUP_GRACE);
         }
