@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::Parser;
 use ipc_types::PartStates;
-use rt_core::runtime::{CoreParams, RunOptions, RunReport, TruthFill, run_core_with_truth};
+use rt_core::{CoreParams, RunOptions, RunReport, TruthFill, run_core_with_truth};
 
 use crate::config::{CoreConfig, DriverChoice};
 use crate::plate_driver::SimulatedPlant;
@@ -139,7 +139,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
     );
     if std::env::var_os("UPM_ABORT_ON_RT_ALLOCATION").is_some() {
         // Debugging aid: stop at the first RT-thread allocation (run under gdb).
-        rt_core::runtime::alloc_count::abort_on_rt_allocation(true);
+        rt_core::alloc_count::abort_on_rt_allocation(true);
     }
     let report = match config.driver.kind {
         DriverChoice::Sim => {

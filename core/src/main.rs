@@ -1,7 +1,7 @@
 //! The RT kernel process; all logic lives in `upm_core::core_process`.
 
 use clap::Parser;
-use rt_core::runtime::RtAllocCounter;
+use rt_core::RtAllocCounter;
 
 // Counts heap allocations on the motor and solver threads (telemetry's
 // `rt_thread_allocations`).

@@ -8,8 +8,8 @@ use drivers::Simulator;
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use ethercat_sim::{ChainTime, SimulatedRig};
-use rt_core::driver::PlateDriver;
 use upm_ethercat::EthercatDriver;
+use upm_hardware::PlateDriver;
 
 use crate::config::{CoreConfig, SimParts};
 
@@ -76,7 +76,7 @@ pub fn ethercat_sim_with<V, P, C>(
 fn simulated_chain<V, P, C>(
     config: &CoreConfig<V, P, C>,
     shown: &str,
-) -> anyhow::Result<(SimulatedRig, upm_ethercat::EthercatParams, rt_core::motion::RigParams, SimParts)> {
+) -> anyhow::Result<(SimulatedRig, upm_ethercat::EthercatParams, upm_motion::RigParams, SimParts)> {
     let (sim, parts) = simulator(config, shown)?;
     let p = config.ethercat_params(shown)?;
     let rig = *sim.rig().params();
@@ -130,19 +130,16 @@ impl EthercatOverVeth {
 }
 
 impl PlateDriver for EthercatOverVeth {
-    fn limits(&self) -> rt_core::driver::ActuatorLimits {
+    fn limits(&self) -> upm_hardware::ActuatorLimits {
         self.driver.limits()
     }
     fn tick_period(&self) -> f64 {
         self.driver.tick_period()
     }
-    fn read(&mut self, state: &mut rt_core::driver::PlateState) -> Result<(), rt_core::driver::ReadError> {
+    fn read(&mut self, state: &mut upm_hardware::PlateState) -> Result<(), upm_hardware::ReadError> {
         self.driver.read(state)
     }
-    fn write(
-        &mut self,
-        command: &rt_core::driver::ActuatorCommand,
-    ) -> Result<(), rt_core::driver::WriteError> {
+    fn write(&mut self, command: &upm_hardware::ActuatorCommand) -> Result<(), upm_hardware::WriteError> {
         self.driver.write(command)
     }
     fn hold(&mut self) {
@@ -154,7 +151,7 @@ impl PlateDriver for EthercatOverVeth {
     fn clock_correction_ns(&mut self) -> i64 {
         self.driver.clock_correction_ns()
     }
-    fn health(&self) -> rt_core::driver::DriverHealth {
+    fn health(&self) -> upm_hardware::DriverHealth {
         self.driver.health()
     }
 }

@@ -4,11 +4,11 @@
 //! step + read) replaying one recorded cycle of commands. Usage: sim_speed [seconds] [case index] [profile]
 use std::time::Instant;
 
-use drivers::conformance::demo_motion;
-use drivers::playback::{play, record_commands, replay};
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
-use rt_core::driver::PlateState;
-use rt_core::motion::Rig;
+use upm_hardware::PlateState;
+use upm_hardware::conformance::demo_motion;
+use upm_hardware::playback::{play, record_commands, replay};
+use upm_motion::Rig;
 
 fn parts(shape: Shape) -> Vec<PartSpec> {
     (0..10)

@@ -1,12 +1,7 @@
-//! The conformance suite, instantiated for every driver in this crate.
+//! The conformance suite, instantiated for the simulator's actuator models.
 
-use drivers::conformance;
-use drivers::{ActuatorModel, IdealDriver, PartSpec, Shape, SimConfig, Simulator};
-use rt_core::motion::RigParams;
-
-fn ideal() -> IdealDriver {
-    IdealDriver::new(RigParams::default(), 10_000.0).expect("default rig")
-}
+use drivers::{ActuatorModel, PartSpec, Shape, SimConfig, Simulator};
+use upm_hardware::conformance;
 
 fn sim(model: ActuatorModel) -> impl Fn() -> Simulator {
     move || {
@@ -17,11 +12,6 @@ fn sim(model: ActuatorModel) -> impl Fn() -> Simulator {
         ];
         Simulator::new(cfg, &parts).expect("default sim")
     }
-}
-
-#[test]
-fn ideal_mock_conforms() {
-    conformance::run_all(ideal, 0, 1e-12);
 }
 
 #[test]

@@ -1,10 +1,10 @@
 //! Same config + seed → bit-identical runs; a different seed differs.
 
-use drivers::conformance::demo_motion;
-use drivers::playback::play;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
-use rt_core::driver::PlateState;
-use rt_core::motion::Rig;
+use upm_hardware::PlateState;
+use upm_hardware::conformance::demo_motion;
+use upm_hardware::playback::play;
+use upm_motion::Rig;
 
 fn parts() -> Vec<PartSpec> {
     let mut v = Vec::new();

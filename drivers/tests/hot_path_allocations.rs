@@ -1,12 +1,12 @@
 //! read / write / advance and motion sampling allocate nothing.
 
-use drivers::conformance::demo_motion;
-use drivers::playback::{play, play_estimating};
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
-use rt_core::driver::PlateState;
-use rt_core::motion::{InertiaEstimate, InertiaParams, Rig};
+use upm_hardware::PlateState;
+use upm_hardware::conformance::demo_motion;
+use upm_hardware::playback::{play, play_estimating};
+use upm_motion::{InertiaEstimate, InertiaParams, Rig};
 
-use rt_core::runtime::alloc_count::{RtAllocCounter, allocations_in};
+use rt_core::alloc_count::{RtAllocCounter, allocations_in};
 
 #[global_allocator]
 static A: RtAllocCounter = RtAllocCounter;
@@ -27,7 +27,7 @@ fn lockstep_loop_does_not_allocate() {
     let mut estimate = InertiaEstimate::new(InertiaParams::default());
     let mut m = demo_motion();
     let mut st = PlateState::default();
-    assert!(rt_core::runtime::alloc_count::counter_installed(), "the counter must see allocations");
+    assert!(rt_core::alloc_count::counter_installed(), "the counter must see allocations");
     let ((), allocated) = allocations_in(|| {
         for c in 0..20 {
             play(&mut s, &rig, &m, c * m.cycle_ticks(), m.cycle_ticks(), &mut st).expect("read");
@@ -38,7 +38,7 @@ fn lockstep_loop_does_not_allocate() {
             play_estimating(&mut s, &rig, &m, c * n, n, &mut st, Some(&mut estimate)).expect("read");
             rig.set_inertia_scale(estimate.end_cycle());
         }
-        let entries = [rt_core::motion::ScheduleEntry { center: [1.0, 0.5], k: 0.3 }];
+        let entries = [upm_motion::ScheduleEntry { center: [1.0, 0.5], k: 0.3 }];
         m.set_schedule(&entries).expect("playable");
         let _ = m.sample_tick(3);
     });

@@ -2,10 +2,10 @@
 //! a plate heavier than its model is found from the drives' effort, and an
 //! exact plate is found exact however finely the drives step their servo.
 
-use drivers::playback::play_estimating;
 use drivers::{ActuatorModel, PlateTruth, SimConfig, Simulator};
-use rt_core::driver::PlateState;
-use rt_core::motion::{
+use upm_hardware::PlateState;
+use upm_hardware::playback::play_estimating;
+use upm_motion::{
     InertiaEstimate, InertiaParams, MotionParams, PlateFollow, PlateMotion, Rig, ScheduleEntry,
 };
 

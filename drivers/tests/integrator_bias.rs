@@ -1,11 +1,11 @@
 //! The fixed-step friction integrator is not biased: average forces at one
 //! substep per 10 kHz tick match a 32× finer integration to < 0.5 % of μmg.
 
-use drivers::conformance::demo_motion;
-use drivers::playback::play;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
-use rt_core::driver::PlateState;
-use rt_core::motion::Rig;
+use upm_hardware::PlateState;
+use upm_hardware::conformance::demo_motion;
+use upm_hardware::playback::play;
+use upm_motion::Rig;
 
 fn average_forces(substeps: u32) -> Vec<[f64; 2]> {
     let cfg = SimConfig { substeps, collisions: false, ..SimConfig::default() };

@@ -1,7 +1,7 @@
 //! Part–part impacts conserve linear momentum; the fence keeps parts on.
 
 use drivers::{ActuatorModel, PartSpec, PartState, Shape, SimConfig, Simulator};
-use rt_core::driver::PlateDriver;
+use upm_hardware::PlateDriver;
 
 fn disc(p: [f64; 2], m: f64) -> PartSpec {
     PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: m, position: p, angle: 0.0 }

@@ -1,8 +1,8 @@
 //! Coulomb stick–slip against analytic answers.
 
 use drivers::{ActuatorModel, PartSpec, PartState, Shape, SimConfig, Simulator};
-use rt_core::driver::{ActuatorCommand, PlateDriver};
-use rt_core::motion::{Pose, Rig, Twist};
+use upm_hardware::{ActuatorCommand, PlateDriver};
+use upm_motion::{Pose, Rig, Twist};
 
 fn sim(parts: &[PartSpec]) -> Simulator {
     let cfg =

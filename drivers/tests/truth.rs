@@ -2,10 +2,10 @@
 //! of its errors says, not as the controller's model does; friction scales
 //! by part and by place; the sensors report what they read.
 
-use drivers::playback::play;
 use drivers::{ActuatorModel, FrictionMap, PartSpec, PartState, PlateTruth, Shape, SimConfig, Simulator};
-use rt_core::driver::{ActuatorCommand, MAX_ACTUATORS, PlateDriver, PlateState};
-use rt_core::motion::{MotionParams, PlateMotion, Pose, Rig, ScheduleEntry, Twist};
+use upm_hardware::playback::play;
+use upm_hardware::{ActuatorCommand, MAX_ACTUATORS, PlateDriver, PlateState};
+use upm_motion::{MotionParams, PlateMotion, Pose, Rig, ScheduleEntry, Twist};
 
 const CENTER: [f64; 2] = [0.5, 0.2];
 
@@ -52,7 +52,7 @@ fn angle(f: [f64; 2]) -> f64 {
 
 /// The twist a commanded twist becomes, to first order.
 fn true_twist(truth: &PlateTruth, xi: Twist) -> Twist {
-    truth.true_twist(&rt_core::motion::RigParams::default(), xi).expect("rig")
+    truth.true_twist(&upm_motion::RigParams::default(), xi).expect("rig")
 }
 
 /// The center a commanded rotation about `c` really turns about.
@@ -63,7 +63,7 @@ fn effective_center(truth: &PlateTruth, c: [f64; 2]) -> [f64; 2] {
 
 /// The inverse of the map commanded twist → true twist.
 fn exact_correction(truth: &PlateTruth) -> [[f64; 3]; 3] {
-    let m = truth.twist_map(&rt_core::motion::RigParams::default()).expect("rig");
+    let m = truth.twist_map(&upm_motion::RigParams::default()).expect("rig");
     let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);

@@ -6,14 +6,15 @@
 
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
 
 /// Frame source → vision: what the pixels of one frame are.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::FrameHeader.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::FrameHeader.v6"))]
 pub struct FrameHeader {
     pub protocol_version: u32,
     /// [`FrameHeader::MONO8`] (one byte per pixel) is the only format.

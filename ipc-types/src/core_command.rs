@@ -3,6 +3,7 @@
 use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
@@ -11,8 +12,8 @@ use crate::validation::ValidationLimits;
 
 /// Operator → core: one command.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::CoreCommand.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::CoreCommand.v6"))]
 pub struct CoreCommand {
     pub protocol_version: u32,
     /// [`CoreCommand::RESUME`].

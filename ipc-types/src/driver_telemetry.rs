@@ -1,6 +1,7 @@
 //! The plate driver's own state inside [`crate::Telemetry`]: which driver,
 //! its bus state, faults per axis, frames lost and bad frames.
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Axes a driver reports faults for (the rig's actuator limit).
@@ -25,8 +26,8 @@ pub mod bus_state {
 }
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::DriverTelemetry.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::DriverTelemetry.v6"))]
 pub struct DriverTelemetry {
     /// [`driver_kind`] code.
     pub kind: u32,

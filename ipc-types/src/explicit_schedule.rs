@@ -4,6 +4,7 @@
 use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::MAX_SLOTS;
@@ -13,8 +14,8 @@ use crate::validation::ValidationLimits;
 /// One slot: a rotation about configured center `center_index` with signed
 /// intensity `k` (k > 0 = CCW), |k| ≤ 1.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ExplicitSlot.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::ExplicitSlot.v6"))]
 pub struct ExplicitSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -35,8 +36,8 @@ impl ExplicitSlot {
 
 /// Planner → core: the slots of one closed cycle, in play order.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ExplicitSchedule.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::ExplicitSchedule.v6"))]
 pub struct ExplicitSchedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`; at least 1.

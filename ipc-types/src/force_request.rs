@@ -4,6 +4,7 @@
 use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::{CapacityError, MAX_CURLS, MAX_PARTS};
@@ -15,8 +16,8 @@ use crate::validation::{ValidationLimits, first_non_finite, is_flag};
 /// the part's position. `force_flag` = 0 leaves the part's force free (only
 /// its curl is constrained), as in `upm solve`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ForceEntry.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::ForceEntry.v6"))]
 pub struct ForceEntry {
     /// Id of a part in the core's latest [`crate::PartStates`].
     pub part_id: u32,
@@ -67,8 +68,8 @@ impl ForceEntry {
 
 /// Planner → core: desired forces for up to [`MAX_PARTS`] parts.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ForceRequest.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::ForceRequest.v6"))]
 pub struct ForceRequest {
     pub protocol_version: u32,
     /// Number of used entries of `entries`.

@@ -1,13 +1,14 @@
 //! Latency summary of one measured path, as published in telemetry.
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Percentiles of one latency since core start, all in **nanoseconds**
 /// (`upm status` / metrics.json convert to µs). All zero before the first
 /// sample.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::LatencyPercentiles.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::LatencyPercentiles.v6"))]
 pub struct LatencyPercentiles {
     /// Number of samples recorded.
     pub samples: u64,

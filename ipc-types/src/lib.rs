@@ -25,6 +25,7 @@ mod clock;
 mod core_command;
 mod core_state;
 mod counted_message;
+#[cfg(feature = "iceoryx2")]
 pub mod discovery;
 mod driver_telemetry;
 mod explicit_schedule;
@@ -34,17 +35,21 @@ mod health;
 mod latency_percentiles;
 pub mod part_shape;
 mod part_states;
+#[cfg(feature = "iceoryx2")]
 pub mod ports;
 mod reject_reason;
 mod rejection;
 mod rig_info;
+#[cfg(feature = "iceoryx2")]
 pub mod rig_node;
 mod schedule;
 pub mod service_names;
 mod telemetry;
 mod validation;
+#[cfg(feature = "iceoryx2")]
 pub mod wake_event;
 mod wire_code;
+#[cfg(feature = "iceoryx2")]
 pub mod wire_message;
 
 pub use camera_frame::{FrameError, FrameHeader};
@@ -68,6 +73,7 @@ pub use rig_info::{RIG_PREFIX_BYTES, RigCenter, RigInfo, RigInfoError};
 pub use schedule::{Schedule, ScheduleError, ScheduleSlot};
 pub use telemetry::{CoreCounters, CoreLatencies, Telemetry, TelemetryError};
 pub use validation::ValidationLimits;
+#[cfg(feature = "iceoryx2")]
 pub use wire_message::{WireMessage, WrongLength};
 
 /// Version of the wire format. Bump it on any layout or meaning change; it is

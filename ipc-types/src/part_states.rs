@@ -3,6 +3,7 @@
 use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::MAX_PARTS;
@@ -19,8 +20,8 @@ use crate::validation::{ValidationLimits, first_non_finite};
 /// position; turned by `theta` into plate axes). Fields a shape does not
 /// use are ignored.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartState.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::PartState.v6"))]
 pub struct PartState {
     /// Tracking id, unique within one message.
     pub id: u32,
@@ -115,8 +116,8 @@ impl PartState {
 
 /// Vision → core: every part seen in one camera frame.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::PartStates.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::PartStates.v6"))]
 pub struct PartStates {
     pub protocol_version: u32,
     /// Number of used entries of `parts`.

@@ -7,6 +7,7 @@
 
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
@@ -38,8 +39,8 @@ impl RejectedKind {
 
 /// Core → all: one refused message.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
-#[type_name("upm::Rejection.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::Rejection.v6"))]
 pub struct Rejection {
     pub protocol_version: u32,
     /// [`RejectedKind`] code of the refused message.

@@ -4,6 +4,7 @@
 
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::{MAX_CENTERS, MAX_SLOTS};
@@ -16,8 +17,8 @@ pub const RIG_PREFIX_BYTES: usize = 64;
 
 /// One rotation center and the bound on |k| the core solves under there.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::RigCenter.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::RigCenter.v6"))]
 pub struct RigCenter {
     /// Plate coordinates, m (a center may lie off the plate).
     pub x: f64,
@@ -34,8 +35,8 @@ impl RigCenter {
 
 /// Core → all: what a client needs to know about the rig (docs/protocol.md).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::RigInfo.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::RigInfo.v6"))]
 pub struct RigInfo {
     pub protocol_version: u32,
     /// Number of used entries of `centers`.

@@ -3,6 +3,7 @@
 use crate::header::{HeaderError, OldStamps};
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::{MAX_CENTERS, MAX_SLOTS};
@@ -11,8 +12,8 @@ use crate::validation::{ValidationLimits, count_fits, first_non_finite, is_flag}
 /// One slot in play order: rotation about center `center_index` at (x, y)
 /// (m, plate coordinates; centers may lie off the plate) with intensity k.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::ScheduleSlot.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::ScheduleSlot.v6"))]
 pub struct ScheduleSlot {
     /// Index into the rig's configured centers.
     pub center_index: u32,
@@ -36,8 +37,8 @@ impl ScheduleSlot {
 /// Core → all: the schedule the solver produced (or the planner's explicit
 /// one), with the solver's diagnostics.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Schedule.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::Schedule.v6"))]
 pub struct Schedule {
     pub protocol_version: u32,
     /// Number of used entries of `slots`.

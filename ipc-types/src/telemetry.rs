@@ -3,6 +3,7 @@
 use crate::header::{HeaderError, OldStamps, check_header};
 use core::fmt;
 
+#[cfg(feature = "iceoryx2")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::PROTOCOL_VERSION;
@@ -15,8 +16,8 @@ use crate::validation::{ValidationLimits, first_non_finite};
 
 /// Monotonic counters since core start.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreCounters.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::CoreCounters.v6"))]
 pub struct CoreCounters {
     /// Motor-loop ticks.
     pub ticks: u64,
@@ -48,8 +49,8 @@ const _: () = assert!(size_of::<CoreCounters>() == 12 * 8);
 
 /// Latency of each measured path (ns, see [`LatencyPercentiles`]).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
-#[type_name("upm::CoreLatencies.v6")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::CoreLatencies.v6"))]
 pub struct CoreLatencies {
     /// Motor-thread wake-up lateness against its period.
     pub motor_wakeup: LatencyPercentiles,
@@ -65,8 +66,8 @@ const _: () = assert!(size_of::<CoreLatencies>() == 4 * size_of::<LatencyPercent
 
 /// Core → all: a snapshot of the core, published periodically.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("upm::Telemetry.v6")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::Telemetry.v6"))]
 pub struct Telemetry {
     pub protocol_version: u32,
     /// [`CoreState`] code: idle 0, running 1, hold 2, fault 3.

@@ -1,19 +1,54 @@
-//! UPM real-time core.
+//! The real-time core (ARCHITECTURE.md §3–5): a motor loop that plays closed plate
+//! motions through a [`upm_hardware::PlateDriver`], a solver stage that turns
+//! validated messages into those motions, the wait-free hand-over between
+//! them, and the process that runs them on SCHED_FIFO threads over iceoryx2.
 //!
-//! `solver` turns desired per-part forces and curls into the rotation
-//! intensities of one closed plate motion (Reznik & Canny 1998, §2–3).
-//! Everything on the hot path is allocation-free after construction.
+//! The same [`MotorLoop`] and [`SolveStage`] run in [`lockstep`] (one
+//! thread, injected [`ManualClock`]) for bit-identical tests, and in
+//! [`run_core`] (real threads, [`MonotonicClock`]).
 
-pub mod solver;
+pub mod alloc_count;
+mod clock;
+mod doorbell;
+mod driver_cell;
+#[cfg(feature = "fault-injection")]
+pub mod fault_injection;
+mod handoff;
+mod inbox;
+mod ipc_inbox;
+mod latency;
+pub mod lockstep;
+mod motor;
+mod params;
+mod process;
+mod rejection_log;
+mod rig_info;
+pub mod rt_setup;
+mod samples;
+mod shared;
+mod solve_stage;
+mod start_error;
+mod thread_health;
+mod wake_budget;
 
-pub use solver::{
-    CurlConstraint, ForceConstraint, LeastSquaresSystem, PartShape, Problem, Solution, SolveError,
-    SolveMethod, Solver, SolverCapacity, SolverParams,
+pub use alloc_count::RtAllocCounter;
+pub use clock::{Clock, ManualClock, MonotonicClock};
+pub use doorbell::Doorbell;
+pub use handoff::{MotionReader, MotionWriter, StagedMotion, motion_handoff};
+pub use inbox::{
+    INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, Received, RingInbox, drain,
+    forward,
 };
-
-/// The driver boundary (read → update → write) every plate driver implements.
-pub mod driver;
-/// Closed plate motion: slot waveforms, limits, sampling, rig kinematics.
-pub mod motion;
-/// The RT process: motor loop, solver stage, wait-free hand-over, threads.
-pub mod runtime;
+pub use ipc_inbox::IpcInbox;
+pub use latency::{LatencyHistograms, percentiles, write_hgrm};
+pub use motor::{MotorLoop, MotorPolicy, TickOutcome, TruthFill, TruthTap};
+pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
+pub use process::{
+    CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
+};
+pub use rig_info::rig_info;
+pub use samples::{MotorSample, SolverSample, StageOutputs, StageOutputsRx};
+pub use shared::{CoreShared, HealthReport, InertiaReport};
+pub use solve_stage::{RequestError, SolveStage};
+pub use start_error::StartError;
+pub use thread_health::CoreThread;

@@ -5,9 +5,9 @@
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use std::sync::{Arc, Mutex};
 
-use rt_core::driver::{ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError};
-use rt_core::motion::{MotionParams, PlateMotion, Rig, RigParams};
-use rt_core::runtime::{Clock, CoreShared, MotorLoop, MotorPolicy, StagedMotion, motion_handoff};
+use rt_core::{Clock, CoreShared, MotorLoop, MotorPolicy, StagedMotion, motion_handoff};
+use upm_hardware::{ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError};
+use upm_motion::{MotionParams, PlateMotion, Rig, RigParams};
 
 /// A driver on a bus that asks for +700 ns every third tick.
 struct BusDriver {

@@ -5,8 +5,8 @@
 use std::process::Command;
 
 use ipc_types::WireMessage;
-use rt_core::runtime::{CoreParams, rig_info};
-use rt_core::solver::max_force_in;
+use rt_core::{CoreParams, rig_info};
+use upm_solver::max_force_in;
 
 const MESSAGES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../clients/python/upm_ipc/messages.py");
 

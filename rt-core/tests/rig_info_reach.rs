@@ -3,9 +3,9 @@
 //! at `max_part_force_at` in the best direction is met, 5 % more is
 //! saturated, on the paper's cycle and on sparse cycles.
 
-use rt_core::runtime::{CoreParams, rig_info};
-use rt_core::solver::{SATURATION_TOLERANCE, max_force_at};
-use rt_core::{ForceConstraint, PartShape, Problem, Solution, Solver, SolverCapacity, SolverParams};
+use rt_core::{CoreParams, rig_info};
+use upm_solver::{ForceConstraint, PartShape, Problem, Solution, Solver, SolverCapacity, SolverParams};
+use upm_solver::{SATURATION_TOLERANCE, max_force_at};
 
 fn met(out: &Solution, force: [f64; 2]) -> bool {
     out.residual <= SATURATION_TOLERANCE * force[0].hypot(force[1])

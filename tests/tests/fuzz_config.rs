@@ -7,7 +7,7 @@
 
 use drivers::Simulator;
 use proptest::prelude::*;
-use rt_core::runtime::lockstep::Lockstep;
+use rt_core::lockstep::Lockstep;
 use upm_cli::config::Config;
 use upm_cli::scenario::Scenario;
 

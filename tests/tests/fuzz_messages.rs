@@ -401,7 +401,7 @@ proptest! {
             prop_assert!(outline_is_sound(&part, extent), "{:?}", part);
             // Accepted means solvable: turned by any theta into plate axes,
             // the outline still passes the solver's own check.
-            let turned = rt_core::solver::PartShape::from_wire(&part);
+            let turned = upm_solver::PartShape::from_wire(&part);
             prop_assert_eq!(turned.check(), Ok(()), "{:?} turned by {}", part, part.theta);
         }
     }

@@ -6,12 +6,12 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::TestRunner;
-use rt_core::runtime::alloc_count;
-use rt_core::solver::field::cycle_force;
-use rt_core::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
+use rt_core::alloc_count;
+use upm_solver::field::cycle_force;
+use upm_solver::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
 
 #[global_allocator]
-static ALLOC: rt_core::runtime::RtAllocCounter = rt_core::runtime::RtAllocCounter;
+static ALLOC: rt_core::RtAllocCounter = rt_core::RtAllocCounter;
 
 /// One solve request, owned so proptest can generate it.
 #[derive(Debug, Clone)]
@@ -40,12 +40,13 @@ fn point(plain: u32) -> impl Strategy<Value = [f64; 2]> {
 fn input(max_parts: usize, max_curls: usize, max_centers: usize) -> impl Strategy<Value = Input> {
     // ≈ one hostile number per problem on average.
     let plain = (10 * (2 * max_parts + 3 * max_curls + 2 * max_centers)) as u32;
-    let part = (point(plain), prop::option::weighted(0.9, point(plain)))
-        .prop_map(|(position, force)| ForceConstraint { position, force, shape: rt_core::PartShape::Point });
+    let part = (point(plain), prop::option::weighted(0.9, point(plain))).prop_map(|(position, force)| {
+        ForceConstraint { position, force, shape: upm_solver::PartShape::Point }
+    });
     let curl = (point(plain), number(plain)).prop_map(|(position, curl)| CurlConstraint {
         position,
         curl,
-        shape: rt_core::PartShape::Point,
+        shape: upm_solver::PartShape::Point,
     });
     (
         prop_oneof![20 => 0.01..10.0f64, 1 => number(1)],
@@ -77,7 +78,7 @@ fn all_finite(i: &Input) -> bool {
 
 /// Solve on an RT-marked thread and check every promise of the answer.
 /// Ok(true) when the solve succeeded and its answer kept every promise.
-fn check(solver: &mut Solver, out: &mut rt_core::Solution, i: &Input) -> Result<bool, TestCaseError> {
+fn check(solver: &mut Solver, out: &mut upm_solver::Solution, i: &Input) -> Result<bool, TestCaseError> {
     let problem = Problem {
         mu_m_g: i.mu_m_g,
         k_max: i.k_max,

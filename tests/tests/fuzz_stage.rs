@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates, REJECT_REASONS, RejectedKind};
 use proptest::prelude::*;
-use rt_core::motion::{PlateMotion, Rig};
-use rt_core::runtime::{CoreParams, CoreShared, SolveStage, StagedMotion, motion_handoff};
+use rt_core::{CoreParams, CoreShared, SolveStage, StagedMotion, motion_handoff};
+use upm_motion::{PlateMotion, Rig};
 use upm_tests::{from_bytes, patch_header};
 
 const NOW: u64 = 5_000_000_000;
@@ -17,7 +17,7 @@ const NOW: u64 = 5_000_000_000;
 struct Stage {
     stage: SolveStage,
     shared: Arc<CoreShared>,
-    outputs: rt_core::runtime::StageOutputsRx,
+    outputs: rt_core::StageOutputsRx,
 }
 
 fn stage() -> Stage {
@@ -27,7 +27,7 @@ fn stage() -> Stage {
     let (writer, _reader) =
         motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
     let shared = Arc::new(CoreShared::new());
-    let (out, outputs) = rt_core::runtime::StageOutputs::rings();
+    let (out, outputs) = rt_core::StageOutputs::rings();
     let k_bounds = params.playable_k_bounds().expect("playable");
     let stage = SolveStage::new(&params, rig, k_bounds, writer, shared.clone(), out).expect("stage");
     Stage { stage, shared, outputs }

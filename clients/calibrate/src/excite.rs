@@ -7,7 +7,7 @@
 //! into one [`Observation`].
 
 use ipc_types::{ExplicitSchedule, ExplicitSlot, PartStates};
-use rt_core::motion::{MotionParams, PlateFollow};
+use upm_motion::{MotionParams, PlateFollow};
 
 use crate::CalibrateError;
 use crate::fit::{BurstMotion, FitCounts, Observation, RigModel};

@@ -17,7 +17,7 @@
 //!    correction is M⁻¹.
 //! 3. **Friction.** The model's own acceleration of the part under the
 //!    same pair of slots about C′, read where and as fast as the part went
-//!    (`rt_core::motion::cycle_mean_twist` on the plate as the drives
+//!    (`upm_motion::cycle_mean_twist` on the plate as the drives
 //!    follow it, nominal μ; step 1 reads
 //!    it the same way), scales to the seen one by
 //!    s = (A·a_model)/|a_model|². Then s = σ_class·(1 + Σ c_k·term_k(P)) is
@@ -36,8 +36,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
 use rig_config::plate_calibration::{
     CalibrationReport, ClassFriction, FORMAT, FRICTION_TERMS, PlateCalibration, friction_terms,
 };
-use rt_core::PartShape;
-use rt_core::motion::{DriftParams, MotionParams, PlateFollow, PlateMotion, ScheduleEntry, cycle_mean_twist};
+use upm_motion::{DriftParams, MotionParams, PlateFollow, PlateMotion, ScheduleEntry, cycle_mean_twist};
+use upm_solver::PartShape;
 
 use crate::CalibrateError;
 

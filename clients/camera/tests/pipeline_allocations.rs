@@ -4,7 +4,7 @@
 //! counted by the same allocator the core's binaries install.
 
 use ipc_types::{PartState, PartStates};
-use rt_core::runtime::{RtAllocCounter, alloc_count};
+use rt_core::{RtAllocCounter, alloc_count};
 use upm_camera::CameraSection;
 use upm_camera::Renderer;
 use upm_vision::calibration::Calibration;

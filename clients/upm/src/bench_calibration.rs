@@ -53,7 +53,7 @@ fn plate_of(config: &Config) -> anyhow::Result<(drivers::SimConfig, crate::confi
 fn common_k_max(config: &Config, calibration: &rig_config::PlateCalibration) -> anyhow::Result<f64> {
     let core = config.core_params("bench")?;
     let corrected =
-        rt_core::runtime::CoreParams { twist_correction: Some(calibration.twist_correction), ..core.clone() };
+        rt_core::CoreParams { twist_correction: Some(calibration.twist_correction), ..core.clone() };
     Ok(core
         .playable_k_bounds()
         .map_err(|e| anyhow::anyhow!("{e}"))?
@@ -437,7 +437,7 @@ mod tests {
 
     #[test]
     fn the_push_direction_error_is_zero_only_for_the_truths_own_inverse() {
-        let rig = rt_core::motion::RigParams::default();
+        let rig = upm_motion::RigParams::default();
         let centers = [[1.2, 0.2], [-0.2, 0.8], [-1.3, 0.0], [0.6, -0.7]];
         let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         let nominal = drivers::PlateTruth::NOMINAL.twist_map(&rig).expect("rig");

@@ -21,13 +21,11 @@ use ethercat_sim::SimulatedRig;
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use hdrhistogram::Histogram;
-use rt_core::driver::{ActuatorCommand, PlateDriver};
-use rt_core::runtime::rt_setup::{
-    hold_cpu_dma_latency, lock_memory, make_current_thread_realtime_on, online_cpus,
-};
-use rt_core::runtime::{Clock, MonotonicClock};
+use rt_core::rt_setup::{hold_cpu_dma_latency, lock_memory, make_current_thread_realtime_on, online_cpus};
+use rt_core::{Clock, MonotonicClock};
 use serde_json::{Value, json};
 use upm_ethercat::{EthercatDriver, EthercatParams, RawSocketWire};
+use upm_hardware::{ActuatorCommand, PlateDriver};
 
 use crate::bench_latency::{new_histogram as histogram, summary_ns};
 
@@ -107,7 +105,7 @@ fn poll_path(rate_hz: f64, cycles: u64, cpus: (usize, usize)) -> anyhow::Result<
     let wire = RawSocketWire::open(chain.near(), p.frame_deadline()).map_err(anyhow::Error::msg)?;
     let near = std::thread::scope(|s| {
         s.spawn(|| -> anyhow::Result<PathRun> {
-            let mut d = EthercatDriver::start(wire, p, rt_core::motion::RigParams::default())
+            let mut d = EthercatDriver::start(wire, p, upm_motion::RigParams::default())
                 .map_err(anyhow::Error::msg)?;
             let mut lost_before = d.health().lost_frames;
             let mut phase = histogram()?;

@@ -15,7 +15,7 @@ use iceoryx2::prelude::*;
 use ipc_types::ports::open_pub_sub;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{PartStates, monotonic_now_ns};
-use rt_core::runtime::{CoreParams, ReceiverWake, RunOptions, run_core};
+use rt_core::{CoreParams, ReceiverWake, RunOptions, run_core};
 use serde_json::{Value, json};
 
 use crate::bench_latency::{new_histogram, summary_ns as summary, summary_row};
@@ -74,7 +74,7 @@ fn raw_ping_pong(
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || -> anyhow::Result<Histogram<u64>> {
             if let EchoScheduling::LikeReceiver { priority, cpu } = echo {
-                let placed = rt_core::runtime::rt_setup::make_current_thread_realtime(priority, cpu);
+                let placed = rt_core::rt_setup::make_current_thread_realtime(priority, cpu);
                 anyhow::ensure!(placed.fifo, "the echo thread could not get SCHED_FIFO {priority}");
             }
             let mut one_way = new_histogram()?;
@@ -258,7 +258,7 @@ fn raw_event_beside_core(echo: EchoScheduling) -> anyhow::Result<RawPingPong> {
 pub fn run(seconds: f64) -> anyhow::Result<Value> {
     let rt = CoreParams::default().rt;
     // The raw references run under the idle policy the core sets for itself.
-    let raw_qos = rt.cpu_dma_latency_us.map(rt_core::runtime::rt_setup::hold_cpu_dma_latency);
+    let raw_qos = rt.cpu_dma_latency_us.map(rt_core::rt_setup::hold_cpu_dma_latency);
     let raw_held = matches!(raw_qos, Some(Ok(_)));
     let raw_event = raw_ping_pong(3_000, true, FEED_PERIOD, EchoScheduling::Normal)?;
     // The echo thread scheduled as the core's receiver is (if this process

@@ -10,7 +10,7 @@ use std::time::Duration;
 use anyhow::{Context, bail};
 use drivers::{SimConfig, Simulator};
 use hdrhistogram::Histogram;
-use rt_core::runtime::{CoreParams, RunOptions, run_core};
+use rt_core::{CoreParams, RunOptions, run_core};
 use serde_json::{Value, json};
 
 /// Percentiles in µs.

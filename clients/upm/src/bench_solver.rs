@@ -8,9 +8,9 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rt_core::runtime::alloc_count;
-use rt_core::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
+use rt_core::alloc_count;
 use serde_json::{Value, json};
+use upm_solver::{CurlConstraint, ForceConstraint, Problem, Solver, SolverCapacity, SolverParams};
 
 use crate::faer_reference;
 
@@ -31,7 +31,7 @@ fn field_matrix(centers: &[[f64; 2]], parts: &[ForceConstraint]) -> DMatrix<f64>
     let mut a = DMatrix::zeros(m, n);
     for (i, p) in parts.iter().enumerate() {
         for (j, &c) in centers.iter().enumerate() {
-            let f = rt_core::solver::field::rotation_force(1.0, MU_M_G, c, p.position);
+            let f = upm_solver::field::rotation_force(1.0, MU_M_G, c, p.position);
             a[(i, j)] = f[0] / n as f64;
             a[(parts.len() + i, j)] = f[1] / n as f64;
         }
@@ -63,7 +63,7 @@ pub fn bench_case(rows: usize, n: usize, seed: u64, k_scale: f64) -> BenchCase {
         .map(|&position| ForceConstraint {
             position,
             force: Some([0.0; 2]),
-            shape: rt_core::PartShape::Point,
+            shape: upm_solver::PartShape::Point,
         })
         .collect();
     let a = field_matrix(&centers, &parts);
@@ -87,9 +87,9 @@ pub(crate) fn percentile(sorted: &[f64], q: f64) -> f64 {
 pub(crate) fn timed_solve(
     solver: &mut Solver,
     p: &Problem<'_>,
-    sol: &mut rt_core::Solution,
+    sol: &mut upm_solver::Solution,
     allocations: &mut u64,
-) -> (Result<(), rt_core::SolveError>, f64) {
+) -> (Result<(), upm_solver::SolveError>, f64) {
     let ((r, us), n) = alloc_count::allocations_in(|| {
         let t = Instant::now();
         let r = solver.solve(p, sol);
@@ -318,7 +318,7 @@ fn bench_bounded(case: &BoundedCase, budget_s: f64) -> anyhow::Result<Value> {
     let (k_upm, saturated, iterations_cold) = (sol.k().to_vec(), sol.saturated, sol.iterations);
     let sys = solver.last_system();
     let (rows, b, m, n, eps) = (sys.rows.to_vec(), sys.b.to_vec(), sys.m, sys.n, sys.eps);
-    let sys = rt_core::LeastSquaresSystem { rows: &rows, b: &b, m, n, eps };
+    let sys = upm_solver::LeastSquaresSystem { rows: &rows, b: &b, m, n, eps };
     let objective = sys.objective(&k_upm);
     let qp = crate::bounded_reference::BoxQp::new(&sys, case.k_max);
     let k_ref = qp.solve();
@@ -333,11 +333,12 @@ fn bench_bounded(case: &BoundedCase, budget_s: f64) -> anyhow::Result<Value> {
     let (mut warm_started, mut warm_iterations) = (0usize, Vec::new());
     // A frame whose solve fails is counted, not timed.
     let mut failed = 0usize;
-    let mut time_upm = |solver: &mut Solver, p: &Problem<'_>, sol: &mut rt_core::Solution| -> Option<f64> {
-        let (r, us) = timed_solve(solver, p, sol, &mut allocations);
-        failed += usize::from(r.is_err());
-        r.ok().map(|_| us)
-    };
+    let mut time_upm =
+        |solver: &mut Solver, p: &Problem<'_>, sol: &mut upm_solver::Solution| -> Option<f64> {
+            let (r, us) = timed_solve(solver, p, sol, &mut allocations);
+            failed += usize::from(r.is_err());
+            r.ok().map(|_| us)
+        };
     const REPEATS: usize = 8;
     let started = Instant::now();
     let mut round = 0usize;

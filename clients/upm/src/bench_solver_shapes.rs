@@ -3,8 +3,8 @@
 //! (`solver/shape.rs`), so the cost the core pays for outlines is measured
 //! beside what it paid without them.
 
-use rt_core::{PartShape, Problem, Solver, SolverCapacity, SolverParams};
 use serde_json::{Value, json};
+use upm_solver::{PartShape, Problem, Solver, SolverCapacity, SolverParams};
 
 use crate::bench_solver::{MU_M_G, bench_case, percentile, timed_solve};
 

@@ -86,7 +86,7 @@ pub fn measure(
         .stderr(Stdio::null())
         .spawn()
         .context("starting upm-vision")?;
-    let pm_qos = rt_core::runtime::rt_setup::hold_cpu_dma_latency(0).ok();
+    let pm_qos = rt_core::rt_setup::hold_cpu_dma_latency(0).ok();
     let result = exchange(&mut out, &parts, &woken, frames, rounds, frame_hz, (w, h))
         .map(|l| Latency { pm_qos: pm_qos.is_some(), ..l });
     drop(pm_qos);

@@ -4,7 +4,7 @@
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
-use rt_core::LeastSquaresSystem;
+use upm_solver::LeastSquaresSystem;
 
 /// min ½‖A k − b‖² + ½ε‖k‖² s.t. |k_j| ≤ k_max, as the QP
 /// min ½ kᵀ(AᵀA + εI)k − (Aᵀb)ᵀk with [I; −I] k ≤ k_max.

@@ -4,7 +4,7 @@
 //! planner's μ·g); the simulator's `[sim]` never does.
 
 use rig_config::PlateCalibration;
-use rt_core::runtime::QueueInbox;
+use rt_core::QueueInbox;
 use upm_calibrate::{CalibrateSetup, ExciteParams, Exciter, Step};
 
 use crate::closed_loop::LoopClient;

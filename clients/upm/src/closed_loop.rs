@@ -7,8 +7,8 @@
 //! seed: used by the tests and `upm bench sort`.
 
 use ipc_types::{ForceRequest, PartStates};
-use rt_core::runtime::QueueInbox;
-use rt_core::runtime::lockstep::Lockstep;
+use rt_core::QueueInbox;
+use rt_core::lockstep::Lockstep;
 
 use crate::config::{Config, DriverChoice, SimParts};
 use crate::launcher::{CameraChoice, PartTrail, Trails};

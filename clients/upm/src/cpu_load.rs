@@ -21,7 +21,7 @@ pub struct CpuLoad {
 /// The CPUs to load: all allowed ones but `motor_cpu` (all of them on a
 /// one-CPU machine).
 pub fn other_cpus(motor_cpu: Option<usize>) -> Vec<usize> {
-    let all = rt_core::runtime::rt_setup::allowed_cpus();
+    let all = rt_core::rt_setup::allowed_cpus();
     let others: Vec<usize> = all.iter().copied().filter(|&c| Some(c) != motor_cpu).collect();
     if others.is_empty() { all } else { others }
 }
@@ -60,7 +60,7 @@ impl CpuLoad {
             let (stop, unpinned) = (stop.clone(), unpinned.clone());
             let t = std::thread::Builder::new().name(format!("upm-load-{cpu}")).spawn(move || {
                 // Unpinned, the load could land on the motor's CPU: then none.
-                if rt_core::runtime::rt_setup::pin_current_thread(cpu) {
+                if rt_core::rt_setup::pin_current_thread(cpu) {
                     burn(&stop);
                 } else {
                     unpinned.store(true, Ordering::Relaxed);

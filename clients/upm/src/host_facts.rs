@@ -67,5 +67,5 @@ pub fn to_text(v: &Value) -> String {
 /// Whether this process may hold a PM QoS request (as cyclictest, run with
 /// the same rights, does by default).
 pub fn may_hold_pm_qos() -> bool {
-    rt_core::runtime::rt_setup::hold_cpu_dma_latency(0).is_ok()
+    rt_core::rt_setup::hold_cpu_dma_latency(0).is_ok()
 }

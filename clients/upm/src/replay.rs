@@ -29,13 +29,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use drivers::IdealDriver;
 use ipc_types::{
     ExplicitSchedule, ForceRequest, PartStates, RejectedKind, Rejection, Schedule, Telemetry, WireMessage,
     service_names,
 };
-use rt_core::runtime::lockstep::Lockstep;
+use rt_core::lockstep::Lockstep;
 use serde_json::{Value, json};
+use upm_hardware::IdealDriver;
 use upm_recorder::{LogOptions, PlateView, RigLog};
 
 use crate::config::Config;

@@ -4,12 +4,12 @@
 //! limits), as the core bounds it; the output names the centers whose
 //! bound that lowered.
 
-use rt_core::motion::{PlateMotion, Rig, playable_k};
-use rt_core::runtime::{
+use upm_motion::{
     LinearizeAbout, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE,
     PartDynamics, PartDynamicsParams, PartMotion,
 };
-use rt_core::{
+use upm_motion::{PlateMotion, Rig, playable_k};
+use upm_solver::{
     CurlConstraint, ForceConstraint, PartShape, Problem, Solution, Solver, SolverCapacity, SolverParams,
 };
 
@@ -55,7 +55,7 @@ pub enum ShapeInput {
 
 impl ShapeInput {
     /// The solver's shape; the error names the problem, not the field.
-    pub fn to_shape(&self) -> Result<PartShape, rt_core::solver::ShapeError> {
+    pub fn to_shape(&self) -> Result<PartShape, upm_solver::ShapeError> {
         let s = match self {
             Self::Point => PartShape::Point,
             Self::Disc { radius } => PartShape::Disc { radius: *radius },
@@ -86,7 +86,7 @@ pub struct SolveInput {
     pub k_max: Option<f64>,
     /// Correct each part's requested force and own curl for the velocity
     /// and spin it picks up through the cycle
-    /// (`rt_core::motion::cycle_mean_twist`), and report what that model
+    /// (`upm_motion::cycle_mean_twist`), and report what that model
     /// predicts (`predicted_forces`, `predicted_curls`).
     #[serde(default)]
     pub part_dynamics: bool,
@@ -145,7 +145,7 @@ pub enum InputError {
     #[error("{path}: {message}")]
     Json { path: String, message: String },
     #[error("{0}")]
-    Solve(rt_core::SolveError),
+    Solve(upm_solver::SolveError),
     #[error("centers[{center}]: the rig cannot play any k about it within its motion and actuator limits")]
     Unplayable { center: usize },
     #[error("the validation rig: {0}")]
@@ -228,7 +228,7 @@ pub(crate) fn part_shape(p: &PartInput, i: usize) -> Result<PartShape, InputErro
 }
 
 /// Per center, the largest |k| ≤ `k_max` it can play on `setup`'s rig
-/// (`rt_core::motion::playable_k`). A center that is not a finite point is
+/// (`upm_motion::playable_k`). A center that is not a finite point is
 /// left at `k_max`: the solver refuses it by name.
 pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<f64>, InputError> {
     let mut probe = PlateMotion::new(setup.motion).map_err(|e| InputError::Rig(e.to_string()))?;
@@ -251,7 +251,7 @@ pub fn playable_bounds(input: &SolveInput, setup: &ValidateSetup) -> Result<Vec<
 
 /// Solve one input with the default capacity and parameters, each center
 /// bounded by what it can play on the validation rig. With
-/// `part_dynamics`, the core's correction (`rt_core::runtime::PartDynamics`)
+/// `part_dynamics`, the core's correction (`upm_motion::PartDynamics`)
 /// from rest, on the validation rig's drives, finely: 32 substeps, up to
 /// 8 steps, every part over its patch.
 pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
@@ -310,7 +310,7 @@ pub fn solve(input: &SolveInput) -> Result<SolveOutput, InputError> {
 
 /// Issue 25's measure of a force's error (the benches and the correction
 /// all judge a force by it).
-pub use rt_core::runtime::relative_force_error;
+pub use upm_motion::relative_force_error;
 
 pub fn to_output(s: &Solution, solve_time_us: f64) -> SolveOutput {
     SolveOutput {

@@ -56,7 +56,7 @@ fn saturated_means_unmet_and_at_bound_counts_the_centers_at_their_bound() {
     // direction: only K near the box's corner gives it.
     let bounds: Vec<f64> =
         zero["k_bounds"].as_array().expect("k_bounds").iter().filter_map(|b| b.as_f64()).collect();
-    let (most, d) = rt_core::solver::max_force_at(&centers, &bounds, 0.1, 0, 0.0, [0.5, 0.0]);
+    let (most, d) = upm_solver::max_force_at(&centers, &bounds, 0.1, 0, 0.0, [0.5, 0.0]);
     let met = ask([0.98 * most * d[0], 0.98 * most * d[1]]);
     assert!(met["at_bound"].as_u64() >= Some(1), "{met}");
     assert_eq!(met["saturated"], false, "{met}");

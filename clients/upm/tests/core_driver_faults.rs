@@ -8,9 +8,9 @@ mod common;
 use common::{PAPER_PARTS, part_states, request};
 use drivers::{SimConfig, Simulator};
 use ipc_types::{CoreCommand, CoreState, HealthCause, HealthSource};
-use rt_core::driver::{ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError};
-use rt_core::runtime::CoreParams;
-use rt_core::runtime::lockstep::Lockstep;
+use rt_core::CoreParams;
+use rt_core::lockstep::Lockstep;
+use upm_hardware::{ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError};
 
 const START_NS: u64 = 1_000_000_000;
 

@@ -8,8 +8,8 @@ mod common;
 use common::{PAPER_PARTS, part_states, request};
 use drivers::{SimConfig, Simulator};
 use ipc_types::{CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, PROTOCOL_VERSION, PartState};
-use rt_core::runtime::CoreParams;
-use rt_core::runtime::lockstep::Lockstep;
+use rt_core::CoreParams;
+use rt_core::lockstep::Lockstep;
 
 const START_NS: u64 = 1_000_000_000;
 const TICK_NS: u64 = 100_000;
@@ -328,7 +328,7 @@ fn published_k_with(part_1: PartState, params: &CoreParams) -> Vec<u64> {
 /// is the solver's answer as before; and it is deterministic.
 #[test]
 fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
-    use rt_core::runtime::LinearizeAbout;
+    use upm_motion::LinearizeAbout;
     let still = PartState::new(1, 0, 0, [0.5, 0.0, 0.0], [0.0; 3]);
     let sliding = PartState::new(1, 0, 0, [0.5, 0.0, 0.0], [0.01, -0.004, 0.0]);
     let with = |steps, about| {
@@ -354,7 +354,7 @@ fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
     // A calibration's friction for the part's class slides it harder.
     let gripping = PartState::new(1, 1, 0, [0.5, 0.0, 0.0], [0.0; 3]);
     let calibrated = CoreParams {
-        part_friction: rt_core::runtime::PartFriction::new(&[(0, 1.0), (1, 1.3)], [0.0; 5], [1.0, 0.5])
+        part_friction: upm_motion::PartFriction::new(&[(0, 1.0), (1, 1.3)], [0.0; 5], [1.0, 0.5])
             .expect("friction"),
         ..rest.clone()
     };
@@ -371,7 +371,7 @@ fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
 
 #[test]
 fn a_parts_outline_reaches_the_solver() {
-    use rt_core::solver::{ForceConstraint, PartShape, Problem, Solver, SolverCapacity, SolverParams};
+    use upm_solver::{ForceConstraint, PartShape, Problem, Solver, SolverCapacity, SolverParams};
     let point = PartState::new(1, 0, 0, [0.5, 0.0, 0.3], [0.0; 3]);
     // A large disc and a turned square: their patches feel the rotations
     // differently from a point at their centre.
@@ -418,12 +418,12 @@ fn a_parts_outline_reaches_the_solver() {
 /// tick and the pose the previous tick commanded, over the last half of
 /// `ticks`, and what the motor's feed-forward ended up taking the plate to
 /// be; on a plate 10 % heavier than the model.
-fn tracking_on_a_heavier_plate(adapt: bool, ticks: u64) -> (f64, rt_core::runtime::InertiaReport) {
+fn tracking_on_a_heavier_plate(adapt: bool, ticks: u64) -> (f64, rt_core::InertiaReport) {
     let mut truth = drivers::PlateTruth::NOMINAL;
     truth.plate_mass_error = 0.10;
     let sim = Simulator::new(SimConfig { truth, ..SimConfig::default() }, &[]).expect("sim");
     let params = CoreParams {
-        inertia_adaptation: adapt.then(rt_core::motion::InertiaParams::default),
+        inertia_adaptation: adapt.then(upm_motion::InertiaParams::default),
         ..CoreParams::default()
     };
     let mut c = Lockstep::new(&params, sim, START_NS).expect("core");

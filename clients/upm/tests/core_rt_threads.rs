@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use drivers::{PartSpec, Shape, SimConfig, Simulator};
 use ipc_types::Telemetry;
-use rt_core::runtime::{CoreParams, RtAllocCounter, RunOptions, alloc_count, run_core_with_truth};
+use rt_core::{CoreParams, RtAllocCounter, RunOptions, alloc_count, run_core_with_truth};
 
 #[global_allocator]
 static ALLOC: RtAllocCounter = RtAllocCounter;
@@ -50,7 +50,7 @@ fn rt_threads_make_no_allocations_with_part_dynamics() {
     let mut params = CoreParams { cycle_slots: 4, ..CoreParams::default() };
     params.part_dynamics.steps = 2;
     params.part_friction =
-        rt_core::runtime::PartFriction::new(&[(0, 1.2), (1, 0.8)], [0.05, -0.1, 0.0, 0.1, 0.1], [1.0, 0.5])
+        upm_motion::PartFriction::new(&[(0, 1.2), (1, 0.8)], [0.05, -0.1, 0.0, 0.1, 0.1], [1.0, 0.5])
             .expect("friction");
     rt_threads_allocate_nothing_with(params);
 }

@@ -4,9 +4,9 @@
 //! it), and the two agree to Clarabel's own accuracy (1e-6 of ½‖b‖²).
 
 use proptest::prelude::*;
-use rt_core::{Problem, SolveMethod, Solver, SolverCapacity, SolverParams};
 use upm_cli::bench_solver::bench_case;
 use upm_cli::bounded_reference::BoxQp;
+use upm_solver::{Problem, SolveMethod, Solver, SolverCapacity, SolverParams};
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]

@@ -1,6 +1,6 @@
 //! `[rt]`, `[safety]` and `[telemetry]`: how the core runs.
 
-use rt_core::runtime::{CoreParams, RtParams};
+use rt_core::{CoreParams, RtParams};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -119,8 +119,8 @@ impl RtSection {
             solver_cpu: cpu(self.solver_cpu, "rt.solver_cpu")?,
             lock_memory: self.lock_memory,
             receiver: match self.receiver {
-                Receiver::Event => rt_core::runtime::ReceiverWake::Event,
-                Receiver::Spin => rt_core::runtime::ReceiverWake::Spin,
+                Receiver::Event => rt_core::ReceiverWake::Event,
+                Receiver::Spin => rt_core::ReceiverWake::Spin,
             },
             receiver_priority: self.receiver_priority,
             isolate_motor_cpu: self.isolate_motor_cpu,
@@ -162,7 +162,7 @@ pub(super) fn ms_to_ns_or_zero(ms: f64, field: &str) -> Result<u64, String> {
 
 /// A CPU to pin to: one this process may run on (its affinity mask), or -1.
 fn cpu(c: i64, field: &str) -> Result<Option<usize>, String> {
-    let allowed = rt_core::runtime::rt_setup::allowed_cpus();
+    let allowed = rt_core::rt_setup::allowed_cpus();
     match c {
         -1 => Ok(None),
         c if c >= 0 && allowed.contains(&(c as usize)) => Ok(Some(c as usize)),

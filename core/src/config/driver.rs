@@ -3,9 +3,9 @@
 //! same EtherCAT driver over a simulated chain whose servos move the
 //! physics simulator, in process (`"ethercat-sim"`).
 
-use rt_core::driver::MAX_ACTUATORS;
 use serde::{Deserialize, Serialize};
 use upm_ethercat::{EthercatParams, ExpectedSubDevice};
+use upm_hardware::MAX_ACTUATORS;
 
 #[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]

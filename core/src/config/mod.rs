@@ -17,10 +17,10 @@ pub mod truth;
 use std::path::Path;
 
 pub use rig_config::{ConfigError, ServiceSection};
-use rt_core::motion::RigParams;
-use rt_core::runtime::CoreParams;
+use rt_core::CoreParams;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use upm_motion::RigParams;
 
 pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
 pub use driver::{DriverChoice, DriverSection, SubDeviceSection};
@@ -87,7 +87,7 @@ impl<V, P, C> CoreConfig<V, P, C> {
     /// The motor's inertia estimate, for the drives as the rig specifies
     /// them: the simulator's. EtherCAT's report forces only every
     /// `cycle_divisor` ticks, not per command, so it stays off there.
-    fn inertia_adaptation(&self) -> Result<Option<rt_core::motion::InertiaParams>, String> {
+    fn inertia_adaptation(&self) -> Result<Option<upm_motion::InertiaParams>, String> {
         let simulated = self.driver.kind == self::driver::DriverChoice::Sim;
         match (self.motion.adapt_plate_inertia, simulated) {
             (Some(false), _) | (None, false) => Ok(None),
@@ -119,12 +119,11 @@ impl<V, P, C> CoreConfig<V, P, C> {
                 };
                 c.check_rig(&identity).map_err(|e| format!("calibration.file {}: {e}", path.display()))?;
                 let classes: Vec<(u32, f64)> = c.class_friction.iter().map(|f| (f.class, f.scale)).collect();
-                let friction =
-                    rt_core::runtime::PartFriction::new(&classes, c.friction_map, c.plate_half_extent)
-                        .map_err(|e| format!("calibration.file {}: {e}", path.display()))?;
+                let friction = upm_motion::PartFriction::new(&classes, c.friction_map, c.plate_half_extent)
+                    .map_err(|e| format!("calibration.file {}: {e}", path.display()))?;
                 (Some(c.twist_correction), friction)
             }
-            None => (None, rt_core::runtime::PartFriction::UNIFORM),
+            None => (None, upm_motion::PartFriction::UNIFORM),
         };
         let params = CoreParams {
             motion: self.motion.params(&self.plate),

@@ -1,9 +1,10 @@
 //! `[plate]` and `[motion]`: the rig itself, shared by the core and the
 //! simulator.
 
-use rt_core::motion::{MotionLimits, MotionParams};
-use rt_core::runtime::{CoreParams, LinearizeAbout, PartDynamicsParams};
+use rt_core::CoreParams;
 use serde::{Deserialize, Serialize};
+use upm_motion::{LinearizeAbout, PartDynamicsParams};
+use upm_motion::{MotionLimits, MotionParams};
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
@@ -138,7 +139,7 @@ impl MotionSection {
 #[cfg(test)]
 mod tests {
     use crate::config::{ConfigError, CoreConfig};
-    use rt_core::runtime::LinearizeAbout;
+    use upm_motion::LinearizeAbout;
 
     fn parse(text: &str) -> Result<CoreConfig, ConfigError> {
         CoreConfig::parse(text, "x.toml")
@@ -167,7 +168,7 @@ mod tests {
     #[test]
     fn plate_inertia_adaptation_is_on_unless_the_file_turns_it_off() {
         let on = parse("").expect("parses").core_params("x.toml").expect("valid");
-        assert_eq!(on.inertia_adaptation, Some(rt_core::motion::InertiaParams::default()));
+        assert_eq!(on.inertia_adaptation, Some(upm_motion::InertiaParams::default()));
         let text = "[motion]\nadapt_plate_inertia = false\n";
         let off = parse(text).expect("parses").core_params("x.toml").expect("valid");
         assert_eq!(off.inertia_adaptation, None);

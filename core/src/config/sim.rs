@@ -2,8 +2,8 @@
 //! the parts on its plate.
 
 use drivers::{ActuatorModel, SimConfig};
-use rt_core::motion::RigParams;
 use serde::{Deserialize, Serialize};
+use upm_motion::RigParams;
 
 use super::truth::TruthSection;
 

@@ -7,9 +7,9 @@
 use core::fmt;
 
 use drivers::{FRICTION_MAP_TERMS, FrictionMap, PlateTruth};
-use rt_core::driver::MAX_ACTUATORS;
 use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
+use upm_hardware::MAX_ACTUATORS;
 
 /// `[sim] truth`, as written.
 #[derive(Debug, Clone, PartialEq, Serialize)]

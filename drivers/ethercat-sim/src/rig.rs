@@ -8,8 +8,8 @@
 //! not following holds its actuator where it stands (a brake).
 
 use drivers::Simulator;
-use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState};
 use upm_ethercat::{EthercatParams, Wire, WireError};
+use upm_hardware::{ActuatorCommand, PlateDriver, PlateState};
 
 use crate::chain::{Chain, FrameError};
 use crate::cia402::Servo;

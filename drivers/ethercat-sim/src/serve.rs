@@ -110,7 +110,7 @@ impl<W: Wire + Send + 'static> ChainServer<W> {
             let (wire, mute, stop, counters) = (wire.clone(), mute.clone(), stop.clone(), counters.clone());
             pair.in_namespace(move || {
                 let placed = placement.realtime.map_or(Ok(()), |(priority, cpu)| {
-                    let p = rt_core::runtime::rt_setup::make_current_thread_realtime_on(priority, cpu);
+                    let p = rt_core::rt_setup::make_current_thread_realtime_on(priority, cpu);
                     // The motor thread may wait on this thread's lock: it
                     // must be real-time too, or not run at all.
                     if p.fifo { Ok(()) } else { Err(format!("SCHED_FIFO {priority} on CPU {cpu} refused")) }

@@ -34,11 +34,11 @@ use ethercrab::{
     DcSync, MainDevice, MainDeviceConfig, PduStorage, SubDeviceGroup, SubDevicePdi, SubDeviceRef,
     SubDeviceState, Timeouts,
 };
-use rt_core::driver::{
+use upm_hardware::{
     ActuatorCommand, ActuatorLimits, BusState, DriverHealth, DriverKind, MAX_ACTUATORS, PlateDriver,
     PlateState, ReadError, WriteError, apply_limits,
 };
-use rt_core::motion::{Rig, RigParams};
+use upm_motion::{Rig, RigParams};
 
 use crate::cia402_axis::{Cia402Axis, PowerState};
 use crate::frame_pump::FramePump;

@@ -1,7 +1,7 @@
 //! UPM's EtherCAT plate driver: one CiA 402 servo drive per actuator, in
 //! cyclic synchronous position mode, through ethercrab's MainDevice.
 //!
-//! - [`EthercatDriver`]: the [`rt_core::driver::PlateDriver`]; start-up
+//! - [`EthercatDriver`]: the [`upm_hardware::PlateDriver`]; start-up
 //!   checks every SubDevice against the rig's configuration, maps and
 //!   configures the drives by SDO, brings the bus to OP and enables them;
 //! - [`Wire`]: what carries frames (a simulated chain in process, a raw

@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use rt_core::driver::MAX_ACTUATORS;
+use upm_hardware::MAX_ACTUATORS;
 
 /// A SubDevice the rig expects at a position on the bus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

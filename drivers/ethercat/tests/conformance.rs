@@ -4,10 +4,10 @@
 
 mod common;
 
-use drivers::conformance;
 use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::SimulatedRig;
 use upm_ethercat::{EthercatDriver, EthercatParams};
+use upm_hardware::conformance;
 
 fn ethercat(cycle_divisor: u32) -> EthercatDriver<SimulatedRig> {
     let parts =

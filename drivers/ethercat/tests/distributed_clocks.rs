@@ -11,8 +11,8 @@ mod common;
 use drivers::SimConfig;
 use ethercat_sim::chain::HOP_NS;
 use ethercat_sim::{ChainTime, SimulatedRig};
-use rt_core::driver::{PlateDriver, PlateState};
 use upm_ethercat::{EthercatDriver, EthercatParams};
+use upm_hardware::{PlateDriver, PlateState};
 
 fn start(distributed_clocks: bool) -> EthercatDriver<SimulatedRig> {
     let p = EthercatParams { distributed_clocks, ..common::params() };

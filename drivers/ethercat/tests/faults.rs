@@ -9,8 +9,8 @@ mod common;
 use common::params;
 use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::SimulatedRig;
-use rt_core::driver::{ActuatorCommand, BusState, PlateDriver, PlateState, ReadError};
 use upm_ethercat::{EthercatDriver, EthercatParams, ExpectedSubDevice, StartError, Wire, WireError};
+use upm_hardware::{ActuatorCommand, BusState, PlateDriver, PlateState, ReadError};
 
 fn rig(params: &EthercatParams) -> SimulatedRig {
     let parts =

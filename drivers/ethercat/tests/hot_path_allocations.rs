@@ -5,14 +5,14 @@
 
 mod common;
 
-use drivers::conformance::demo_motion;
-use drivers::playback::play;
 use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::SimulatedRig;
-use rt_core::driver::{PlateDriver, PlateState};
-use rt_core::motion::Rig;
-use rt_core::runtime::alloc_count::{RtAllocCounter, allocations_in, counter_installed};
+use rt_core::alloc_count::{RtAllocCounter, allocations_in, counter_installed};
 use upm_ethercat::EthercatDriver;
+use upm_hardware::conformance::demo_motion;
+use upm_hardware::playback::play;
+use upm_hardware::{PlateDriver, PlateState};
+use upm_motion::Rig;
 
 #[global_allocator]
 static A: RtAllocCounter = RtAllocCounter;

@@ -9,8 +9,8 @@ mod common;
 use drivers::SimConfig;
 use ethercat_sim::SimulatedRig;
 use ethercat_sim::pdo_map::PdoMap;
-use rt_core::driver::{ActuatorCommand, PlateDriver, PlateState};
 use upm_ethercat::{EthercatDriver, StartError};
+use upm_hardware::{ActuatorCommand, PlateDriver, PlateState};
 
 const RX_ALL: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x60B1_0020, 0x60B2_0010, 0x6060_0008];
 const TX_ALL: [u32; 4] = [0x6041_0010, 0x6064_0020, 0x6077_0010, 0x6061_0008];

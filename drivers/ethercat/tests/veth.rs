@@ -11,14 +11,14 @@ mod common;
 use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
-use drivers::conformance::demo_motion;
-use drivers::playback::play;
 use drivers::{PartSpec, Shape, SimConfig};
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
-use rt_core::driver::{BusState, PlateDriver, PlateState, ReadError};
-use rt_core::motion::Rig;
 use upm_ethercat::{EthercatDriver, RawSocketWire};
+use upm_hardware::conformance::demo_motion;
+use upm_hardware::playback::play;
+use upm_hardware::{BusState, PlateDriver, PlateState, ReadError};
+use upm_motion::Rig;
 
 #[test]
 fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {

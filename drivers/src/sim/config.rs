@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use rt_core::motion::{InertiaParams, PlateFollow, RigParams};
+use upm_motion::{InertiaParams, PlateFollow, RigParams};
 
 use super::truth::{PlateTruth, TruthError};
 

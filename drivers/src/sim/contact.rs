@@ -6,7 +6,7 @@
 //! rebuilt when any part has moved SKIN/2 since the last build, so the
 //! per-tick cost is O(parts) when parts are apart.
 
-use rt_core::motion::{Pose, Twist};
+use upm_motion::{Pose, Twist};
 
 use super::lanes::{Group, Lanes, W};
 use super::part::{Body, PartState};

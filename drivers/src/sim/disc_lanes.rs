@@ -166,7 +166,7 @@ mod tests {
     use crate::sim::lanes::{LaneKind, Lanes};
     use crate::sim::part::{PartSpec, PartState, Shape};
     use proptest::prelude::*;
-    use rt_core::motion::Twist;
+    use upm_motion::Twist;
 
     const MU: Coulomb = Coulomb { kinetic: 0.25 * 9.81, stat: 0.3 * 9.81 };
 

@@ -22,11 +22,11 @@ use core::fmt;
 
 use multiversion::multiversion;
 
-use rt_core::driver::{
+use upm_hardware::{
     ActuatorCommand, ActuatorLimits, MAX_ACTUATORS, PlateDriver, PlateState, ReadError, WriteError,
     apply_limits,
 };
-use rt_core::motion::{Pose, Rig, RigError, Twist};
+use upm_motion::{Pose, Rig, RigError, Twist};
 
 pub use config::{ActuatorModel, SimConfig, SimConfigError};
 pub use part::{MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartState, Shape};

@@ -1,7 +1,7 @@
 //! The plate and its actuator model.
 
-use rt_core::driver::{ActuatorCommand, MAX_ACTUATORS};
-use rt_core::motion::{Pose, Rig, Twist, sin_cos};
+use upm_hardware::{ActuatorCommand, MAX_ACTUATORS};
+use upm_motion::{Pose, Rig, Twist, sin_cos};
 
 use super::config::ActuatorModel;
 use crate::rng::SplitMix64;

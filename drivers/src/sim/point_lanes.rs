@@ -8,7 +8,7 @@
 
 use super::friction::{self, Coulomb};
 use super::lanes::{Group, W};
-use rt_core::motion::Twist;
+use upm_motion::Twist;
 
 /// Plate state held constant over one substep.
 #[derive(Debug, Clone, Copy)]

@@ -22,8 +22,8 @@
 
 use core::fmt;
 
-use rt_core::driver::MAX_ACTUATORS;
-use rt_core::motion::{Pose, Rig, RigParams, Twist};
+use upm_hardware::MAX_ACTUATORS;
+use upm_motion::{Pose, Rig, RigParams, Twist};
 
 use crate::rng::SplitMix64;
 

@@ -1,5 +1,5 @@
 use clap::Parser;
-use rt_core::runtime::RtAllocCounter;
+use rt_core::RtAllocCounter;
 
 // Counts allocations on threads marked real-time (`upm bench` reports them).
 #[global_allocator]

@@ -179,7 +179,7 @@ pub fn run_plan(
     if let Some(cpu) = plan.config.cpu_to_avoid() {
         // The observer and progress bar need no RT CPU (the core, started
         // above, has taken the full set with it).
-        let _ = rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+        let _ = rt_core::rt_setup::keep_current_thread_off(cpu);
     }
     // Wait until the core is up before starting its clients.
     let up = Instant::now();
@@ -504,7 +504,7 @@ fn planner_json(config: &Config, stats: &Path, trails: &Trails) -> Value {
     else {
         return Value::Null;
     };
-    let count = rt_core::motion::RigParams::default().count;
+    let count = upm_motion::RigParams::default().count;
     let truth = config.sim.truth.resolve(count, config.plate.half_extent).ok();
     if let (Some(truth), Some(list)) = (truth, v["friction_estimates"].as_array_mut()) {
         for e in list {

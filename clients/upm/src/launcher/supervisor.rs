@@ -119,7 +119,7 @@ impl Supervised {
             // affinity syscalls on a stack cpu_set_t; it allocates nothing.
             unsafe {
                 cmd.pre_exec(move || {
-                    let _ = rt_core::runtime::rt_setup::keep_current_thread_off(cpu);
+                    let _ = rt_core::rt_setup::keep_current_thread_off(cpu);
                     Ok(())
                 });
             }

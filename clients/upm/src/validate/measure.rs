@@ -1,17 +1,17 @@
 //! Play a solved schedule on the simulator and measure average forces/curls.
 
 use anyhow::{Context, anyhow};
-use drivers::playback::play_estimating;
 use drivers::rng::SplitMix64;
 use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
-use rt_core::driver::PlateState;
-use rt_core::motion::{InertiaEstimate, MotionParams, PlateMotion, Rig};
+use upm_hardware::PlateState;
+use upm_hardware::playback::play_estimating;
+use upm_motion::{InertiaEstimate, MotionParams, PlateMotion, Rig};
 
 use crate::solve_json::SolveInput;
-use rt_core::PartShape;
+use upm_solver::PartShape;
 
 // Every shape the solver accepts, the simulator can hold.
-const _: () = assert!(rt_core::solver::MAX_SHAPE_VERTICES <= drivers::sim::MAX_POLYGON_VERTICES);
+const _: () = assert!(upm_solver::MAX_SHAPE_VERTICES <= drivers::sim::MAX_POLYGON_VERTICES);
 
 /// Radius of the disc used where a curl is measured (m).
 pub const DISC_RADIUS: f64 = 0.05;
@@ -32,7 +32,7 @@ pub struct ValidateSetup {
     /// A plate calibration's twist correction the motion is played through.
     pub twist_correction: Option<[[f64; 3]; 3]>,
     /// As the core does (`[motion] adapt_plate_inertia`): the feed-forward
-    /// follows `rt_core::motion::InertiaEstimate`, after this many cycles
+    /// follows `upm_motion::InertiaEstimate`, after this many cycles
     /// of the schedule played first to let it settle; None: the model's
     /// feed-forward, no warm-up.
     pub inertia_warmup: Option<usize>,

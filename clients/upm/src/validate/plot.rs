@@ -4,7 +4,7 @@
 
 use anyhow::anyhow;
 use plotters::prelude::*;
-use rt_core::solver::field::cycle_force;
+use upm_solver::field::cycle_force;
 
 use super::Measured;
 use crate::solve_json::SolveInput;
