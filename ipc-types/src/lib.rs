@@ -33,6 +33,8 @@ mod force_request;
 mod header;
 mod health;
 mod latency_percentiles;
+#[cfg(feature = "iceoryx2")]
+mod node_list;
 pub mod part_shape;
 mod part_states;
 #[cfg(feature = "iceoryx2")]

@@ -105,7 +105,7 @@ pub fn files_open_to_others(prefix: &str) -> Vec<(String, u32)> {
 pub fn remove_prefix_segment(prefix: &str) -> bool {
     let Ok(config) = config_with_prefix(prefix) else { return false };
     // Every live node counts (dead nodes' files are cleaned up on the way).
-    if !crate::discovery::live_nodes(prefix, "").is_ok_and(|nodes| nodes.is_empty()) {
+    if !crate::node_list::live_nodes(prefix, "").is_ok_and(|nodes| nodes.is_empty()) {
         return false;
     }
     // SAFETY: no node on this prefix is alive (checked just above); the

@@ -1,13 +1,10 @@
 //! Where the solver thread's messages come from: iceoryx2 in the real
 //! process, an in-memory queue in lock-step runs. Either way a message is
-//! copied into a preallocated buffer and handed to the [`SolveStage`].
+//! copied into a preallocated buffer and handed to the solve stage.
 
 use std::collections::VecDeque;
 
 use ipc_types::{CoreCommand, ExplicitSchedule, ForceRequest, PartStates};
-
-use super::clock::Clock;
-use super::solve_stage::SolveStage;
 
 /// Which buffer `Inbox::next` filled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,30 +43,6 @@ impl Default for InboxBuffers {
 pub trait Inbox {
     /// Copy the next pending message into `buf`; `None` when nothing waits.
     fn next(&mut self, buf: &mut InboxBuffers) -> Option<Inbound>;
-}
-
-/// Hand every pending message to `stage`; returns how many were handled.
-/// Part states go first within a poll so a request sees the newest poses.
-pub fn drain<I: Inbox, C: Clock>(
-    inbox: &mut I,
-    stage: &mut SolveStage,
-    buf: &mut InboxBuffers,
-    clock: &C,
-) -> usize {
-    let mut handled = 0;
-    while let Some(kind) = inbox.next(buf) {
-        let now = clock.now_ns();
-        let received = if buf.received_ns == 0 { now } else { buf.received_ns.min(now) };
-        // Rejections are counted inside the stage; the reason is not needed here.
-        let _ = match kind {
-            Inbound::PartStates => stage.on_part_states(&buf.parts, received, now).map_err(|_| ()),
-            Inbound::Request => stage.on_request(&buf.request, now, &|| clock.now_ns()).map_err(|_| ()),
-            Inbound::Explicit => stage.on_explicit(&buf.explicit, now).map_err(|_| ()),
-            Inbound::Command => stage.on_command(&buf.command, now).map_err(|_| ()),
-        };
-        handled += 1;
-    }
-    handled
 }
 
 /// In-memory inbox for lock-step runs and tests (allocates when pushed to,

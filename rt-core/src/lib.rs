@@ -36,8 +36,7 @@ pub use clock::{Clock, ManualClock, MonotonicClock};
 pub use doorbell::Doorbell;
 pub use handoff::{MotionReader, MotionWriter, StagedMotion, motion_handoff};
 pub use inbox::{
-    INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, Received, RingInbox, drain,
-    forward,
+    INBOUND_RING, Inbound, InboundMessage, Inbox, InboxBuffers, QueueInbox, Received, RingInbox, forward,
 };
 pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};

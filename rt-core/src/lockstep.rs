@@ -9,7 +9,7 @@ use ipc_types::{Rejection, Schedule, Telemetry};
 
 use super::clock::{Clock, ManualClock};
 use super::handoff::{StagedMotion, motion_handoff};
-use super::inbox::{InboxBuffers, QueueInbox, drain};
+use super::inbox::{InboxBuffers, QueueInbox};
 use super::latency::LatencyHistograms;
 use super::motor::{MotorLoop, MotorPolicy};
 use super::params::{CoreParams, CoreParamsError};
@@ -50,7 +50,7 @@ impl<D: PlateDriver> Lockstep<D> {
         let shared = Arc::new(CoreShared::new());
         let (motor_tx, motor_rx) = rtrb::RingBuffer::new(MOTOR_RING);
         let (out, outputs) = StageOutputs::rings();
-        let k_bounds = super::solve_stage::playable_k_bounds(params, &rig)?;
+        let k_bounds = super::params::playable_k_bounds(params, &rig)?;
         let stage = SolveStage::new(params, rig.clone(), k_bounds, writer, shared.clone(), out)?;
         let motor =
             MotorLoop::new(driver, rig, reader, shared.clone(), motor_tx, MotorPolicy::from_params(params));
@@ -114,7 +114,7 @@ impl<D: PlateDriver> Lockstep<D> {
     /// recorded message at the instant the recorded core handled it.
     pub fn handle_at(&mut self, now_ns: u64) -> usize {
         self.clock.sleep_until(now_ns);
-        let handled = drain(&mut self.inbox, &mut self.stage, &mut self.buf, &self.clock);
+        let handled = self.stage.drain(&mut self.inbox, &mut self.buf, &self.clock);
         self.collect();
         handled
     }
@@ -128,7 +128,7 @@ impl<D: PlateDriver> Lockstep<D> {
         for _ in 0..ticks {
             let now = self.clock.now_ns();
             if now >= self.next_poll_ns {
-                drain(&mut self.inbox, &mut self.stage, &mut self.buf, &self.clock);
+                self.stage.drain(&mut self.inbox, &mut self.buf, &self.clock);
                 self.next_poll_ns = now + self.poll_ns;
             }
             self.motor.tick(now);

@@ -275,7 +275,7 @@ impl CoreParams {
     /// the bound on |k| the core will actually use.
     pub fn playable_k_bounds(&self) -> Result<Vec<f64>, CoreParamsError> {
         self.validate()?;
-        super::solve_stage::playable_k_bounds(self, &self.plate_rig()?)
+        playable_k_bounds(self, &self.plate_rig()?)
     }
 
     /// The rig the motor commands: `rig`, through the calibration's
@@ -292,6 +292,27 @@ impl CoreParams {
     pub fn tick_ns(&self) -> u64 {
         (1e9 / self.motion.tick_hz).round() as u64
     }
+}
+
+/// Per center, the largest |k| ≤ `motion.k_max` it can play within the
+/// motion limits and the actuators' stroke, velocity and force limits
+/// ([`playable_k`]). Slots are independent (each tick belongs to one slot),
+/// so a schedule whose every |k_j| is within its center's bound passes
+/// [`Rig::check_motion`]. Bisection, at start-up only.
+pub(crate) fn playable_k_bounds(
+    params: &CoreParams,
+    rig: &upm_motion::Rig,
+) -> Result<Vec<f64>, CoreParamsError> {
+    let mut probe = upm_motion::PlateMotion::new(params.motion).map_err(CoreParamsError::Motion)?;
+    let bounds: Vec<f64> = params
+        .centers
+        .iter()
+        .map(|&c| upm_motion::playable_k(&mut probe, rig, c, params.motion.k_max))
+        .collect();
+    if let Some(center) = bounds.iter().position(|&k| k.is_nan() || k <= 0.0) {
+        return Err(CoreParamsError::Unplayable { center });
+    }
+    Ok(bounds)
 }
 
 #[cfg(test)]

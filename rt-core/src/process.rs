@@ -180,7 +180,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     // hands it to every later subscriber, on the publisher's next
     // update_connections (the io loop's every pass).
     let rig = params.plate_rig().map_err(StartError::Params)?;
-    let k_bounds = super::solve_stage::playable_k_bounds(params, &rig).map_err(StartError::Params)?;
+    let k_bounds = super::params::playable_k_bounds(params, &rig).map_err(StartError::Params)?;
     let rig_info_pub =
         ipc_types::ports::publisher::<RigInfo>(&node, service_names::RIG_INFO).map_err(StartError::Port)?;
     let info = super::rig_info::rig_info(params, &k_bounds, &options.prefix, options.vision_frame_hz);

@@ -16,12 +16,12 @@ use ipc_types::{
 
 use super::clock::Clock;
 use super::handoff::MotionWriter;
-use super::inbox::{Inbox, InboxBuffers, drain};
+use super::inbox::{Inbound, Inbox, InboxBuffers};
 use super::params::CoreParams;
 use super::samples::{SolverSample, StageOutputs};
 use super::shared::CoreShared;
 use upm_motion::PartFriction;
-use upm_motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry, playable_k};
+use upm_motion::{MAX_SLOTS, MotionError, PlateMotion, Rig, RigError, ScheduleEntry};
 use upm_motion::{PartDynamics, PartMotion, fill_entries};
 use upm_solver::{
     CurlConstraint, ForceConstraint, PartShape, Problem, Solution, SolveError, Solver, SolverCapacity,
@@ -214,9 +214,28 @@ impl SolveStage {
         while !shared.stop.load(Relaxed) {
             before_each();
             let seen = shared.solver_doorbell.seen();
-            drain(inbox, self, buf, clock);
+            self.drain(inbox, buf, clock);
             shared.solver_doorbell.wait(seen, IDLE_NS);
         }
+    }
+
+    /// Handle every pending message; returns how many were handled.
+    /// Part states go first within a poll so a request sees the newest poses.
+    pub fn drain<I: Inbox, C: Clock>(&mut self, inbox: &mut I, buf: &mut InboxBuffers, clock: &C) -> usize {
+        let mut handled = 0;
+        while let Some(kind) = inbox.next(buf) {
+            let now = clock.now_ns();
+            let received = if buf.received_ns == 0 { now } else { buf.received_ns.min(now) };
+            // Rejections are counted inside the stage; the reason is not needed here.
+            let _ = match kind {
+                Inbound::PartStates => self.on_part_states(&buf.parts, received, now).map_err(|_| ()),
+                Inbound::Request => self.on_request(&buf.request, now, &|| clock.now_ns()).map_err(|_| ()),
+                Inbound::Explicit => self.on_explicit(&buf.explicit, now).map_err(|_| ()),
+                Inbound::Command => self.on_command(&buf.command, now).map_err(|_| ()),
+            };
+            handled += 1;
+        }
+        handled
     }
 
     /// Build with every buffer the stage will ever use. `k_bounds` holds
@@ -551,22 +570,4 @@ impl SolveStage {
         self.writer.publish();
         Ok(())
     }
-}
-
-/// Per center, the largest |k| ≤ `motion.k_max` it can play within the
-/// motion limits and the actuators' stroke, velocity and force limits
-/// ([`playable_k`]). Slots are independent (each tick belongs to one slot),
-/// so a schedule whose every |k_j| is within its center's bound passes
-/// [`Rig::check_motion`]. Bisection, at start-up only.
-pub(crate) fn playable_k_bounds(
-    params: &CoreParams,
-    rig: &Rig,
-) -> Result<Vec<f64>, super::params::CoreParamsError> {
-    let mut probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
-    let bounds: Vec<f64> =
-        params.centers.iter().map(|&c| playable_k(&mut probe, rig, c, params.motion.k_max)).collect();
-    if let Some(center) = bounds.iter().position(|&k| k.is_nan() || k <= 0.0) {
-        return Err(super::params::CoreParamsError::Unplayable { center });
-    }
-    Ok(bounds)
 }

@@ -32,7 +32,7 @@
 //! their rows are the rotation's friction averaged over the part's contact
 //! patch, at rest (`shape.rs`), not the field at the centre; a point keeps
 //! the paper's rows bit for bit. A part's own motion is corrected for
-//! around the solver, not in it (`runtime::PartDynamics`).
+//! around the solver, not in it (`upm_motion::PartDynamics`).
 //!
 //! **Per-center bounds** (`Problem::k_bounds`, what each rotation can play
 //! on the rig): by a change of variable. Column j of A is scaled by s_j =

@@ -23,7 +23,7 @@
 //!
 //! **Limits:** the part is taken at rest; a sliding part's own velocity
 //! (which makes the drag anisotropic) is not in these rows — the solve
-//! stage's part-dynamics correction (`runtime::PartDynamics`) adds it
+//! stage's part-dynamics correction (`upm_motion::PartDynamics`) adds it
 //! around the solve, linearized about the reported state. A disc is
 //! pressed uniformly; a polygon at its fan's edge midpoints.
 

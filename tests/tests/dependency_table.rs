@@ -209,8 +209,19 @@ fn the_table_in_architecture_md_is_what_the_manifests_say() {
 fn the_controllers_crates_cannot_reach_the_simulator() {
     let graph = workspace_graph(&workspace());
     assert!(reaches(&graph, "upm-cli", "drivers"), "the check must see the launcher link the simulator");
-    for controller in ["rt-core", "ipc-types", "upm-rig-config", "upm-vision", "upm-planner", "upm-calibrate"]
-    {
+    let controllers = [
+        "upm-solver",
+        "upm-motion",
+        "upm-hardware",
+        "rt-core",
+        "ipc-types",
+        "upm-rig-config",
+        "upm-stats",
+        "upm-vision",
+        "upm-planner",
+        "upm-calibrate",
+    ];
+    for controller in controllers {
         assert!(graph.contains_key(controller), "{controller} is not a workspace package");
         assert!(
             !reaches(&graph, controller, "drivers"),
@@ -230,4 +241,43 @@ fn the_core_links_no_client_and_none_of_the_tools_crates() {
     assert!(core.contains("rt-core") && core.contains("iceoryx2"), "{core:?}");
     let found: Vec<&&str> = NOT_IN_THE_CORE.iter().filter(|n| core.contains(**n)).collect();
     assert!(found.is_empty(), "upm-core links {found:?}");
+}
+
+/// What the model crates must not link: the transport and the RT runtime.
+const NOT_IN_THE_MODEL: [&str; 7] =
+    ["iceoryx2", "thread-priority", "triple_buffer", "rtrb", "hdrhistogram", "rt-core", "upm-hardware"];
+
+#[test]
+fn the_model_is_pure() {
+    let packages = workspace();
+    let ws = toml_at(&Path::new(ROOT).join("Cargo.toml"));
+    let shared = ws["workspace"]["dependencies"].as_table().expect("[workspace.dependencies]");
+    // ipc-types' transport is a default feature: the workspace's entry must
+    // switch defaults off, or every dependent gets iceoryx2 with it.
+    assert_eq!(
+        shared["ipc-types"].get("default-features").and_then(toml::Value::as_bool),
+        Some(false),
+        "the workspace's ipc-types entry must say default-features = false"
+    );
+    for model in ["upm-solver", "upm-motion"] {
+        let ours = closure(&workspace_graph(&packages), [model.to_owned()]);
+        for p in &ours {
+            if p == "ipc-types" {
+                continue;
+            }
+            let manifest = toml_at(&Path::new(ROOT).join(&packages[p].dir).join("Cargo.toml"));
+            let deps = manifest["dependencies"].as_table().expect("[dependencies]");
+            if let Some(entry) = deps.get("ipc-types") {
+                let features =
+                    entry.get("features").and_then(toml::Value::as_array).cloned().unwrap_or_default();
+                assert!(
+                    !features.iter().any(|f| f.as_str() == Some("iceoryx2")),
+                    "{p} (linked by {model}) turns on ipc-types' iceoryx2"
+                );
+            }
+            let found: Vec<&&str> =
+                NOT_IN_THE_MODEL.iter().filter(|n| packages[p].normal.contains(**n)).collect();
+            assert!(found.is_empty(), "{p} (linked by {model}) depends on {found:?}");
+        }
+    }
 }

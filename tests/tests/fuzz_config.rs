@@ -8,8 +8,8 @@
 use drivers::Simulator;
 use proptest::prelude::*;
 use rt_core::lockstep::Lockstep;
-use upm_cli::config::Config;
-use upm_cli::scenario::Scenario;
+use upm_commands::config::Config;
+use upm_commands::scenario::Scenario;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 const PATH: &str = "fuzz.toml";
@@ -136,8 +136,8 @@ fn validate(text: &str) -> Result<Option<Config>, TestCaseError> {
         config.core_params(PATH).map(drop),
         config.sim_config(PATH).map(drop),
         config.sim_parts(PATH).map(drop),
-        config.vision.params().map(drop).map_err(|m| upm_cli::config::ConfigError::invalid(PATH, m)),
-        config.planner.build().map(drop).map_err(|m| upm_cli::config::ConfigError::invalid(PATH, m)),
+        config.vision.params().map(drop).map_err(|m| upm_commands::config::ConfigError::invalid(PATH, m)),
+        config.planner.build().map(drop).map_err(|m| upm_commands::config::ConfigError::invalid(PATH, m)),
     ] {
         if let Err(e) = verdict {
             one_line(&e)?;

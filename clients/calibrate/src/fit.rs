@@ -94,11 +94,7 @@ pub struct RigModel {
 }
 
 fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    upm_stats::median(v).unwrap_or(f64::NAN)
 }
 
 /// Indices to keep: |r| within 3 scaled MADs (and at least `floor`).

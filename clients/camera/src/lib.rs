@@ -10,6 +10,7 @@ pub mod files;
 pub mod live;
 #[cfg(feature = "genicam")]
 mod live_genicam;
+mod live_stats;
 #[cfg(feature = "v4l2")]
 mod live_v4l2;
 pub mod render;

@@ -18,7 +18,7 @@ use iceoryx2::prelude::*;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{FrameHeader, monotonic_now_ns};
 
-use crate::live::LiveStats;
+use crate::live_stats::LiveStats;
 
 /// Buffers Aravis fills ahead of us.
 const BUFFERS: usize = 4;

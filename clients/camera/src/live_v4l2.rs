@@ -18,7 +18,7 @@ use v4l::io::traits::CaptureStream;
 use v4l::video::Capture;
 use v4l::{Device, FourCC};
 
-use crate::live::LiveStats;
+use crate::live_stats::LiveStats;
 
 /// Buffers the driver fills ahead of us.
 const BUFFERS: u32 = 4;

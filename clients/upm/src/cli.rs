@@ -1,20 +1,10 @@
 //! The `upm` command line (ARCHITECTURE.md §7). Parsing only; each subcommand's
 //! work lives in its own module.
 
-use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use anyhow::Context;
 use clap::{Parser, Subcommand};
-
-/// An error with its own exit status (1 for every other error); an empty
-/// message prints nothing (the command said it already).
-#[derive(Debug, thiserror::Error)]
-#[error("{message}")]
-pub struct Exit {
-    pub code: u8,
-    pub message: String,
-}
+pub use upm_commands::exit::Exit;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -120,15 +110,15 @@ pub enum Command {
         /// ground truth with noise, a fast test double) or `rendered` (a
         /// rendered camera process publishing frames, and vision's image
         /// pipeline).
-        #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
-        camera: crate::launcher::CameraChoice,
+        #[arg(long, value_enum, default_value_t = upm_commands::launcher::CameraChoice::Truth)]
+        camera: upm_commands::launcher::CameraChoice,
         /// What moves the plate, instead of the scenario's `[driver]`:
         /// `sim` (the physics simulator), `ethercat-sim` (the EtherCAT
         /// driver over a simulated chain of CiA 402 drives whose servos
         /// move the simulator, in process) or `ethercat` (drives on
         /// `driver.interface`).
         #[arg(long, value_enum)]
-        driver: Option<crate::config::DriverChoice>,
+        driver: Option<upm_commands::config::DriverChoice>,
         /// Do not record the run (by default upm-recorder writes every
         /// message to OUT/run.mcap).
         #[arg(long)]
@@ -182,12 +172,12 @@ pub enum Command {
         baseline: String,
         /// sort: what the planner sees (`rendered`: rendered frames through
         /// vision's pipeline, in the same process).
-        #[arg(long, value_enum, default_value_t = crate::launcher::CameraChoice::Truth)]
-        camera: crate::launcher::CameraChoice,
+        #[arg(long, value_enum, default_value_t = upm_commands::launcher::CameraChoice::Truth)]
+        camera: upm_commands::launcher::CameraChoice,
         /// sort: what moves the plate, instead of the scenario's `[driver]`
         /// (`ethercat-sim`: the EtherCAT driver over the simulated chain).
         #[arg(long, value_enum)]
-        driver: Option<crate::config::DriverChoice>,
+        driver: Option<upm_commands::config::DriverChoice>,
         /// sort: the simulated plate's hidden truth (`nominal`, `worn`,
         /// `random:SEED`), instead of the scenarios' `[sim] truth`.
         #[arg(long)]
@@ -338,28 +328,17 @@ pub enum BenchTarget {
 fn rig_prefix(prefix: Option<String>, config: Option<PathBuf>) -> anyhow::Result<String> {
     match (prefix, config) {
         (Some(p), _) => Ok(p),
-        (None, Some(c)) => Ok(crate::config::Config::load(&c)?.service.prefix),
-        (None, None) => crate::status::discover_prefix(),
-    }
-}
-
-/// Read a file, or stdin for `-`.
-pub fn read_input(path: &Path) -> anyhow::Result<String> {
-    if path == Path::new("-") {
-        let mut s = String::new();
-        std::io::stdin().read_to_string(&mut s).context("reading stdin")?;
-        Ok(s)
-    } else {
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))
+        (None, Some(c)) => Ok(upm_commands::config::Config::load(&c)?.service.prefix),
+        (None, None) => upm_commands::status::discover_prefix(),
     }
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Solve { file } => {
-            let text = read_input(&file)?;
-            let input = crate::solve_json::parse(&text)?;
-            let out = crate::solve_json::solve(&input)?;
+            let text = upm_commands::input::read_input(&file)?;
+            let input = upm_commands::solve_json::parse(&text)?;
+            let out = upm_commands::solve_json::solve(&input)?;
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }
@@ -397,8 +376,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             monitor,
             json,
         } => {
-            let path = crate::scenario::resolve(&scenario);
-            let sc = crate::scenario::Scenario::load(&path)?;
+            let path = upm_commands::scenario::resolve(&scenario);
+            let sc = upm_commands::scenario::Scenario::load(&path)?;
             let seed = seed.unwrap_or(sc.seed);
             let duration_s = match duration {
                 Some(d) if d.is_finite() && d > 0.0 => d,
@@ -411,7 +390,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 config.driver.kind = kind;
             }
             if let Some(t) = truth {
-                config.sim.truth = crate::config::truth::TruthSection::Preset(t);
+                config.sim.truth = upm_commands::config::truth::TruthSection::Preset(t);
             }
             if adapt {
                 config.planner.drive_mut().adapt_friction = true;
@@ -422,9 +401,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             // Every section, as each process will check its own: a bad one
             // stops the run here, not in a client restarted over and over.
-            crate::config::validate(&config, &path.display().to_string())?;
-            let round = |p: &crate::config::SimPartSection| matches!(p.shape.as_str(), "disc" | "point");
-            if camera == crate::launcher::CameraChoice::Rendered
+            upm_commands::config::validate(&config, &path.display().to_string())?;
+            let round =
+                |p: &upm_commands::config::SimPartSection| matches!(p.shape.as_str(), "disc" | "point");
+            if camera == upm_commands::launcher::CameraChoice::Rendered
                 && config.planner.name() == "spin"
                 && config.sim.parts.iter().any(round)
             {
@@ -434,7 +414,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 );
             }
             eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");
-            let plan = crate::launcher::RunPlan {
+            let plan = upm_commands::launcher::RunPlan {
                 scenario: sc.name.clone(),
                 seed,
                 duration_s,
@@ -450,19 +430,19 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             if let Some(port) = monitor {
                 eprintln!("upm run: live view on ws://127.0.0.1:{port} (Foxglove: open connection)");
             }
-            let outcome = crate::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
+            let outcome = upm_commands::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             ipc_types::rig_node::remove_prefix_segment(&prefix);
             let outcome = outcome?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&outcome.metrics)?);
             } else {
-                println!("{}", crate::launcher::summary::summary(&outcome.metrics, &out, !no_record));
+                println!("{}", upm_commands::launcher::summary::summary(&outcome.metrics, &out, !no_record));
             }
             Ok(())
         }
         Command::Recorder(args) => upm_recorder::args::run_recorder_process(args),
         Command::Replay { file, planner, out, json } => {
-            crate::replay::run_command(&file, planner.as_deref(), &out, json)
+            upm_commands::replay::run_command(&file, planner.as_deref(), &out, json)
         }
         Command::Monitor { prefix, config, port } => {
             let prefix = Some(rig_prefix(prefix, config.clone())?);
@@ -498,37 +478,43 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
                 (BenchTarget::Solver, Some(file)) => {
-                    let (v, b) = crate::bench_solver::run_problems(&file, quick)?;
+                    let (v, b) = upm_bench::bench_solver::run_problems(&file, quick)?;
                     bad = b;
-                    (v, crate::bench_solver::bounded_text)
+                    (v, upm_bench::bench_solver::bounded_text)
                 }
                 (_, Some(_)) => anyhow::bail!("--problems applies to `upm bench solver` only"),
                 (BenchTarget::Solver, None) => {
-                    (crate::bench_solver::run(quick)?, crate::bench_solver::to_text)
+                    (upm_bench::bench_solver::run(quick)?, upm_bench::bench_solver::to_text)
                 }
                 (BenchTarget::Latency, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (
-                        crate::bench_latency::run_with_plot(s, rounds, plot.as_deref(), stress)?,
-                        crate::bench_latency::to_text,
+                        upm_bench::bench_latency::run_with_plot(s, rounds, plot.as_deref(), stress)?,
+                        upm_bench::bench_latency::to_text,
                     )
                 }
                 (BenchTarget::Ipc, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
-                    (crate::bench_ipc::run(s)?, crate::bench_ipc::to_text)
+                    (upm_bench::bench_ipc::run(s)?, upm_bench::bench_ipc::to_text)
                 }
                 (BenchTarget::Calibration, None) => {
                     let cases = if quick { cases.min(2) } else { cases };
-                    (crate::bench_calibration::run(cases, seed, quick)?, crate::bench_calibration::to_text)
+                    (
+                        upm_bench::bench_calibration::run(cases, seed, quick)?,
+                        upm_bench::bench_calibration::to_text,
+                    )
                 }
                 (BenchTarget::Fidelity, None) => {
                     let cases = if quick { cases.min(3) } else { cases };
                     let loop_seeds = if quick { 1 } else { 3 };
-                    (crate::bench_fidelity::run(cases, seed, loop_seeds)?, crate::bench_fidelity::to_text)
+                    (
+                        upm_bench::bench_fidelity::run(cases, seed, loop_seeds)?,
+                        upm_bench::bench_fidelity::to_text,
+                    )
                 }
                 (BenchTarget::Sort, None) => {
                     // --quick: 30 simulated seconds per seed.
-                    let b = crate::bench_sort::SortBench {
+                    let b = upm_bench::bench_sort::SortBench {
                         scenario,
                         baseline: (baseline != "none").then_some(baseline),
                         seeds,
@@ -538,18 +524,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         driver,
                         truth,
                     };
-                    (crate::bench_sort::run(&b)?, crate::bench_sort::to_text)
+                    (upm_bench::bench_sort::run(&b)?, upm_bench::bench_sort::to_text)
                 }
                 (BenchTarget::Vision, None) => {
-                    (crate::bench_vision::run(quick)?, crate::bench_vision::to_text)
+                    (upm_bench::bench_vision::run(quick)?, upm_bench::bench_vision::to_text)
                 }
                 (BenchTarget::Record, None) => {
                     let (s, r) = if quick { (seconds.min(5.0), 1) } else { (seconds, rounds) };
-                    (crate::bench_record::run(s, r)?, crate::bench_record::to_text)
+                    (upm_bench::bench_record::run(s, r)?, upm_bench::bench_record::to_text)
                 }
                 (BenchTarget::Ethercat, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
-                    (crate::bench_ethercat::run(s)?, crate::bench_ethercat::to_text)
+                    (upm_bench::bench_ethercat::run(s)?, upm_bench::bench_ethercat::to_text)
                 }
             };
             if json {
@@ -566,24 +552,24 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             if !(minutes.is_finite() && minutes > 0.0) {
                 anyhow::bail!("--minutes must be a positive number, got {minutes}");
             }
-            let plan = crate::soak::SoakPlan {
+            let plan = upm_commands::soak::SoakPlan {
                 minutes,
                 seed,
                 out,
                 kill_every_s: (20.0, 60.0),
                 core_kill_every_s: 600.0,
             };
-            let v = crate::soak::run(&plan)?;
+            let v = upm_commands::soak::run(&plan)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
-                println!("{}", crate::soak::to_text(&v));
+                println!("{}", upm_commands::soak::to_text(&v));
             }
             Ok(())
         }
         Command::Resume { prefix, config } => {
             let prefix = rig_prefix(prefix, config)?;
-            crate::status::send_resume(&prefix)?;
+            upm_commands::status::send_resume(&prefix)?;
             eprintln!(
                 "upm resume: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it"
             );
@@ -614,7 +600,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let scenario = scenario.unwrap_or_else(|| "calibrate".into());
             let out = out.unwrap_or_else(|| "plate-calibration.toml".into());
-            crate::calibrate_plate::command(&crate::calibrate_plate::PlateArgs {
+            upm_commands::calibrate_plate::command(&upm_commands::calibrate_plate::PlateArgs {
                 config,
                 prefix,
                 scenario,
@@ -645,14 +631,16 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             let out = out.unwrap_or_else(|| "calibration.toml".into());
             let shown = config.as_ref().map_or("built-in defaults".into(), |p| p.display().to_string());
             let config = match &config {
-                Some(p) => crate::config::Config::load(p)?,
-                None => crate::config::Config::default(),
+                Some(p) => upm_commands::config::Config::load(p)?,
+                None => upm_commands::config::Config::default(),
             };
             let half_extent = config.plate.half_extent;
-            config.camera.model().map_err(|m| crate::config::ConfigError::invalid(&shown, m))?;
+            config.camera.model().map_err(|m| upm_commands::config::ConfigError::invalid(&shown, m))?;
             let (cal, report) = match &images {
-                Some(dir) => crate::calibrate_camera::from_images(dir, &config.camera.board, half_extent)?,
-                None => crate::calibrate_camera::from_rendered(&config.camera, half_extent)?,
+                Some(dir) => {
+                    upm_commands::calibrate_camera::from_images(dir, &config.camera.board, half_extent)?
+                }
+                None => upm_commands::calibrate_camera::from_rendered(&config.camera, half_extent)?,
             };
             cal.save(&out).map_err(anyhow::Error::msg)?;
             if json {
@@ -668,20 +656,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             if !(timeout.is_finite() && timeout > 0.0 && timeout < 3600.0) {
                 anyhow::bail!("--timeout must be a positive number of seconds below 3600, got {timeout}");
             }
-            let t = crate::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
+            let t =
+                upm_commands::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
             if json {
-                let mut v = crate::status::to_json(&t);
+                let mut v = upm_commands::status::to_json(&t);
                 v["prefix"] = serde_json::json!(prefix);
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
-                println!("rig {prefix}\n{}", crate::status::to_text(&t));
+                println!("rig {prefix}\n{}", upm_commands::status::to_text(&t));
             }
             Ok(())
         }
         Command::Validate { file, cycles, seed, plot } => {
-            let text = read_input(&file)?;
-            let input = crate::solve_json::parse(&text)?;
-            let out = crate::validate::run(&input, cycles as usize, seed, plot.as_deref())?;
+            let text = upm_commands::input::read_input(&file)?;
+            let input = upm_commands::solve_json::parse(&text)?;
+            let out = upm_commands::validate::run(&input, cycles as usize, seed, plot.as_deref())?;
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }

@@ -6,7 +6,7 @@
 use std::process::Command;
 
 use upm_camera::{Board, CameraSection};
-use upm_cli::calibrate_camera::{from_rendered, mapping_error};
+use upm_commands::calibrate_camera::{from_rendered, mapping_error};
 use upm_vision::calibration::Calibration;
 
 fn upm(args: &[&str]) -> std::process::Output {

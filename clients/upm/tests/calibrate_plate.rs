@@ -7,8 +7,8 @@ use std::process::Command;
 
 use rig_config::PlateCalibration;
 use upm_calibrate::ExciteParams;
-use upm_cli::config::truth::TruthSection;
-use upm_cli::scenario::{Scenario, resolve};
+use upm_commands::config::truth::TruthSection;
+use upm_commands::scenario::{Scenario, resolve};
 
 fn dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("upm-calplate-{tag}-{}", std::process::id()));
@@ -20,7 +20,7 @@ fn calibrated(truth: &str) -> PlateCalibration {
     let sc = Scenario::load(&resolve("calibrate")).expect("scenario");
     let mut config = sc.config(1, "unused_").expect("config");
     config.sim.truth = TruthSection::Preset(truth.into());
-    upm_cli::calibrate_plate::lockstep(&config, ExciteParams::default()).expect("calibration")
+    upm_commands::calibrate_plate::lockstep(&config, ExciteParams::default()).expect("calibration")
 }
 
 fn scale(c: &PlateCalibration, class: u32) -> f64 {
@@ -70,9 +70,9 @@ fn a_plate_built_off_its_model_turns_closer_to_it_after_calibration() {
     config.sim.truth = TruthSection::Preset("random:2011".into());
     // On the physics the bench judges by: at the scenario's 16 substeps the
     // simulator's own error turns this plate's fit (1.36° corrected).
-    config.sim.substeps = upm_cli::validate::MEASURE_SUBSTEPS;
-    let cal = upm_cli::calibrate_plate::lockstep(&config, ExciteParams::default()).expect("calibration");
-    let [nominal, corrected] = upm_cli::bench_calibration::turning_err_deg(&config, &cal).expect("turning");
+    config.sim.substeps = upm_commands::validate::MEASURE_SUBSTEPS;
+    let cal = upm_commands::calibrate_plate::lockstep(&config, ExciteParams::default()).expect("calibration");
+    let [nominal, corrected] = upm_bench::bench_calibration::turning_err_deg(&config, &cal).expect("turning");
     eprintln!("random:2011 turning off the truth's: {nominal:.3}° uncorrected, {corrected:.3}° corrected");
     assert!(corrected < 0.7 * nominal, "{corrected}° corrected against {nominal}° uncorrected");
 }

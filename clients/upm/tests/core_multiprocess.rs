@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use ipc_types::{CoreState, Schedule, service_names};
-use upm_cli::status::read_telemetry;
+use upm_commands::status::read_telemetry;
 
 struct Core(Child);
 

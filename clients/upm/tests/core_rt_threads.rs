@@ -72,7 +72,7 @@ fn rt_threads_allocate_nothing_with(mut params: CoreParams) {
         .map(|&position| PartSpec { shape: Shape::Disc { radius: 0.02 }, mass: 0.01, position, angle: 0.0 })
         .collect();
     let sim = Simulator::new(SimConfig::default(), &parts).expect("sim");
-    let fill = upm_core::core_process::truth_fill(&upm_cli::config::SimParts {
+    let fill = upm_core::core_process::truth_fill(&upm_commands::config::SimParts {
         specs: parts.clone(),
         ids: vec![1, 2, 3],
         classes: vec![0, 1, 0],

@@ -15,16 +15,20 @@ use ethercat_sim::SimulatedRig;
 use ipc_types::{CoreState, bus_state, driver_kind};
 use rt_core::CoreParams;
 use rt_core::lockstep::Lockstep;
-use upm_cli::config::{Config, DriverChoice};
-use upm_cli::scenario::{Scenario, resolve};
+use upm_commands::config::{Config, DriverChoice};
+use upm_commands::scenario::{Scenario, resolve};
 use upm_ethercat::EthercatDriver;
 
-fn lockstep(name: &str, seed: u64, seconds: f64) -> (serde_json::Value, upm_cli::closed_loop::LoopResult) {
+fn lockstep(
+    name: &str,
+    seed: u64,
+    seconds: f64,
+) -> (serde_json::Value, upm_commands::closed_loop::LoopResult) {
     let sc = Scenario::load(&resolve(name)).expect("scenario");
     let mut config = sc.config(seed, "unused_").expect("config");
     config.driver.kind = DriverChoice::EthercatSim;
     let mut planner = config.planner.build().expect("planner");
-    let r = upm_cli::closed_loop::run(&config, planner.as_mut(), seconds).expect("run");
+    let r = upm_commands::closed_loop::run(&config, planner.as_mut(), seconds).expect("run");
     (sc.evaluate(&config, &r.trails), r)
 }
 
@@ -44,7 +48,7 @@ fn runs_over_the_simulated_chain_are_bit_identical() {
     let (a, ra) = lockstep("sort", 3, 20.0);
     let (b, rb) = lockstep("sort", 3, 20.0);
     assert_eq!(a, b);
-    let points = |r: &upm_cli::closed_loop::LoopResult| {
+    let points = |r: &upm_commands::closed_loop::LoopResult| {
         r.trails
             .parts
             .values()

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use ipc_types::{
     ForceEntry, ForceRequest, PROTOCOL_VERSION, PartState, PartStates, monotonic_now_ns, service_names,
 };
-use upm_cli::status::read_telemetry;
+use upm_commands::status::read_telemetry;
 use upm_test_harness::Running;
 
 #[test]

@@ -278,7 +278,7 @@ fn hand_started_clients_wait_for_a_new_core_and_serve_it() {
     let prefix = common::unique_prefix("kw");
     let dir = temp("kill_wait");
     std::fs::create_dir_all(&dir).expect("dir");
-    let scenario = upm_cli::scenario::Scenario::load(&Path::new(ROOT).join("scenarios/spin.toml"))
+    let scenario = upm_commands::scenario::Scenario::load(&Path::new(ROOT).join("scenarios/spin.toml"))
         .expect("spin scenario");
     let config = scenario.config(1, &prefix).expect("config");
     let cfg = dir.join("config.toml");

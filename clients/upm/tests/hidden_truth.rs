@@ -3,8 +3,8 @@
 //! first inputs unchanged (that the controller's crates cannot link the
 //! simulator is `tests/tests/dependency_table.rs`).
 
-use upm_cli::config::truth::TruthSection;
-use upm_cli::scenario::{Scenario, resolve};
+use upm_commands::config::truth::TruthSection;
+use upm_commands::scenario::{Scenario, resolve};
 
 #[test]
 fn changing_the_truth_changes_the_plate_and_nothing_the_controller_sees() {
@@ -14,7 +14,7 @@ fn changing_the_truth_changes_the_plate_and_nothing_the_controller_sees() {
         for truth in ["worn", "random:3", "random:4"] {
             let mut c = base.clone();
             c.sim.truth = TruthSection::Preset(truth.into());
-            upm_cli::config::validate(&c, "scenario").expect("valid");
+            upm_commands::config::validate(&c, "scenario").expect("valid");
             // The simulator changes…
             assert_ne!(c.sim_config("s").expect("sim"), base.sim_config("s").expect("sim"), "{name} {truth}");
             // …the core's parameters, the planner's, vision's and the

@@ -103,7 +103,7 @@ fn nothing_outlives_the_run(end: End) {
     let seconds = if matches!(end, End::Normal) { "4" } else { "60" };
     let run = start_run(&prefix, seconds, &planner_with_stubborn_grandchild(&pidfile), &out);
     let grandchild = wait_for_pid(&pidfile, Duration::from_secs(30));
-    assert!(upm_cli::launcher::process_group::running(grandchild));
+    assert!(upm_commands::launcher::process_group::running(grandchild));
     match end {
         End::Normal => {}
         End::CtrlC => {
@@ -122,7 +122,7 @@ fn nothing_outlives_the_run(end: End) {
     let stderr = text(&o.stderr);
     common::remove_prefix(&prefix);
     assert!(
-        !upm_cli::launcher::process_group::running(grandchild),
+        !upm_commands::launcher::process_group::running(grandchild),
         "{end:?}: the planner's grandchild {grandchild} outlived upm run\n{stderr}"
     );
     match end {

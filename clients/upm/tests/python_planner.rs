@@ -222,7 +222,10 @@ fn a_planner_built_from_the_protocol_doc_alone_is_answered_and_leaves_nothing_be
     let pid: u32 =
         std::fs::read_to_string(&pidfile).ok().and_then(|t| t.trim().parse().ok()).expect("planner pid");
     let _ = std::fs::remove_file(&pidfile);
-    assert!(!upm_cli::launcher::process_group::running(pid), "the stranger's planner {pid} outlived upm run");
+    assert!(
+        !upm_commands::launcher::process_group::running(pid),
+        "the stranger's planner {pid} outlived upm run"
+    );
     let (sent, answered, refused) = log
         .lines()
         .find_map(|l| {

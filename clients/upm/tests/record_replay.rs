@@ -15,7 +15,7 @@ use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, Schedule,
     Telemetry, WireMessage, monotonic_now_ns, service_names,
 };
-use upm_cli::recording::Recording;
+use upm_commands::recording::Recording;
 use upm_recorder::{LogOptions, PlateView, RigLog};
 
 const UPM: &str = env!("CARGO_BIN_EXE_upm");
@@ -166,7 +166,7 @@ fn stop(mut c: Killed) -> std::process::ExitStatus {
 
 /// upm-core on `prefix` with the default config written to `config`, up.
 fn start_core(prefix: &str, config: &Path) -> Killed {
-    std::fs::write(config, toml::to_string(&upm_cli::config::Config::default()).expect("toml"))
+    std::fs::write(config, toml::to_string(&upm_commands::config::Config::default()).expect("toml"))
         .expect("write");
     let core = Killed(
         Command::new(common::core_exe())
@@ -177,7 +177,7 @@ fn start_core(prefix: &str, config: &Path) -> Killed {
             .expect("spawn upm-core"),
     );
     let up = Instant::now();
-    while upm_cli::status::read_telemetry(prefix, Duration::from_secs(1))
+    while upm_commands::status::read_telemetry(prefix, Duration::from_secs(1))
         .map_or(true, |t| t.core_state() != Some(CoreState::Idle))
     {
         assert!(up.elapsed() < Duration::from_secs(20), "core did not come up");
@@ -388,7 +388,7 @@ fn a_stalled_recorder_loses_for_itself_and_counts_it_while_the_core_goes_on() {
     stop_feed.store(true, std::sync::atomic::Ordering::Relaxed);
     feeder.join().expect("feeder");
     assert!(answered >= 50, "the core answered {answered} requests in 1.5 s while the recorder was stopped");
-    let t = upm_cli::status::read_telemetry(&prefix, Duration::from_secs(1)).expect("telemetry");
+    let t = upm_commands::status::read_telemetry(&prefix, Duration::from_secs(1)).expect("telemetry");
     assert_eq!(t.counters.hold_events, 0, "the core never held");
     assert!(stop(recorder).success(), "recorder exit");
     drop(core);

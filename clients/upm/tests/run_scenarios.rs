@@ -12,14 +12,18 @@ mod external;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use upm_cli::launcher::CameraChoice;
-use upm_cli::scenario::{Scenario, resolve};
+use upm_commands::launcher::CameraChoice;
+use upm_commands::scenario::{Scenario, resolve};
 
-fn lockstep(name: &str, seed: u64, seconds: f64) -> (serde_json::Value, upm_cli::closed_loop::LoopResult) {
+fn lockstep(
+    name: &str,
+    seed: u64,
+    seconds: f64,
+) -> (serde_json::Value, upm_commands::closed_loop::LoopResult) {
     let sc = Scenario::load(&resolve(name)).expect("scenario");
     let config = sc.config(seed, "unused_").expect("config");
     let mut planner = config.planner.build().expect("planner");
-    let r = upm_cli::closed_loop::run(&config, planner.as_mut(), seconds).expect("run");
+    let r = upm_commands::closed_loop::run(&config, planner.as_mut(), seconds).expect("run");
     (sc.evaluate(&config, &r.trails), r)
 }
 
@@ -107,7 +111,7 @@ fn external_planner_gathers_parts() {
     let sc = Scenario::load(&resolve("local")).expect("scenario");
     let config = sc.config(1, "unused_").expect("config");
     let mut planner = external::gather::Gather { mass: 0.1 / (0.25 * 9.81), max_force: 0.01 };
-    let r = upm_cli::closed_loop::run(&config, &mut planner, 40.0).expect("run");
+    let r = upm_commands::closed_loop::run(&config, &mut planner, 40.0).expect("run");
     for (id, t) in &r.trails.parts {
         let (a, b) = (t.points.first().expect("start"), t.points.last().expect("end"));
         let (d0, d1) = (a[1].hypot(a[2]), b[1].hypot(b[2]));
@@ -124,7 +128,7 @@ fn sort_through_rendered_frames_puts_every_part_on_its_side() {
     let sc = Scenario::load(&resolve("sort")).expect("scenario");
     let config = sc.config(1, "unused_").expect("config");
     let mut planner = config.planner.build().expect("planner");
-    let r = upm_cli::closed_loop::run_seeing(&config, planner.as_mut(), 300.0, CameraChoice::Rendered)
+    let r = upm_commands::closed_loop::run_seeing(&config, planner.as_mut(), 300.0, CameraChoice::Rendered)
         .expect("run");
     let m = sc.evaluate(&config, &r.trails);
     assert_eq!(m["sorted_fraction"], 1.0, "{m}");
@@ -142,9 +146,13 @@ fn spin_square_through_rendered_frames_turns_in_place() {
     let sc = Scenario::load(&resolve("spin_square")).expect("scenario");
     let config = sc.config(1, "unused_").expect("config");
     let mut planner = config.planner.build().expect("planner");
-    let r =
-        upm_cli::closed_loop::run_seeing(&config, planner.as_mut(), sc.duration_s, CameraChoice::Rendered)
-            .expect("run");
+    let r = upm_commands::closed_loop::run_seeing(
+        &config,
+        planner.as_mut(),
+        sc.duration_s,
+        CameraChoice::Rendered,
+    )
+    .expect("run");
     let m = sc.evaluate(&config, &r.trails);
     let err = m["spin_angle_error_deg"].as_f64().expect("error");
     eprintln!("spin_square through frames: angle error {err:.3}°");

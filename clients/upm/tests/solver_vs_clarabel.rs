@@ -4,8 +4,8 @@
 //! it), and the two agree to Clarabel's own accuracy (1e-6 of ½‖b‖²).
 
 use proptest::prelude::*;
-use upm_cli::bench_solver::bench_case;
-use upm_cli::bounded_reference::BoxQp;
+use upm_bench::bounded_reference::BoxQp;
+use upm_bench::solver_case::bench_case;
 use upm_solver::{Problem, SolveMethod, Solver, SolverCapacity, SolverParams};
 
 proptest! {

@@ -69,8 +69,8 @@ impl Times {
     fn percentiles(&self) -> [f64; 3] {
         let mut v = self.us.clone();
         v.sort_by(f64::total_cmp);
-        let at = |q: f64| v.get(((v.len() as f64 * q) as usize).min(v.len().saturating_sub(1))).copied();
-        [at(0.5), at(0.99), v.last().copied()].map(|x| x.unwrap_or(0.0))
+        let at = |q: f64| upm_stats::percentile(&v, q);
+        [at(0.5), at(0.99), at(1.0)].map(|x| x.unwrap_or(0.0))
     }
 }
 

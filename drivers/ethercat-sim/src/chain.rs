@@ -11,6 +11,7 @@
 
 use core::fmt;
 
+use crate::logical_kind::LogicalKind;
 use crate::subdevice::SubDevice;
 
 /// EtherType of EtherCAT frames.
@@ -245,13 +246,6 @@ impl Chain {
             head[2..4].copy_from_slice(&adp.to_le_bytes());
         }
     }
-}
-
-/// What a logical command may do: read into the frame, write from it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LogicalKind {
-    pub read: bool,
-    pub write: bool,
 }
 
 fn command_kind(command: u8) -> LogicalKind {

@@ -12,8 +12,12 @@
 //! i16, mode display i8`. Torques are per mille of the rated torque
 //! (0x6076), as the profile has them.
 
-use crate::coe::{RX_PDO, TX_PDO};
 use crate::pdo_map::PdoMap;
+
+/// The default PDO mapping: RxPDO 0x1600 (outputs) and TxPDO 0x1A00
+/// (inputs), entries `index << 16 | subindex << 8 | bits`.
+pub const RX_PDO: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x60B1_0020, 0x60B2_0010, 0x6060_0008];
+pub const TX_PDO: [u32; 4] = [0x6041_0010, 0x6064_0020, 0x6077_0010, 0x6061_0008];
 
 /// Bytes of the default output and input images.
 pub const OUTPUT_BYTES: usize = 13;

@@ -10,6 +10,7 @@
 //! request, 3 SDO response), the SDO command byte, `index u16, subindex
 //! u8`, and 4 data bytes.
 
+use crate::abort;
 use crate::cia402::Drive;
 
 /// Mailbox type of CoE.
@@ -18,25 +19,6 @@ const SERVICE_SDO_REQUEST: u16 = 2;
 const SERVICE_SDO_RESPONSE: u16 = 3;
 /// Bytes of an expedited SDO request or reply (mailbox header included).
 pub const SDO_BYTES: usize = 16;
-
-/// SDO abort codes (CiA 301).
-pub mod abort {
-    pub const COMMAND_INVALID: u32 = 0x0504_0001;
-    pub const UNSUPPORTED_ACCESS: u32 = 0x0601_0000;
-    pub const READ_ONLY: u32 = 0x0601_0002;
-    pub const NO_OBJECT: u32 = 0x0602_0000;
-    pub const LENGTH_MISMATCH: u32 = 0x0607_0010;
-    pub const NO_SUBINDEX: u32 = 0x0609_0011;
-    pub const VALUE_INVALID: u32 = 0x0609_0030;
-    pub const VALUE_TOO_HIGH: u32 = 0x0609_0031;
-    pub const CANNOT_MAP: u32 = 0x0604_0041;
-    pub const DEVICE_STATE: u32 = 0x0800_0022;
-}
-
-/// The default PDO mapping: RxPDO 0x1600 (outputs) and TxPDO 0x1A00
-/// (inputs), entries `index << 16 | subindex << 8 | bits`.
-pub const RX_PDO: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x60B1_0020, 0x60B2_0010, 0x6060_0008];
-pub const TX_PDO: [u32; 4] = [0x6041_0010, 0x6064_0020, 0x6077_0010, 0x6061_0008];
 
 /// The identity object 0x1018: vendor, product, revision, serial.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

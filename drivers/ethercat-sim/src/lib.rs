@@ -22,9 +22,11 @@
 //! A frame that is not EtherCAT, or whose datagrams overrun it, is refused
 //! with a [`FrameError`] and left as it was; nothing panics on any input.
 
+pub mod abort;
 pub mod chain;
 pub mod cia402;
 pub mod coe;
+pub mod logical_kind;
 pub mod pdo_map;
 pub mod rig;
 pub mod serve;

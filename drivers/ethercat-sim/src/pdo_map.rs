@@ -7,7 +7,7 @@
 //! object in use (sub 1) and is on while its count is 1. The process
 //! image is the assigned entries, packed little-endian in order.
 
-use crate::coe::abort;
+use crate::abort;
 
 /// Entries a mapping object holds at most.
 pub const MAX_ENTRIES: usize = 8;

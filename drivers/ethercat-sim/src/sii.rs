@@ -4,8 +4,8 @@
 //! ended by type 0xFFFF: strings (10), general (30), FMMU (40),
 //! SyncManager (41), TxPDO (50) and RxPDO (51).
 
-use crate::cia402::{INPUT_BYTES, OUTPUT_BYTES};
-use crate::coe::{Identity, RX_PDO, TX_PDO};
+use crate::cia402::{INPUT_BYTES, OUTPUT_BYTES, RX_PDO, TX_PDO};
+use crate::coe::Identity;
 
 /// Mailbox and process-data buffers in the ESC's memory.
 pub const MAILBOX_OUT: u16 = 0x1000;

@@ -27,9 +27,9 @@
 //!   drive counts SYNC0 events and those that passed without fresh
 //!   process data. Each clock may drift (`drift_ppb`).
 
-use crate::chain::LogicalKind;
 use crate::cia402::{Drive, MAX_IMAGE, PowerState};
 use crate::coe::{self, Identity};
+use crate::logical_kind::LogicalKind;
 use crate::sii;
 
 const MEMORY: usize = 0x2000;

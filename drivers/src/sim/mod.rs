@@ -13,6 +13,7 @@ mod disc_lanes;
 mod friction;
 mod lanes;
 mod part;
+mod part_capacity;
 mod plate;
 mod point_lanes;
 mod polygon_limit;
@@ -29,7 +30,8 @@ use upm_hardware::{
 use upm_motion::{Pose, Rig, RigError, Twist};
 
 pub use config::{ActuatorModel, SimConfig, SimConfigError};
-pub use part::{MAX_CONTACTS, MAX_POLYGON_VERTICES, PartError, PartSpec, PartState, Shape};
+pub use part::{PartError, PartSpec, PartState, Shape};
+pub use part_capacity::{MAX_CONTACTS, MAX_POLYGON_VERTICES};
 pub use truth::{
     FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PlateTruth, TruthError,
     friction_scale_ok,

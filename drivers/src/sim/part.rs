@@ -1,12 +1,8 @@
 //! Parts: shapes, their contact patches (points with pressure weights) and
 //! their dynamic state.
 
+use super::part_capacity::{MAX_CONTACTS, MAX_POLYGON_VERTICES};
 use super::polygon_limit::PolygonLimit;
-
-/// Most vertices of a polygon part.
-pub const MAX_POLYGON_VERTICES: usize = 8;
-/// Most contact points of one part (a polygon uses 2 per vertex).
-pub const MAX_CONTACTS: usize = 2 * MAX_POLYGON_VERTICES;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape {

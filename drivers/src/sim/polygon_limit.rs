@@ -15,7 +15,7 @@
 //! first: outside if |F| > 1 or |τ| > Σ w_i |r_i|, inside the hull of the
 //! pure forces and the two pure torques (±[`PolygonLimit::spin`]).
 
-use super::part::MAX_CONTACTS;
+use super::part_capacity::MAX_CONTACTS;
 
 /// Newton steps at most (quadratic convergence: a handful are used).
 const MAX_NEWTON: usize = 40;
@@ -154,7 +154,8 @@ fn min_psi(r: &[[f64; 2]], w: &[f64], kinks: &PolygonLimit, f: [f64; 2], tau: f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::part::{Body, MAX_POLYGON_VERTICES, PartSpec, Shape};
+    use crate::sim::part::{Body, PartSpec, Shape};
+    use crate::sim::part_capacity::MAX_POLYGON_VERTICES;
 
     fn polygon(v: &[[f64; 2]]) -> Body {
         let mut vertices = [[0.0; 2]; MAX_POLYGON_VERTICES];

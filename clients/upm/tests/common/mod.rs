@@ -1,7 +1,7 @@
 //! Message builders and iceoryx2 isolation shared by the core tests.
 #![allow(dead_code, unused_imports)]
 
-pub use upm_cli::feeder::{PAPER_PARTS, part_states, request};
+pub use upm_bench::feeder::{PAPER_PARTS, part_states, request};
 
 /// The RT core's binary, as `upm run` finds it: `UPM_CORE_EXE`, else
 /// `upm-core` next to the `upm` under test. `cargo test --workspace` builds
@@ -44,7 +44,7 @@ pub fn remove_prefix(prefix: &str) {
 
 /// Publish the §3.1 inputs on `prefix` every `period` until `stop`.
 pub fn feed(prefix: &str, period: std::time::Duration, stop: &std::sync::atomic::AtomicBool) {
-    upm_cli::feeder::feed(prefix, period, stop).expect("feeder");
+    upm_bench::feeder::feed(prefix, period, stop).expect("feeder");
 }
 
 /// A Python that can `import iceoryx2` 0.10: `UPM_PYTHON`, else a venv

@@ -1,0 +1,23 @@
+//! What `upm`'s commands do: the rig's configuration and scenarios, the
+//! launcher of the closed loop, recording and replay, status, soak, the
+//! calibrate commands, `solve` and `validate`. The command tree itself is
+//! `upm-cli`; the benches are `upm-bench`.
+
+pub mod calibrate_camera;
+pub mod calibrate_plate;
+pub mod closed_loop;
+pub mod config;
+pub mod cpu_load;
+pub mod die_with_parent;
+pub mod exit;
+pub mod input;
+pub mod launcher;
+pub mod recording;
+pub mod rendered_sight;
+pub mod replay;
+pub mod scenario;
+pub mod soak;
+pub mod solve_json;
+pub mod status;
+pub mod truth_sight;
+pub mod validate;
