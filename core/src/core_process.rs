@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::Parser;
 use ipc_types::PartStates;
-use rt_core::{CoreParams, RunOptions, RunReport, TruthFill, run_core_with_truth};
+use rt_core::{CoreParams, RunOptions, RunReport, run_core_with_truth};
 
 use crate::config::{CoreConfig, DriverChoice};
 use crate::plate_driver::SimulatedPlant;
@@ -28,54 +28,49 @@ pub struct CoreArgs {
     pub truth_hz: f64,
 }
 
-/// Ground truth of the simulator's parts as PartStates (world frame, ids,
-/// classes and outlines as configured). The closure only reads
-/// preallocated data.
-pub fn truth_fill<D: SimulatedPlant>(parts: &crate::config::SimParts) -> TruthFill<D> {
-    let templates: Vec<ipc_types::PartState> = (0..parts.specs.len().max(parts.ids.len()))
+/// Each simulated part's id, class and outline as the wire carries them,
+/// in part order: what the simulator fills its ground truth from.
+pub fn truth_templates(parts: &crate::config::SimParts) -> Vec<ipc_types::PartState> {
+    (0..parts.specs.len().max(parts.ids.len()))
         .map(|i| {
             let id = parts.ids.get(i).copied().unwrap_or(i as u32 + 1);
             let class = parts.classes.get(i).copied().unwrap_or(0);
             let point = ipc_types::PartState::new(id, class, 0, [0.0; 3], [0.0; 3]);
             parts.specs.get(i).map_or(point, |s| with_outline(point, &s.shape))
         })
-        .collect();
-    Box::new(move |driver: &D, out: &mut PartStates| {
-        out.clear();
-        driver.with_simulator(&mut |sim| {
-            for (i, p) in (0..sim.part_count()).filter_map(|i| Some((i, sim.part(i)?))) {
-                let fallback = ipc_types::PartState::new(i as u32 + 1, 0, 0, [0.0; 3], [0.0; 3]);
-                let mut s = templates.get(i).copied().unwrap_or(fallback);
-                [s.x, s.y, s.theta] = [p.position[0], p.position[1], p.angle];
-                [s.vx, s.vy, s.omega] = [p.velocity[0], p.velocity[1], p.angular_velocity];
-                // Capacity equals the simulator's part limit or more.
-                let _ = out.push(s);
-            }
-        });
-    })
+        .collect()
 }
 
 // Every simulator polygon fits the wire.
 const _: () = assert!(drivers::sim::MAX_POLYGON_VERTICES <= ipc_types::MAX_SHAPE_VERTICES);
 
 /// A part's outline in its body frame, as the simulator keeps it.
-fn with_outline(state: ipc_types::PartState, shape: &drivers::sim::Shape) -> ipc_types::PartState {
-    use drivers::sim::Shape;
+fn with_outline(state: ipc_types::PartState, shape: &drivers::sim::BodyShape) -> ipc_types::PartState {
+    use drivers::sim::BodyShape;
     match shape.body_frame() {
-        Shape::Point { .. } => state,
-        Shape::Disc { radius } => state.with_disc(radius),
-        Shape::Polygon { vertices, count } => state.with_polygon(&vertices[..count]).unwrap_or(state),
+        BodyShape::Point { .. } => state,
+        BodyShape::Disc { radius } => state.with_disc(radius),
+        BodyShape::Polygon { vertices, count } => state.with_polygon(&vertices[..count]).unwrap_or(state),
     }
 }
 
+/// Run on a simulated plate that publishes its parts' ground truth
+/// `truth_hz` times a second (0: not at all).
 fn run_simulated<D: SimulatedPlant>(
     params: &CoreParams,
-    driver: D,
+    mut driver: D,
     parts: crate::config::SimParts,
+    truth_hz: f64,
     options: &RunOptions,
 ) -> anyhow::Result<RunReport> {
-    let fill = truth_fill::<D>(&parts);
-    run_core_with_truth(params, driver, Some(fill), options).context("upm-core")
+    let truth = if truth_hz > 0.0 {
+        let every = ((params.motion.tick_hz / truth_hz).round() as u64).max(1);
+        let port = driver.publish_ground_truth(every, truth_templates(&parts));
+        Some(port.context("--truth-hz: the simulator could not be reached to publish its ground truth")?)
+    } else {
+        None
+    };
+    run_core_with_truth(params, driver, truth, options).context("upm-core")
 }
 
 /// Print the one-line summary of a finished run; a run whose thread died
@@ -126,7 +121,6 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         prefix: config.service.prefix.clone(),
         histogram_dir: args.histograms.clone().or_else(|| config.histogram_dir().map(Into::into)),
         duration,
-        truth_hz: args.truth_hz,
         vision_frame_hz: config.vision_frame_hz(),
     };
     eprintln!(
@@ -144,7 +138,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
     let report = match config.driver.kind {
         DriverChoice::Sim => {
             let (sim, parts) = crate::plate_driver::simulator(&config, &shown)?;
-            run_simulated(&params, sim, parts, &options)?
+            run_simulated(&params, sim, parts, args.truth_hz, &options)?
         }
         DriverChoice::EthercatSim => match crate::plate_driver::ethercat_over_veth(&config, &shown)? {
             Ok((driver, parts)) => {
@@ -153,7 +147,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
                     driver.interface()
                 );
                 let chain = driver.chain();
-                let report = run_simulated(&params, driver, parts, &options)?;
+                let report = run_simulated(&params, driver, parts, args.truth_hz, &options)?;
                 if let Ok(rig) = chain.lock() {
                     let (events, missed) = rig
                         .chain
@@ -173,7 +167,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
                     &shown,
                     crate::plate_driver::keep_real_time,
                 )?;
-                run_simulated(&params, driver, parts, &options)?
+                run_simulated(&params, driver, parts, args.truth_hz, &options)?
             }
         },
         DriverChoice::Ethercat => {

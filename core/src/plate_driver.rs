@@ -15,13 +15,29 @@ use crate::config::{CoreConfig, SimParts};
 
 /// A driver whose plate is the physics simulator's.
 pub trait SimulatedPlant: PlateDriver + Send + 'static {
-    /// Run `f` on the simulator (on the motor thread: no allocation).
+    /// Run `f` on the simulator (no allocation: a lock-step loop's view).
     fn with_simulator(&self, f: &mut dyn FnMut(&Simulator));
+    /// The simulator, wherever it steps, publishes its ground truth every
+    /// `every` ticks from now on (start-up; see
+    /// [`Simulator::publish_ground_truth`]); None if the simulator cannot
+    /// be reached.
+    fn publish_ground_truth(
+        &mut self,
+        every: u64,
+        templates: Vec<ipc_types::PartState>,
+    ) -> Option<triple_buffer::Output<ipc_types::PartStates>>;
 }
 
 impl SimulatedPlant for Simulator {
     fn with_simulator(&self, f: &mut dyn FnMut(&Simulator)) {
         f(self)
+    }
+    fn publish_ground_truth(
+        &mut self,
+        every: u64,
+        templates: Vec<ipc_types::PartState>,
+    ) -> Option<triple_buffer::Output<ipc_types::PartStates>> {
+        Some(Simulator::publish_ground_truth(self, every, templates))
     }
 }
 
@@ -29,6 +45,14 @@ impl SimulatedPlant for EthercatDriver<SimulatedRig> {
     fn with_simulator(&self, f: &mut dyn FnMut(&Simulator)) {
         // The wire is only ever in use during an exchange on this thread.
         let _ = self.with_wire(|w| f(&w.sim));
+    }
+    fn publish_ground_truth(
+        &mut self,
+        every: u64,
+        templates: Vec<ipc_types::PartState>,
+    ) -> Option<triple_buffer::Output<ipc_types::PartStates>> {
+        // Start-up: no exchange is under way, so the wire is free.
+        self.with_wire(|w| w.sim.publish_ground_truth(every, templates))
     }
 }
 
@@ -159,11 +183,19 @@ impl PlateDriver for EthercatOverVeth {
 impl SimulatedPlant for EthercatOverVeth {
     fn with_simulator(&self, f: &mut dyn FnMut(&Simulator)) {
         // The chain's thread (SCHED_FIFO, just below the motor, on its CPU)
-        // holds the lock only while it answers a frame: a futex another RT
-        // thread releases within microseconds.
+        // holds the lock only while it answers a frame.
         if let Ok(rig) = self.chain.wire.lock() {
             f(&rig.sim);
         }
+    }
+    fn publish_ground_truth(
+        &mut self,
+        every: u64,
+        templates: Vec<ipc_types::PartState>,
+    ) -> Option<triple_buffer::Output<ipc_types::PartStates>> {
+        // The chain's thread steps the simulator and so writes the truth.
+        let mut rig = self.chain.wire.lock().ok()?;
+        Some(rig.sim.publish_ground_truth(every, templates))
     }
 }
 

@@ -4,13 +4,13 @@
 //! step + read) replaying one recorded cycle of commands. Usage: sim_speed [seconds] [case index] [profile]
 use std::time::Instant;
 
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use drivers::{BodyShape, PartSpec, SimConfig, Simulator};
 use upm_hardware::PlateState;
 use upm_hardware::conformance::demo_motion;
 use upm_hardware::playback::{play, record_commands, replay};
 use upm_motion::Rig;
 
-fn parts(shape: Shape) -> Vec<PartSpec> {
+fn parts(shape: BodyShape) -> Vec<PartSpec> {
     (0..10)
         .map(|i| PartSpec {
             shape,
@@ -29,10 +29,10 @@ fn main() {
     let mut square = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
     square[..4].copy_from_slice(&[[-0.03, -0.03], [0.03, -0.03], [0.03, 0.03], [-0.03, 0.03]]);
     let cases = [
-        ("no parts (plate + loop only)", Shape::Point { radius: -1.0 }),
-        ("10 point parts", Shape::Point { radius: 0.01 }),
-        ("10 discs (uniform face)", Shape::Disc { radius: 0.03 }),
-        ("10 squares (8 contacts)", Shape::Polygon { vertices: square, count: 4 }),
+        ("no parts (plate + loop only)", BodyShape::Point { radius: -1.0 }),
+        ("10 point parts", BodyShape::Point { radius: 0.01 }),
+        ("10 discs (uniform face)", BodyShape::Disc { radius: 0.03 }),
+        ("10 squares (8 contacts)", BodyShape::Polygon { vertices: square, count: 4 }),
     ];
     let only: Option<usize> = std::env::args().nth(2).and_then(|s| s.parse().ok());
     // "profile": one run, no warm-up (for callgrind's instruction counts).
@@ -42,7 +42,8 @@ fn main() {
             continue;
         }
         let cfg = SimConfig::default();
-        let ps = if matches!(shape, Shape::Point { radius } if radius < 0.0) { vec![] } else { parts(shape) };
+        let ps =
+            if matches!(shape, BodyShape::Point { radius } if radius < 0.0) { vec![] } else { parts(shape) };
         let rig = Rig::new(cfg.rig).expect("rig");
         let motion = demo_motion();
         let ticks = (seconds * cfg.tick_hz) as u64;

@@ -1,14 +1,24 @@
 //! The conformance suite, instantiated for the simulator's actuator models.
 
-use drivers::{ActuatorModel, PartSpec, Shape, SimConfig, Simulator};
+use drivers::{ActuatorModel, BodyShape, PartSpec, SimConfig, Simulator};
 use upm_hardware::conformance;
 
 fn sim(model: ActuatorModel) -> impl Fn() -> Simulator {
     move || {
         let cfg = SimConfig { actuator: model, ..SimConfig::default() };
         let parts = [
-            PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 },
-            PartSpec { shape: Shape::Disc { radius: 0.05 }, mass: 0.04, position: [-0.5, 0.1], angle: 0.0 },
+            PartSpec {
+                shape: BodyShape::Point { radius: 0.01 },
+                mass: 0.04,
+                position: [0.5, 0.0],
+                angle: 0.0,
+            },
+            PartSpec {
+                shape: BodyShape::Disc { radius: 0.05 },
+                mass: 0.04,
+                position: [-0.5, 0.1],
+                angle: 0.0,
+            },
         ];
         Simulator::new(cfg, &parts).expect("default sim")
     }

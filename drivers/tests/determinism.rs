@@ -1,6 +1,6 @@
 //! Same config + seed → bit-identical runs; a different seed differs.
 
-use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
+use drivers::{BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::PlateState;
 use upm_hardware::conformance::demo_motion;
 use upm_hardware::playback::play;
@@ -11,12 +11,12 @@ fn parts() -> Vec<PartSpec> {
     for i in 0..10 {
         let (x, y) = (-0.8 + 0.17 * i as f64, 0.3 * ((i as f64) * 1.7).sin());
         let shape = match i % 3 {
-            0 => Shape::Point { radius: 0.01 },
-            1 => Shape::Disc { radius: 0.04 },
+            0 => BodyShape::Point { radius: 0.01 },
+            1 => BodyShape::Disc { radius: 0.04 },
             _ => {
                 let mut vs = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
                 vs[..4].copy_from_slice(&[[-0.03, -0.02], [0.03, -0.02], [0.03, 0.02], [-0.03, 0.02]]);
-                Shape::Polygon { vertices: vs, count: 4 }
+                BodyShape::Polygon { vertices: vs, count: 4 }
             }
         };
         v.push(PartSpec { shape, mass: 0.04, position: [x, y], angle: 0.1 * i as f64 });
@@ -61,7 +61,7 @@ fn seed_matters_when_noise_is_on() {
 fn a_part_moves_the_same_alone_and_among_others() {
     let mut specs = parts();
     for (i, p) in specs.iter_mut().enumerate() {
-        if let Shape::Disc { radius } = &mut p.shape {
+        if let BodyShape::Disc { radius } = &mut p.shape {
             *radius = 0.01 + 0.005 * i as f64;
         }
     }

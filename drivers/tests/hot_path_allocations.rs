@@ -1,6 +1,6 @@
 //! read / write / advance and motion sampling allocate nothing.
 
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use drivers::{BodyShape, PartSpec, SimConfig, Simulator};
 use upm_hardware::PlateState;
 use upm_hardware::conformance::demo_motion;
 use upm_hardware::playback::{play, play_estimating};
@@ -15,7 +15,11 @@ static A: RtAllocCounter = RtAllocCounter;
 fn lockstep_loop_does_not_allocate() {
     let parts: Vec<_> = (0..10)
         .map(|i| PartSpec {
-            shape: if i % 2 == 0 { Shape::Point { radius: 0.01 } } else { Shape::Disc { radius: 0.03 } },
+            shape: if i % 2 == 0 {
+                BodyShape::Point { radius: 0.01 }
+            } else {
+                BodyShape::Disc { radius: 0.03 }
+            },
             mass: 0.04,
             position: [-0.8 + 0.16 * i as f64, 0.05 * i as f64 - 0.2],
             angle: 0.0,

@@ -1,7 +1,7 @@
 //! The fixed-step friction integrator is not biased: average forces at one
 //! substep per 10 kHz tick match a 32× finer integration to < 0.5 % of μmg.
 
-use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
+use drivers::{BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::PlateState;
 use upm_hardware::conformance::demo_motion;
 use upm_hardware::playback::play;
@@ -13,7 +13,7 @@ fn average_forces(substeps: u32) -> Vec<[f64; 2]> {
     let pos = [[0.5, 0.0], [-0.75, 0.25], [0.1, -0.3]];
     let specs: Vec<_> = pos
         .iter()
-        .map(|&p| PartSpec { shape: Shape::Point { radius: 0.0 }, mass, position: p, angle: 0.0 })
+        .map(|&p| PartSpec { shape: BodyShape::Point { radius: 0.0 }, mass, position: p, angle: 0.0 })
         .collect();
     let mut s = Simulator::new(cfg, &specs).expect("sim");
     let rig = Rig::new(cfg.rig).expect("rig");

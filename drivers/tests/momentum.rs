@@ -1,10 +1,10 @@
 //! Part–part impacts conserve linear momentum; the fence keeps parts on.
 
-use drivers::{ActuatorModel, PartSpec, PartState, Shape, SimConfig, Simulator};
+use drivers::{ActuatorModel, BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::PlateDriver;
 
 fn disc(p: [f64; 2], m: f64) -> PartSpec {
-    PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: m, position: p, angle: 0.0 }
+    PartSpec { shape: BodyShape::Disc { radius: 0.03 }, mass: m, position: p, angle: 0.0 }
 }
 
 #[test]

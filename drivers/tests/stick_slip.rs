@@ -1,6 +1,6 @@
 //! Coulomb stick–slip against analytic answers.
 
-use drivers::{ActuatorModel, PartSpec, PartState, Shape, SimConfig, Simulator};
+use drivers::{ActuatorModel, BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::{ActuatorCommand, PlateDriver};
 use upm_motion::{Pose, Rig, Twist};
 
@@ -11,7 +11,7 @@ fn sim(parts: &[PartSpec]) -> Simulator {
 }
 
 fn point(p: [f64; 2]) -> PartSpec {
-    PartSpec { shape: Shape::Point { radius: 0.0 }, mass: 0.04, position: p, angle: 0.0 }
+    PartSpec { shape: BodyShape::Point { radius: 0.0 }, mass: 0.04, position: p, angle: 0.0 }
 }
 
 /// Drive the plate along x with constant acceleration `a` for `ticks`.
@@ -95,8 +95,12 @@ fn disc_spins_down_under_torsional_friction() {
     // A disc spinning on a plate at rest: friction torque μ_k·m·g·ρ_t with
     // the uniform disc's lever ρ_t = 2a/3, so ω falls linearly, then sticks.
     let a = 0.05;
-    let mut s =
-        sim(&[PartSpec { shape: Shape::Disc { radius: a }, mass: 0.04, position: [0.0, 0.0], angle: 0.0 }]);
+    let mut s = sim(&[PartSpec {
+        shape: BodyShape::Disc { radius: a },
+        mass: 0.04,
+        position: [0.0, 0.0],
+        angle: 0.0,
+    }]);
     let cfg = *s.config();
     let w0 = 3.0;
     assert!(s.set_part(0, PartState { angular_velocity: w0, ..PartState::default() }));
@@ -128,7 +132,7 @@ fn sliding_and_spinning_disc_stops_both_at_once() {
     let mut tails = [0.0; 2];
     for (tail, (v0, w0)) in tails.iter_mut().zip([(0.1, 1.5), (0.1, 5.0)]) {
         let mut s = sim(&[PartSpec {
-            shape: Shape::Disc { radius: a },
+            shape: BodyShape::Disc { radius: a },
             mass: 0.04,
             position: [0.0, 0.0],
             angle: 0.0,
@@ -187,8 +191,12 @@ fn disc_under_force_and_torque_sticks_exactly_inside_its_limit() {
     let r = 0.03;
     let (f, tau) = disc_limit_point(0.62);
     for (k, should_stick) in [(0.97, true), (1.03, false)] {
-        let mut s =
-            sim(&[PartSpec { shape: Shape::Disc { radius: r }, mass: 0.04, position: [0.0; 2], angle: 0.0 }]);
+        let mut s = sim(&[PartSpec {
+            shape: BodyShape::Disc { radius: r },
+            mass: 0.04,
+            position: [0.0; 2],
+            angle: 0.0,
+        }]);
         let cfg = *s.config();
         let cs = cfg.mu_static * cfg.gravity;
         let rho2 = s.part_inertia(0).expect("part") / 0.04;

@@ -2,7 +2,7 @@
 //! of its errors says, not as the controller's model does; friction scales
 //! by part and by place; the sensors report what they read.
 
-use drivers::{ActuatorModel, FrictionMap, PartSpec, PartState, PlateTruth, Shape, SimConfig, Simulator};
+use drivers::{ActuatorModel, BodyShape, FrictionMap, PartSpec, PartState, PlateTruth, SimConfig, Simulator};
 use upm_hardware::playback::play;
 use upm_hardware::{ActuatorCommand, MAX_ACTUATORS, PlateDriver, PlateState};
 use upm_motion::{MotionParams, PlateMotion, Pose, Rig, ScheduleEntry, Twist};
@@ -10,7 +10,7 @@ use upm_motion::{MotionParams, PlateMotion, Pose, Rig, ScheduleEntry, Twist};
 const CENTER: [f64; 2] = [0.5, 0.2];
 
 fn point(p: [f64; 2]) -> PartSpec {
-    PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: p, angle: 0.0 }
+    PartSpec { shape: BodyShape::Point { radius: 0.01 }, mass: 0.04, position: p, angle: 0.0 }
 }
 
 /// Mean force per unit mass on parts restarted at rest at `at` each

@@ -1,6 +1,7 @@
 //! What the motor loop writes to a plate driver each tick.
 
-use crate::MAX_ACTUATORS;
+/// Most actuators a rig may have (one command entry each).
+pub const MAX_ACTUATORS: usize = 8;
 
 /// One command per actuator (unused entries are 0). Positions are strokes
 /// (m), velocities (m/s) are feed-forward, forces (N) are feed-forward.

@@ -34,7 +34,7 @@ mod profile;
 mod rig;
 mod setpoint;
 
-pub use actuator_command::ActuatorCommand;
+pub use actuator_command::{ActuatorCommand, MAX_ACTUATORS};
 pub use cycle_entries::fill_entries;
 pub use inertia_estimate::{InertiaEstimate, InertiaParams, InertiaParamsError};
 pub use params::{MotionLimits, MotionParams, ParamsError};
@@ -53,5 +53,5 @@ pub use plate_state::PlateState;
 pub use playable::playable_k;
 pub use pose::{PlateSample, Pose, Twist, sin_cos};
 pub use profile::{MAX_KNOTS, Profile, ProfilePoint};
-pub use rig::{Actuator, MAX_ACTUATORS, Rig, RigError, RigParams};
+pub use rig::{Actuator, Rig, RigError, RigParams};
 pub use setpoint::next_command;

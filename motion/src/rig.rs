@@ -7,10 +7,7 @@ use core::fmt;
 
 use super::plan::PlateMotion;
 use super::pose::{PlateSample, Pose, Twist};
-use crate::ActuatorCommand;
-
-/// Most actuators a rig may have.
-pub const MAX_ACTUATORS: usize = 8;
+use crate::actuator_command::{ActuatorCommand, MAX_ACTUATORS};
 
 /// One linear actuator and its limits.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -27,6 +27,7 @@ pub mod rt_setup;
 mod samples;
 mod shared;
 mod solve_stage;
+mod stage_graph;
 mod start_error;
 mod thread_health;
 mod wake_budget;
@@ -40,7 +41,7 @@ pub use inbox::{
 };
 pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};
-pub use motor::{MotorLoop, MotorPolicy, TickOutcome, TruthFill, TruthTap};
+pub use motor::{MotorLoop, MotorPolicy, TickOutcome};
 pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
@@ -49,5 +50,6 @@ pub use rig_info::rig_info;
 pub use samples::{MotorSample, SolverSample, StageOutputs, StageOutputsRx};
 pub use shared::{CoreShared, HealthReport, InertiaReport};
 pub use solve_stage::{RequestError, SolveStage};
+pub use stage_graph::StageGraph;
 pub use start_error::StartError;
 pub use thread_health::CoreThread;

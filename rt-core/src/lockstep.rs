@@ -8,17 +8,16 @@ use std::sync::Arc;
 use ipc_types::{Rejection, Schedule, Telemetry};
 
 use super::clock::{Clock, ManualClock};
-use super::handoff::{StagedMotion, motion_handoff};
 use super::inbox::{InboxBuffers, QueueInbox};
 use super::latency::LatencyHistograms;
-use super::motor::{MotorLoop, MotorPolicy};
+use super::motor::MotorLoop;
 use super::params::{CoreParams, CoreParamsError};
 use super::process::fill_telemetry;
-use super::samples::{MOTOR_RING, MotorSample, StageOutputs, StageOutputsRx};
+use super::samples::{MotorSample, StageOutputsRx};
 use super::shared::CoreShared;
 use super::solve_stage::SolveStage;
+use super::stage_graph::StageGraph;
 use upm_hardware::PlateDriver;
-use upm_motion::PlateMotion;
 
 #[derive(Debug)]
 pub struct Lockstep<D: PlateDriver> {
@@ -42,31 +41,20 @@ pub struct Lockstep<D: PlateDriver> {
 impl<D: PlateDriver> Lockstep<D> {
     /// A core at manual time `start_ns` (> 0, so stamps are never 0).
     pub fn new(params: &CoreParams, driver: D, start_ns: u64) -> Result<Self, CoreParamsError> {
-        params.validate()?;
-        let rig = params.plate_rig()?;
-        let empty = PlateMotion::new(params.motion).map_err(CoreParamsError::Motion)?;
-        let (writer, reader) =
-            motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
-        let shared = Arc::new(CoreShared::new());
-        let (motor_tx, motor_rx) = rtrb::RingBuffer::new(MOTOR_RING);
-        let (out, outputs) = StageOutputs::rings();
-        let k_bounds = super::params::playable_k_bounds(params, &rig)?;
-        let stage = SolveStage::new(params, rig.clone(), k_bounds, writer, shared.clone(), out)?;
-        let motor =
-            MotorLoop::new(driver, rig, reader, shared.clone(), motor_tx, MotorPolicy::from_params(params));
+        let graph = StageGraph::build(params, driver)?;
         Ok(Self {
             clock: ManualClock::new(start_ns),
             start_ns,
             period_ns: params.tick_ns(),
             poll_ns: params.solver_poll_ns,
             next_poll_ns: start_ns,
-            motor,
-            stage,
+            motor: graph.motor,
+            stage: graph.stage,
             inbox: QueueInbox::default(),
             buf: InboxBuffers::default(),
-            shared,
-            motor_rx,
-            outputs,
+            shared: graph.shared,
+            motor_rx: graph.motor_samples,
+            outputs: graph.outputs,
             histograms: LatencyHistograms::default(),
             published: Vec::new(),
             rejections: Vec::new(),

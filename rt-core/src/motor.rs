@@ -24,24 +24,6 @@ pub enum TickOutcome {
     Stopped,
 }
 
-/// Copies what a driver knows beyond the plate (a simulator's parts) into
-/// a message. Called on the motor thread: it must not allocate or block.
-pub type TruthFill<D> = Box<dyn FnMut(&D, &mut ipc_types::PartStates) + Send>;
-
-/// Every `every` ticks, `fill` writes the driver's ground truth into the
-/// back buffer of a triple buffer the io thread publishes from.
-pub struct TruthTap<D> {
-    pub every: u64,
-    pub fill: TruthFill<D>,
-    pub out: triple_buffer::Input<ipc_types::PartStates>,
-}
-
-impl<D> core::fmt::Debug for TruthTap<D> {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("TruthTap").field("every", &self.every).finish_non_exhaustive()
-    }
-}
-
 /// When the motor holds the plate, and how it feeds forward.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotorPolicy {
@@ -89,7 +71,6 @@ pub struct MotorLoop<D: PlateDriver> {
     state: PlateState,
     frame_to_active_ns: u64,
     dropped_samples: u64,
-    truth: Option<TruthTap<D>>,
     ticks: u64,
     /// Holding because the driver reported a fault.
     fault_hold: bool,
@@ -129,7 +110,6 @@ impl<D: PlateDriver> MotorLoop<D> {
             state: PlateState::default(),
             frame_to_active_ns: 0,
             dropped_samples: 0,
-            truth: None,
             ticks: 0,
             fault_hold: false,
             healthy_reads: 0,
@@ -138,11 +118,6 @@ impl<D: PlateDriver> MotorLoop<D> {
             #[cfg(feature = "fault-injection")]
             inject: super::fault_injection::FaultPlan::from_env(),
         }
-    }
-
-    /// Publish the driver's ground truth through `tap` (start-up only).
-    pub fn set_truth_tap(&mut self, tap: TruthTap<D>) {
-        self.truth = Some(tap);
     }
 
     pub fn driver(&self) -> &D {
@@ -210,7 +185,7 @@ impl<D: PlateDriver> MotorLoop<D> {
             self.driver.hold();
         }
         self.driver.advance();
-        self.finish_tick(now_ns);
+        self.finish_tick();
         TickOutcome::Continue
     }
 
@@ -223,18 +198,9 @@ impl<D: PlateDriver> MotorLoop<D> {
         self.wrote = false;
     }
 
-    fn finish_tick(&mut self, now_ns: u64) {
+    fn finish_tick(&mut self) {
         self.shared.ticks.fetch_add(1, Relaxed);
         self.ticks += 1;
-        if let Some(tap) = &mut self.truth
-            && self.ticks.is_multiple_of(tap.every.max(1))
-        {
-            let msg = tap.out.input_buffer_mut();
-            msg.seq = self.ticks;
-            msg.stamp_ns = now_ns;
-            (tap.fill)(&self.driver, msg);
-            tap.out.publish();
-        }
     }
 
     /// True while the plate must be held whatever the schedule says: a core
@@ -306,7 +272,7 @@ impl<D: PlateDriver> MotorLoop<D> {
             self.shared.motor_done.store(true, Relaxed);
             return TickOutcome::Stopped;
         }
-        self.finish_tick(now_ns);
+        self.finish_tick();
         TickOutcome::Continue
     }
 

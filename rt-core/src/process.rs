@@ -25,11 +25,10 @@ use ipc_types::{
 
 use super::alloc_count;
 use super::clock::MonotonicClock;
-use super::handoff::{StagedMotion, motion_handoff};
 use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
-use super::motor::{MotorLoop, MotorPolicy, TruthFill, TruthTap};
+use super::motor::MotorLoop;
 use super::params::{CoreParams, CoreParamsError, ReceiverWake};
 use super::rejection_log::RejectionLog;
 use super::rt_setup::{
@@ -39,6 +38,7 @@ use super::rt_setup::{
 use super::samples::{MOTOR_RING, MotorSample, StageOutputs};
 use super::shared::{CoreShared, HealthReport, InertiaReport};
 use super::solve_stage::SolveStage;
+use super::stage_graph::StageGraph;
 use super::start_error::StartError;
 use super::thread_health::CoreThread;
 use super::wake_budget::WakeBudget;
@@ -58,9 +58,6 @@ pub struct RunOptions {
     pub histogram_dir: Option<PathBuf>,
     /// Stop by itself after this long (`None`: until SIGINT/SIGTERM).
     pub duration: Option<Duration>,
-    /// Ground truth published on `upm/sim/ground_truth` at this rate (Hz);
-    /// 0 = off. Only meaningful with a simulator driver and a `truth` fill.
-    pub truth_hz: f64,
     /// The rate vision publishes PartStates at (Hz), told to clients in
     /// `RigInfo`; 0: not known.
     pub vision_frame_hz: f64,
@@ -150,8 +147,9 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
     run_core_with_truth(params, driver, None, options)
 }
 
-/// [`run_core`] that also publishes the driver's ground truth (a
-/// simulator's parts) through `truth` at `options.truth_hz`.
+/// [`run_core`] that also publishes on `upm/sim/ground_truth` what a
+/// simulated driver writes into `truth` (its parts' ground truth, for the
+/// simulated camera), from the io thread.
 ///
 /// If a core thread dies (panic, or its body returns), the motor holds the
 /// plate at once, telemetry names the thread for `params.fault_exit_ns`,
@@ -159,7 +157,7 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
 pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     params: &CoreParams,
     driver: D,
-    truth: Option<TruthFill<D>>,
+    truth: Option<triple_buffer::Output<PartStates>>,
     options: &RunOptions,
 ) -> Result<RunReport, StartError> {
     params.validate().map_err(StartError::Params)?;
@@ -179,11 +177,10 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     // The rig describes itself once, before a client can need it. History 1
     // hands it to every later subscriber, on the publisher's next
     // update_connections (the io loop's every pass).
-    let rig = params.plate_rig().map_err(StartError::Params)?;
-    let k_bounds = super::params::playable_k_bounds(params, &rig).map_err(StartError::Params)?;
+    let graph = StageGraph::build(params, driver).map_err(StartError::Params)?;
     let rig_info_pub =
         ipc_types::ports::publisher::<RigInfo>(&node, service_names::RIG_INFO).map_err(StartError::Port)?;
-    let info = super::rig_info::rig_info(params, &k_bounds, &options.prefix, options.vision_frame_hz);
+    let info = super::rig_info::rig_info(params, &graph.k_bounds, &options.prefix, options.vision_frame_hz);
     rig_info_pub.send_copy(info).map_err(|_| StartError::RigInfo)?;
 
     // Held until this function returns; the kernel drops it if the process dies.
@@ -204,25 +201,14 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             super::rt_setup::CPU_DMA_LATENCY
         );
     }
-    let empty =
-        PlateMotion::new(params.motion).map_err(|e| StartError::Params(CoreParamsError::Motion(e)))?;
-    let (writer, reader) = motion_handoff(&StagedMotion { motion: empty, request_seq: 0, frame_stamp_ns: 0 });
-    let shared = Arc::new(CoreShared::new());
-    let (motor_tx, mut motor_rx) = rtrb::RingBuffer::<MotorSample>::new(MOTOR_RING);
-    let (stage_out, mut stage_rx) = StageOutputs::rings();
-    let truth_every = if options.truth_hz > 0.0 && options.truth_hz.is_finite() {
-        ((params.motion.tick_hz / options.truth_hz).round() as u64).max(1)
-    } else {
-        0
-    };
-    let (truth_tap, mut truth_rx, truth_pub) = match truth {
-        Some(fill) if truth_every > 0 => {
-            let (input, output) = triple_buffer::triple_buffer(&PartStates::new());
-            let publisher = ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
-                .map_err(StartError::Port)?;
-            (Some(TruthTap { every: truth_every, fill, out: input }), Some(output), Some(publisher))
-        }
-        _ => (None, None, None),
+    let StageGraph { motor, stage, shared, motor_samples: mut motor_rx, outputs: mut stage_rx, .. } = graph;
+    let mut truth_rx = truth;
+    let truth_pub = match truth_rx {
+        Some(_) => Some(
+            ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
+                .map_err(StartError::Port)?,
+        ),
+        None => None,
     };
 
     let (inbound_tx, inbound_rx) = rtrb::RingBuffer::<Received>::new(INBOUND_RING);
@@ -232,7 +218,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         spawn_receiver(params, &options.prefix, shared.clone(), inbound_tx, motor_fifo.clone())?;
     threads.receiver = Some(receiver_thread);
     realtime.receiver = placement;
-    let solver = spawn_solver(params, (rig.clone(), k_bounds), writer, shared.clone(), inbound_rx, stage_out);
+    let solver = spawn_solver(params, stage, shared.clone(), inbound_rx);
     match solver {
         Ok((t, placement)) => {
             threads.solver = Some(t);
@@ -243,7 +229,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             return Err(e);
         }
     }
-    match spawn_motor(params, driver, rig, reader, shared.clone(), motor_tx, truth_tap) {
+    match spawn_motor(params, motor, shared.clone()) {
         Ok((t, placement)) => {
             threads.motor = Some(t);
             realtime.motor = placement;
@@ -481,6 +467,91 @@ fn spawn_receiver(
 /// start-up, for RigInfo and the solve stage alike).
 fn spawn_solver(
     params: &CoreParams,
+    mut stage: SolveStage,
+    shared: Arc<CoreShared>,
+    inbound: rtrb::Consumer<Received>,
+) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
+    let (prefix, poll_ns, rt) = (prefix.to_owned(), params.solver_poll_ns, params.rt);
+    let thread = std::thread::Builder::new()
+        .name("upm-ipc-rx".into())
+        .spawn(move || {
+            let _guard = CoreThread::enter(HealthSource::ReceiverThread, shared.clone());
+            // Woken at real-time priority it is not queued behind a
+            // solve; on the motor's CPU it never delays the solver, and the
+            // motor preempts it. Only there: if the motor is unpinned or
+            // shares the solver's CPU, or the pin or SCHED_FIFO is refused,
+            // it stays a normal thread.
+            let mut placement = ThreadPlacement::default();
+            if let (ReceiverWake::Event, Some(cpu)) = (rt.receiver, rt.motor_cpu)
+                && rt.receiver_priority > 0
+                && rt.solver_cpu != Some(cpu)
+            {
+                placement = make_current_thread_realtime_on(rt.receiver_priority, cpu);
+            }
+            let mut inbox = match IpcInbox::new(&prefix) {
+                Ok(i) => i,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e));
+                    shared.stop.store(true, Relaxed);
+                    return;
+                }
+            };
+            let _ = ready_tx.send(Ok(placement));
+            #[cfg(feature = "fault-injection")]
+            let inject = super::fault_injection::FaultPlan::from_env();
+            let mut buf = InboxBuffers::default();
+            // Without a wake-up, look twice per solver period.
+            let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
+            let mut placed = false;
+            let mut wakes = WakeBudget::new();
+            let mut receive_errors = 0;
+            while !shared.stop.load(Relaxed) {
+                #[cfg(feature = "fault-injection")]
+                inject.panic_if_due(HealthSource::ReceiverThread, monotonic_now_ns());
+                // Spinning shares the motor's CPU, once the motor is known to
+                // be SCHED_FIFO (it then preempts the spin at once; on the
+                // solver's CPU a solve would stall it). A motor without
+                // real-time rights keeps its CPU to itself.
+                if rt.receiver == ReceiverWake::Spin && !placed && motor_fifo.load(Relaxed) {
+                    if let Some(cpu) = rt.motor_cpu {
+                        pin_current_thread(cpu);
+                    }
+                    placed = true;
+                }
+                let (forwarded, dropped) = forward(&mut inbox, &mut buf, &mut ring);
+                if forwarded > 0 {
+                    shared.solver_doorbell.ring();
+                }
+                shared.rejected_requests.fetch_add(dropped, Relaxed);
+                shared.count_rejects(RejectReason::Overflow, dropped);
+                shared.count_rejects(RejectReason::ReceiveError, inbox.receive_errors - receive_errors);
+                receive_errors = inbox.receive_errors;
+                match rt.receiver {
+                    ReceiverWake::Event => {
+                        wakes.pace();
+                        inbox.wait(poll);
+                    }
+                    ReceiverWake::Spin => core::hint::spin_loop(),
+                }
+            }
+        })
+        .map_err(|_| StartError::Thread { thread: "ipc receiver" })?;
+    match ready_rx.recv() {
+        Ok(Ok(placement)) => Ok((thread, placement)),
+        Ok(Err(e)) => {
+            let _ = thread.join();
+            Err(e)
+        }
+        Err(_) => Err(StartError::ThreadStartup { thread: "ipc receiver" }),
+    }
+}
+
+/// The solver thread: the stage is built (and warmed up) on it.
+/// `plate`: the rig and its per-center bounds on |k| (computed once, at
+/// start-up, for RigInfo and the solve stage alike).
+fn spawn_solver(
+    params: &CoreParams,
     plate: (Rig, Vec<f64>),
     writer: super::handoff::MotionWriter,
     shared: Arc<CoreShared>,
@@ -496,15 +567,6 @@ fn spawn_solver(
             let _guard = CoreThread::enter(HealthSource::SolverThread, shared.clone());
             let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
             prefault_stack();
-            let (rig, k_bounds) = plate;
-            let mut stage = match SolveStage::new(&params, rig, k_bounds, writer, shared.clone(), out) {
-                Ok(s) => s,
-                Err(e) => {
-                    let _ = ready_tx.send(Err(StartError::Params(e)));
-                    shared.stop.store(true, Relaxed);
-                    return;
-                }
-            };
             let mut inbox = RingInbox(inbound);
             let mut buf = InboxBuffers::default();
             #[cfg(feature = "fault-injection")]
@@ -532,15 +594,11 @@ fn spawn_solver(
 /// The motor thread; returns the samples it had to drop.
 fn spawn_motor<D: PlateDriver + Send + 'static>(
     params: &CoreParams,
-    driver: D,
-    rig: Rig,
-    reader: super::handoff::MotionReader,
+    mut motor: MotorLoop<D>,
     shared: Arc<CoreShared>,
-    samples: rtrb::Producer<MotorSample>,
-    truth: Option<TruthTap<D>>,
 ) -> Result<(JoinHandle<u64>, ThreadPlacement), StartError> {
     let (ready_tx, ready_rx) = mpsc::channel::<ThreadPlacement>();
-    let (rt, period, policy) = (params.rt, params.tick_ns(), MotorPolicy::from_params(params));
+    let (rt, period) = (params.rt, params.tick_ns());
     let thread = std::thread::Builder::new()
         .name("upm-motor".into())
         .stack_size(RT_STACK_BYTES)
@@ -548,10 +606,6 @@ fn spawn_motor<D: PlateDriver + Send + 'static>(
             let _guard = CoreThread::enter(HealthSource::MotorThread, shared.clone());
             let placement = make_current_thread_realtime(rt.motor_priority, rt.motor_cpu);
             prefault_stack();
-            let mut motor = MotorLoop::new(driver, rig, reader, shared, samples, policy);
-            if let Some(tap) = truth {
-                motor.set_truth_tap(tap);
-            }
             let _ = ready_tx.send(placement);
             alloc_count::mark_rt_thread(true);
             motor.run(&MonotonicClock, period);

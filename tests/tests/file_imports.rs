@@ -6,15 +6,15 @@
 //! in the wrong file.
 //!
 //! File A imports file B when A names an item (or module) defined in B:
-//! through `use crate::…`, `use super::…`, `use self::…`, a `use` of a child
-//! module (`use child::X`, the 2018 uniform path), or an inline path in code
-//! (`crate::x::Y`, `super::Y`, `self::x::Y`, `$crate::…`, `child::Y`). A path
-//! is resolved to the file that defines the item: its module path is walked
+//! through `use crate::…`, `use super::…`, `use self::…`, or an inline path
+//! in code (`crate::x::Y`, `super::Y`, `self::x::Y`, `$crate::…`). A path is
+//! resolved to the file that defines the item: its module path is walked
 //! through the files of `src/`, then the item is looked up in the last
 //! module's file, following that file's `use`s (re-exports such as
-//! `pub use a::A;` in lib.rs) to where the item really lives. `mod x;` is
-//! no import, and neither is `use super::*;` (a test module's) nor anything
-//! behind `#[cfg(test)]`.
+//! `pub use a::A;` in lib.rs) to where the item really lives. So a lib.rs
+//! re-export is a way through, not an import of its own: `pub use a::A;`
+//! (a relative path) adds no edge. `mod x;` is no import, and neither is
+//! `use super::*;` (a test module's) nor anything behind `#[cfg(test)]`.
 //!
 //! The reading is a small lexer, not a Rust parser: items a macro generates
 //! are not seen (a name not found falls back to the module file that was
@@ -331,6 +331,8 @@ impl Scanner {
         let mut depth = 0i32;
         // The inline modules open here: name and the brace depth of their body.
         let mut inline: Vec<(String, i32)> = Vec::new();
+        // Inside a top-level `some_macro! { … }`, whose items count as the file's.
+        let mut in_macro = false;
         let mut i = 0;
         while i < self.t.len() {
             let scope = || inline.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
@@ -344,9 +346,14 @@ impl Scanner {
                 continue;
             }
             match &self.t[i] {
-                Tok::Punct('{') => depth += 1,
+                Tok::Punct('{') => {
+                    let call = i >= 2 && self.punct(i - 1, '!') && self.ident(i - 2).is_some();
+                    in_macro |= depth == 0 && call && self.ident(i - 2) != Some("macro_rules");
+                    depth += 1;
+                }
                 Tok::Punct('}') => {
                     depth -= 1;
+                    in_macro &= depth > 0;
                     while inline.last().is_some_and(|(_, d)| *d > depth) {
                         inline.pop();
                     }
@@ -380,7 +387,7 @@ impl Scanner {
                         }
                     }
                 }
-                Tok::Ident(word) if depth == 0 && is_item_keyword(word) => {
+                Tok::Ident(word) if (depth == 0 || in_macro && depth == 1) && is_item_keyword(word) => {
                     // `const fn f`, `static mut X`, `unsafe fn f`: skip to the name;
                     // a const generic (`<const N: usize>`) is no item.
                     let generic = i > 0 && (self.punct(i - 1, '<') || self.punct(i - 1, ','));
@@ -582,6 +589,10 @@ impl CrateGraph {
                     }
                 }
             }
+            // Not here, but the module glob-imports another crate: most likely from there.
+            if f.scan.imports.iter().any(|i| i.glob && self.absolute(&f.module, &i.path).is_none()) {
+                return Target::External;
+            }
         }
         Target::Fallback(file)
     }
@@ -593,6 +604,9 @@ impl CrateGraph {
         for (from, f) in self.files.iter().enumerate() {
             for r in &f.scan.refs {
                 let here: Vec<String> = f.module.iter().chain(&r.scope).cloned().collect();
+                if !matches!(r.path[0].as_str(), "crate" | "self" | "super") {
+                    continue; // an external crate, or a relative path (a lib.rs re-export)
+                }
                 let Some(path) = self.absolute(&here, &r.path) else { continue };
                 let (_, n) = self.walk(&path);
                 // The name that ties the files: the item, else the module.
@@ -724,6 +738,7 @@ fn members() -> Vec<(String, PathBuf)> {
         .collect()
 }
 
+/// Set `UPM_FILE_IMPORTS_EDGES=1` (with `--nocapture`) to see every edge.
 #[test]
 fn no_file_import_cycles_in_any_crate() {
     let (mut files, mut edges, mut unresolved, mut found) = (0, 0, 0, Vec::new());
@@ -735,6 +750,17 @@ fn no_file_import_cycles_in_any_crate() {
         unresolved += graph.unresolved.len();
         for u in &graph.unresolved {
             eprintln!("not found, counted against the module's file: {name}: {u}");
+        }
+        if std::env::var_os("UPM_FILE_IMPORTS_EDGES").is_some() {
+            for ((a, b), names) in &graph.edges {
+                let names: Vec<&str> = names.iter().map(String::as_str).collect();
+                eprintln!(
+                    "{name}: {} -> {} ({})",
+                    graph.files[*a].rel,
+                    graph.files[*b].rel,
+                    names.join(", ")
+                );
+            }
         }
         found.extend(graph.cycles().iter().map(|c| graph.describe(c)));
     }
@@ -805,4 +831,22 @@ fn an_import_through_a_re_export_is_found() {
     let expected: BTreeSet<String> = ["a.rs".to_owned(), "b.rs".to_owned()].into();
     assert_eq!(sets, [expected], "{text:?}");
     assert_eq!(text, ["re-export: a.rs -> b.rs (B); b.rs -> a.rs (A)"]);
+}
+
+#[test]
+fn test_code_comments_and_strings_are_no_imports() {
+    let (sets, text) = synthetic_cycles(
+        "quiet",
+        &[
+            ("lib.rs", "mod a;\nmod b;\n"),
+            ("a.rs", "use crate::b::B;\npub struct A;\n"),
+            (
+                "b.rs",
+                "//! See [`crate::a::A`].\npub struct B; // crate::a::A\n\
+                 const S: &str = \"crate::a::A\";\n\
+                 #[cfg(test)]\nmod tests {\n    use super::*;\n    use crate::a::A;\n}\n",
+            ),
+        ],
+    );
+    assert!(sets.is_empty(), "{text:?}");
 }

@@ -32,9 +32,9 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use upm_camera::{CameraSection, Renderer};
 use upm_vision::blobs::SegmentParams;
+use upm_vision::class_outline::ClassOutline;
 use upm_vision::detect::PartLook;
 use upm_vision::pipeline::FramePipeline;
-use upm_vision::shape::PartShape;
 use upm_vision::{FrameParams, TrackerParams};
 
 /// One bench case: a sensor, how many parts, and whether they are
@@ -56,19 +56,19 @@ impl Case {
                 upm_camera::ClassSection {
                     level: dark,
                     radius_mm: 24.0 * core::f64::consts::FRAC_1_SQRT_2,
-                    shape: PartShape::Square,
+                    shape: ClassOutline::Square,
                 },
                 upm_camera::ClassSection {
                     level: grey,
                     radius_mm: 30.0 / 3f64.sqrt(),
-                    shape: PartShape::Triangle,
+                    shape: ClassOutline::Triangle,
                 },
             ]
         } else {
             [dark, grey].map(|level| upm_camera::ClassSection {
                 level,
                 radius_mm: 15.0,
-                shape: PartShape::Disc,
+                shape: ClassOutline::Disc,
             })
         }
     }

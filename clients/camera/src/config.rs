@@ -2,8 +2,8 @@
 //! (px, mm, degrees, ms), checked into a [`CameraModel`] and a [`Scene`].
 
 use serde::{Deserialize, Serialize};
+use upm_vision::class_outline::ClassOutline;
 use upm_vision::lens::{CameraModel, Mount};
-use upm_vision::shape::PartShape;
 
 use crate::{ClassLook, Scene};
 
@@ -16,7 +16,7 @@ pub struct ClassSection {
     /// Circumradius (a disc's radius).
     pub radius_mm: f64,
     #[serde(default)]
-    pub shape: PartShape,
+    pub shape: ClassOutline,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -69,8 +69,8 @@ impl Default for CameraSection {
             seed: 1,
             half_extent: [1.0, 0.5],
             classes: vec![
-                ClassSection { level: 0.1, radius_mm: 15.0, shape: PartShape::Disc },
-                ClassSection { level: 0.4, radius_mm: 15.0, shape: PartShape::Disc },
+                ClassSection { level: 0.1, radius_mm: 15.0, shape: ClassOutline::Disc },
+                ClassSection { level: 0.4, radius_mm: 15.0, shape: ClassOutline::Disc },
             ],
             board: crate::board::Board::default(),
         }

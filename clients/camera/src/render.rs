@@ -17,9 +17,9 @@ use ipc_types::PartStates;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
+use upm_vision::class_outline::ClassOutline;
 use upm_vision::detect::PartLook;
 use upm_vision::lens::CameraModel;
-use upm_vision::shape::PartShape;
 
 /// How one part class looks: reflectance in (0, 1], outline and its
 /// circumradius (m).
@@ -27,7 +27,7 @@ use upm_vision::shape::PartShape;
 pub struct ClassLook {
     pub level: f64,
     pub radius: f64,
-    pub shape: PartShape,
+    pub shape: ClassOutline,
 }
 
 /// What is in front of the camera, and how the sensor sees it.

@@ -8,8 +8,8 @@ use rt_core::{RtAllocCounter, alloc_count};
 use upm_camera::CameraSection;
 use upm_camera::Renderer;
 use upm_vision::calibration::Calibration;
+use upm_vision::class_outline::ClassOutline;
 use upm_vision::pipeline::FramePipeline;
-use upm_vision::shape::PartShape;
 use upm_vision::{FrameParams, TrackerParams};
 
 #[global_allocator]
@@ -18,7 +18,7 @@ static ALLOC: RtAllocCounter = RtAllocCounter;
 #[test]
 fn a_frame_allocates_nothing_after_warm_up() {
     let mut cam = CameraSection::default();
-    cam.classes[1].shape = PartShape::Square;
+    cam.classes[1].shape = ClassOutline::Square;
     cam.classes[1].radius_mm = 17.0;
     let model = cam.model().expect("model");
     let scene = cam.scene().expect("scene");

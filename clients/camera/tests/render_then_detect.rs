@@ -10,9 +10,9 @@ use ipc_types::{PartState, PartStates};
 use upm_camera::{ClassLook, Renderer, Scene};
 use upm_vision::Detection;
 use upm_vision::blobs::{BadFrame, SegmentParams, Segmenter};
+use upm_vision::class_outline::ClassOutline;
 use upm_vision::detect::{BlobCounts, PartLook, detect, split_area_px};
 use upm_vision::lens::{CameraModel, Mount};
-use upm_vision::shape::PartShape;
 
 fn model() -> CameraModel {
     let mount = Mount { x: 0.004, y: -0.003, height: 1.6, yaw: 0.004, tilt_x: 0.035, tilt_y: -0.026 };
@@ -28,8 +28,8 @@ fn scene() -> Scene {
         noise_sigma: 2.0,
         exposure_s: 0.008,
         classes: vec![
-            ClassLook { level: 0.1, radius: 0.015, shape: PartShape::Disc },
-            ClassLook { level: 0.4, radius: 0.015, shape: PartShape::Disc },
+            ClassLook { level: 0.1, radius: 0.015, shape: ClassOutline::Disc },
+            ClassLook { level: 0.4, radius: 0.015, shape: ClassOutline::Disc },
         ],
         fiducial_side: 0.06,
         seed: 7,
@@ -70,8 +70,8 @@ fn squares_and_triangles_are_found_with_their_angle_within_half_a_degree() {
     let polygons = Scene {
         classes: vec![
             // A 24 mm square and a 30 mm triangle (sides).
-            ClassLook { level: 0.1, radius: 0.012 * 2f64.sqrt(), shape: PartShape::Square },
-            ClassLook { level: 0.4, radius: 0.030 / 3f64.sqrt(), shape: PartShape::Triangle },
+            ClassLook { level: 0.1, radius: 0.012 * 2f64.sqrt(), shape: ClassOutline::Square },
+            ClassLook { level: 0.4, radius: 0.030 / 3f64.sqrt(), shape: ClassOutline::Triangle },
         ],
         ..scene()
     };

@@ -113,7 +113,7 @@ fn run_on<D: SimulatedPlant>(
 ) -> anyhow::Result<LoopResult> {
     let params = config.core_params("scenario")?;
     let mut core = Lockstep::new(&params, driver, 1_000_000_000).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut fill = upm_core::core_process::truth_fill::<D>(&parts);
+    let templates = upm_core::core_process::truth_templates(&parts);
     let tick_hz = params.motion.tick_hz;
     let frame_ticks = (tick_hz / config.vision.frame_hz).round().max(1.0) as u64;
     let total = (seconds * tick_hz) as u64;
@@ -134,7 +134,7 @@ fn run_on<D: SimulatedPlant>(
         let now = core.now_ns();
         if t == next_frame {
             next_frame += frame_ticks;
-            fill(core.motor().driver(), &mut states);
+            core.motor().driver().with_simulator(&mut |sim| sim.write_ground_truth(&templates, &mut states));
             seq += 1;
             states.seq = seq;
             states.stamp_ns = now;

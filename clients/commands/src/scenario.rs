@@ -13,7 +13,7 @@ use crate::launcher::Trails;
 use upm_planner::PlannerConfig;
 use upm_planner::sort::sort_side;
 use upm_planner::track::distance_to_rectangle;
-use upm_vision::shape::PartShape;
+use upm_vision::class_outline::ClassOutline;
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -138,9 +138,9 @@ impl Scenario {
             .map(|k| {
                 let part = c.sim.parts.iter().find(|p| p.class as usize == k);
                 let shape = match part.map(|p| p.shape.as_str()) {
-                    Some("square") => PartShape::Square,
-                    Some("triangle") => PartShape::Triangle,
-                    _ => PartShape::Disc,
+                    Some("square") => ClassOutline::Square,
+                    Some("triangle") => ClassOutline::Triangle,
+                    _ => ClassOutline::Disc,
                 };
                 upm_camera::ClassSection {
                     level: levels[k % levels.len()],

@@ -39,15 +39,7 @@ struct Track {
     last_update: f64,
 }
 
-/// Counts of what the estimator did with its windows.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct AdaptCounts {
-    pub updates: u64,
-    /// Windows with too little push to tell the scale.
-    pub skipped: u64,
-    /// Windows that looked like a collision or a fence, or jumped.
-    pub rejected: u64,
-}
+pub use crate::adapt_counts::AdaptCounts;
 
 pub struct Adaptive<P> {
     inner: P,

@@ -3,12 +3,13 @@
 //! part states and writes force requests; it links `ipc-types` and nothing
 //! of the core or the simulator. An external planner is a separate binary
 //! that implements [`Planner`] and calls [`run::run_planner`] (see
-//! `examples/external_planner.rs`).
+//! `examples/own-planner/gather.rs` at the repository's root).
 //!
 //! The built-in planners are chosen by [`PlannerConfig`], the `[planner]`
 //! section of the rig config: `name` picks the planner, the other fields
 //! are that planner's parameters.
 
+pub mod adapt_counts;
 pub mod adaptive;
 pub mod args;
 pub mod calibrated;
@@ -39,7 +40,7 @@ pub trait Planner: Send {
         Vec::new()
     }
     /// What the learning did with its windows, if it learns.
-    fn learning_counts(&self) -> Option<adaptive::AdaptCounts> {
+    fn learning_counts(&self) -> Option<adapt_counts::AdaptCounts> {
         None
     }
 }

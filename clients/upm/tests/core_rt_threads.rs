@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use drivers::{PartSpec, Shape, SimConfig, Simulator};
+use drivers::{BodyShape, PartSpec, SimConfig, Simulator};
 use ipc_types::Telemetry;
 use rt_core::{CoreParams, RtAllocCounter, RunOptions, alloc_count, run_core_with_truth};
 
@@ -65,14 +65,20 @@ fn rt_threads_allocate_nothing_with(mut params: CoreParams) {
     params.motion.slot_ticks = 20;
     let cycle_s = 4.0 * params.motion.slot_duration();
     let duration = Duration::from_secs_f64(1500.0 * cycle_s);
-    // Parts on the plate, and their ground truth tapped every 10 ticks on
-    // the motor thread, as upm-core does for the simulated camera.
+    // Parts on the plate, and the simulator publishing their ground truth
+    // every 10 ticks on the motor thread, as upm-core has it for the
+    // simulated camera.
     let parts: Vec<PartSpec> = [[0.5, 0.0], [-0.75, 0.25], [0.0, -0.3]]
         .iter()
-        .map(|&position| PartSpec { shape: Shape::Disc { radius: 0.02 }, mass: 0.01, position, angle: 0.0 })
+        .map(|&position| PartSpec {
+            shape: BodyShape::Disc { radius: 0.02 },
+            mass: 0.01,
+            position,
+            angle: 0.0,
+        })
         .collect();
-    let sim = Simulator::new(SimConfig::default(), &parts).expect("sim");
-    let fill = upm_core::core_process::truth_fill(&upm_commands::config::SimParts {
+    let mut sim = Simulator::new(SimConfig::default(), &parts).expect("sim");
+    let templates = upm_core::core_process::truth_templates(&upm_commands::config::SimParts {
         specs: parts.clone(),
         ids: vec![1, 2, 3],
         classes: vec![0, 1, 0],
@@ -83,16 +89,12 @@ fn rt_threads_allocate_nothing_with(mut params: CoreParams) {
         let (prefix, stop) = (prefix.clone(), stop.clone());
         std::thread::spawn(move || common::feed(&prefix, Duration::from_millis(10), &stop))
     };
-    let options = RunOptions {
-        prefix: prefix.clone(),
-        duration: Some(duration),
-        truth_hz: 1000.0,
-        ..RunOptions::default()
-    };
+    let options = RunOptions { prefix: prefix.clone(), duration: Some(duration), ..RunOptions::default() };
     if std::env::var_os("UPM_ABORT_ON_RT_ALLOCATION").is_some() {
         alloc_count::abort_on_rt_allocation(true);
     }
-    let report = run_core_with_truth(&params, sim, Some(fill), &options);
+    let truth = sim.publish_ground_truth(10, templates);
+    let report = run_core_with_truth(&params, sim, Some(truth), &options);
     stop.store(true, Ordering::Relaxed);
     feeder.join().expect("feeder");
     common::remove_prefix(&prefix);

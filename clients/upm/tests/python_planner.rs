@@ -69,7 +69,7 @@ fn upm_run_with(
 #[test]
 fn a_python_planner_drives_the_rig_through_upm_run() {
     let py = python();
-    let planner = format!("exec '{}' clients/python/examples/gather.py", py.display());
+    let planner = format!("exec '{}' examples/own-planner/gather.py", py.display());
     let r = upm_run("local", "6", &planner, "python");
     let (m, log) = (&r.metrics, &r.client_log);
     assert!(r.out.status.success(), "{}\nplanner.log:\n{log}", String::from_utf8_lossy(&r.out.stderr));

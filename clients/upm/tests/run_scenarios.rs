@@ -5,7 +5,7 @@
 
 mod common;
 
-#[path = "../../planner/examples/external_planner.rs"]
+#[path = "../../../examples/own-planner/gather.rs"]
 #[allow(dead_code)]
 mod external;
 

@@ -703,7 +703,7 @@ mod moment_tests {
         for angle in [0.1f64, 0.3, -0.5] {
             let b = blob_at(angle, [0.0, 0.0]);
             let turned = phase(&b) - phase(&flat);
-            let seen = crate::shape::wrap_period(turned / 4.0, core::f64::consts::FRAC_PI_2);
+            let seen = crate::class_outline::wrap_period(turned / 4.0, core::f64::consts::FRAC_PI_2);
             assert!((seen - angle).abs() < 0.01, "{angle}: {seen}");
         }
     }

@@ -9,7 +9,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use crate::shape::BodyOutline;
+use crate::class_outline::BodyOutline;
 use crate::tracker::Detection;
 
 /// Tunables of the simulated camera (`[vision]` in the config).

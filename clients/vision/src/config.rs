@@ -9,8 +9,8 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::blobs::SegmentParams;
+use crate::class_outline::ClassOutline;
 use crate::detect::PartLook;
-use crate::shape::PartShape;
 use crate::{Camera, CameraParams, TrackerParams};
 
 /// How vision tells one part class from another in an image.
@@ -22,7 +22,7 @@ pub struct VisionClass {
     /// Circumradius (a disc's radius).
     pub radius_mm: f64,
     #[serde(default)]
-    pub shape: PartShape,
+    pub shape: ClassOutline,
 }
 
 /// Vision from camera frames: what it needs besides the frames.
@@ -71,8 +71,8 @@ impl Default for VisionSection {
             threshold: SegmentParams::default().threshold,
             roi_margin_mm: 3.0,
             classes: vec![
-                VisionClass { ratio: 0.125, radius_mm: 15.0, shape: PartShape::Disc },
-                VisionClass { ratio: 0.5, radius_mm: 15.0, shape: PartShape::Disc },
+                VisionClass { ratio: 0.125, radius_mm: 15.0, shape: ClassOutline::Disc },
+                VisionClass { ratio: 0.5, radius_mm: 15.0, shape: ClassOutline::Disc },
             ],
             frame_hz: c.frame_hz,
             noise_mm: c.noise_m * 1e3,

@@ -11,8 +11,8 @@
 //! outline.
 
 use crate::blobs::{Blob, binomial};
+use crate::class_outline::{BodyOutline, ClassOutline};
 use crate::lens::CameraModel;
-use crate::shape::{BodyOutline, PartShape};
 use crate::tracker::Detection;
 
 /// What vision knows about a part class: its brightness relative to the
@@ -21,7 +21,7 @@ use crate::tracker::Detection;
 pub struct PartLook {
     pub ratio: f64,
     pub radius: f64,
-    pub shape: PartShape,
+    pub shape: ClassOutline,
 }
 
 impl PartLook {
@@ -109,7 +109,7 @@ pub fn detect(
         counts.detected += 1;
         counts.split += u64::from(b.split);
         let look = looks.get(class as usize);
-        let shape = look.map_or(PartShape::Disc, |l| l.shape);
+        let shape = look.map_or(ClassOutline::Disc, |l| l.shape);
         let theta = plate_angle(b, shape, model);
         let outline = look.map_or(BodyOutline::POINT, PartLook::outline);
         out.push(Detection { x, y, theta, class, period: shape.period(), outline });
@@ -123,7 +123,7 @@ pub fn detect(
 /// so the n-th complex moment is taken of the blob mapped through J:
 /// with x + iy = α Δu + β Δv (α, β the columns of J as complex numbers),
 /// Σ (x + iy)ⁿ = Σ_q C(n, q) α^(n-q) β^q μ_(n-q, q).
-fn plate_angle(b: &Blob, shape: PartShape, model: &CameraModel) -> f64 {
+fn plate_angle(b: &Blob, shape: ClassOutline, model: &CameraModel) -> f64 {
     let n = shape.corners() as usize;
     let mu: &[f64] = match n {
         3 => &b.mu3,
@@ -168,9 +168,9 @@ mod tests {
         let mount = Mount { x: 0.0, y: 0.0, height: 1.5, yaw: 0.0, tilt_x: 0.0, tilt_y: 0.0 };
         let model = CameraModel::mounted(1001, 501, 1000.0, [0.0; 4], mount);
         let looks = [
-            PartLook { ratio: 0.2, radius: 0.015, shape: PartShape::Disc },
-            PartLook { ratio: 0.5, radius: 0.02, shape: PartShape::Square },
-            PartLook { ratio: 0.8, radius: 0.025, shape: PartShape::Triangle },
+            PartLook { ratio: 0.2, radius: 0.015, shape: ClassOutline::Disc },
+            PartLook { ratio: 0.5, radius: 0.02, shape: ClassOutline::Square },
+            PartLook { ratio: 0.8, radius: 0.025, shape: ClassOutline::Triangle },
         ];
         let mpp = model.metres_per_pixel(0.0, 0.0).expect("mpp");
         let blobs: Vec<Blob> = looks

@@ -5,7 +5,7 @@
 //! the first sighting on. A track carries the outline of its latest
 //! detection.
 
-use crate::shape::{BodyOutline, wrap_period};
+use crate::class_outline::{BodyOutline, wrap_period};
 
 /// One detection in a frame (what a camera sees: where, which class).
 #[derive(Debug, Clone, Copy, PartialEq)]

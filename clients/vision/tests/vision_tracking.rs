@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use ipc_types::{PartState, PartStates, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, service_names};
 use upm_test_harness::{Running, TestRig};
-use upm_vision::shape::PartShape;
+use upm_vision::class_outline::ClassOutline;
 use upm_vision::{BodyOutline, Camera, CameraParams, Detection, Tracker, TrackerParams, part_states};
 
 /// A point detection (no outline) at rest.
@@ -64,13 +64,13 @@ fn tracker_drops_lost_tracks_and_starts_new_ones() {
 #[test]
 fn a_track_publishes_the_outline_of_its_latest_detection() {
     let mut t = Tracker::new(TrackerParams::default());
-    let square = PartShape::Square.body_outline(0.02);
-    let disc = PartShape::Disc.body_outline(0.015);
+    let square = ClassOutline::Square.body_outline(0.02);
+    let disc = ClassOutline::Disc.body_outline(0.015);
     let d = Detection { outline: square, ..at(0.1, 0.1, 0) };
     t.update(&[d, Detection { outline: disc, ..at(-0.2, 0.1, 1) }], 0.0);
     assert_eq!(t.tracks().iter().map(|t| t.outline).collect::<Vec<_>>(), [square, disc]);
     // The same track, now seen with another outline: the newest wins.
-    let bigger = PartShape::Square.body_outline(0.025);
+    let bigger = ClassOutline::Square.body_outline(0.025);
     t.update(&[Detection { outline: bigger, ..d }], 0.03);
     assert_eq!((t.tracks()[0].id, t.tracks()[0].outline), (1, bigger));
     assert_eq!(t.tracks()[1].outline, disc, "an unseen track keeps its outline");

@@ -114,13 +114,13 @@ impl SimSection {
                 return Err(format!("{field}.size must be finite and positive"));
             }
             let shape = match p.shape.as_str() {
-                "point" => drivers::Shape::Point { radius: p.size },
-                "disc" => drivers::Shape::Disc { radius: p.size },
+                "point" => drivers::BodyShape::Point { radius: p.size },
+                "disc" => drivers::BodyShape::Disc { radius: p.size },
                 "square" => {
                     let h = 0.5 * p.size;
                     let mut vertices = [[0.0; 2]; drivers::sim::MAX_POLYGON_VERTICES];
                     vertices[..4].copy_from_slice(&[[-h, -h], [h, -h], [h, h], [-h, h]]);
-                    drivers::Shape::Polygon { vertices, count: 4 }
+                    drivers::BodyShape::Polygon { vertices, count: 4 }
                 }
                 "triangle" => {
                     // A vertex on the part's +x axis, as vision measures it.
@@ -130,7 +130,7 @@ impl SimSection {
                         let a = k as f64 * core::f64::consts::TAU / 3.0;
                         *v = [r * a.cos(), r * a.sin()];
                     }
-                    drivers::Shape::Polygon { vertices, count: 3 }
+                    drivers::BodyShape::Polygon { vertices, count: 3 }
                 }
                 other => {
                     return Err(format!(

@@ -4,14 +4,14 @@
 
 mod common;
 
-use drivers::{PartSpec, Shape, SimConfig};
+use drivers::{BodyShape, PartSpec, SimConfig};
 use ethercat_sim::SimulatedRig;
 use upm_ethercat::{EthercatDriver, EthercatParams};
 use upm_hardware::conformance;
 
 fn ethercat(cycle_divisor: u32) -> EthercatDriver<SimulatedRig> {
     let parts =
-        [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
+        [PartSpec { shape: BodyShape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
     let p = EthercatParams { cycle_divisor, ..common::params() };
     EthercatDriver::start(common::chain(&p, &parts), p, SimConfig::default().rig)
         .unwrap_or_else(|e| panic!("{e}"))

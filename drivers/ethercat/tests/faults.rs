@@ -7,14 +7,14 @@
 mod common;
 
 use common::params;
-use drivers::{PartSpec, Shape, SimConfig};
+use drivers::{BodyShape, PartSpec, SimConfig};
 use ethercat_sim::SimulatedRig;
 use upm_ethercat::{EthercatDriver, EthercatParams, ExpectedSubDevice, StartError, Wire, WireError};
 use upm_hardware::{ActuatorCommand, BusState, PlateDriver, PlateState, ReadError};
 
 fn rig(params: &EthercatParams) -> SimulatedRig {
     let parts =
-        [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
+        [PartSpec { shape: BodyShape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
     common::chain(params, &parts)
 }
 

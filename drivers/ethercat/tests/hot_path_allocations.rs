@@ -5,7 +5,7 @@
 
 mod common;
 
-use drivers::{PartSpec, Shape, SimConfig};
+use drivers::{BodyShape, PartSpec, SimConfig};
 use ethercat_sim::SimulatedRig;
 use rt_core::alloc_count::{RtAllocCounter, allocations_in, counter_installed};
 use upm_ethercat::EthercatDriver;
@@ -19,7 +19,7 @@ static A: RtAllocCounter = RtAllocCounter;
 
 fn driver() -> EthercatDriver<SimulatedRig> {
     let parts =
-        [PartSpec { shape: Shape::Disc { radius: 0.03 }, mass: 0.04, position: [0.2, 0.1], angle: 0.0 }];
+        [PartSpec { shape: BodyShape::Disc { radius: 0.03 }, mass: 0.04, position: [0.2, 0.1], angle: 0.0 }];
     let p = common::params();
     EthercatDriver::start(common::chain(&p, &parts), p, SimConfig::default().rig)
         .unwrap_or_else(|e| panic!("{e}"))

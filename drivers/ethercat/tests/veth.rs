@@ -11,7 +11,7 @@ mod common;
 use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
-use drivers::{PartSpec, Shape, SimConfig};
+use drivers::{BodyShape, PartSpec, SimConfig};
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use upm_ethercat::{EthercatDriver, RawSocketWire};
@@ -31,7 +31,7 @@ fn the_driver_runs_over_a_veth_pair_and_survives_the_link_going_down() {
     };
     let cfg = SimConfig::default();
     let parts =
-        [PartSpec { shape: Shape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
+        [PartSpec { shape: BodyShape::Point { radius: 0.01 }, mass: 0.04, position: [0.5, 0.0], angle: 0.0 }];
     let p = common::params();
     let rig = common::chain(&p, &parts);
     let server =

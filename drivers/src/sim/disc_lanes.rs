@@ -164,14 +164,15 @@ pub(crate) fn step_lane(
 mod tests {
     use super::*;
     use crate::sim::lanes::{LaneKind, Lanes};
-    use crate::sim::part::{PartSpec, PartState, Shape};
+    use crate::sim::part::{BodyShape, PartSpec, PartState};
     use proptest::prelude::*;
     use upm_motion::Twist;
 
     const MU: Coulomb = Coulomb { kinetic: 0.25 * 9.81, stat: 0.3 * 9.81 };
 
     fn disc(r: f64) -> Body {
-        let spec = PartSpec { shape: Shape::Disc { radius: r }, mass: 0.04, position: [0.0; 2], angle: 0.0 };
+        let spec =
+            PartSpec { shape: BodyShape::Disc { radius: r }, mass: 0.04, position: [0.0; 2], angle: 0.0 };
         Body::new(&spec).expect("disc").0
     }
 

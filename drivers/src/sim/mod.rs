@@ -11,6 +11,7 @@ mod contact;
 mod disc_friction;
 mod disc_lanes;
 mod friction;
+mod ground_truth;
 mod lanes;
 mod part;
 mod part_capacity;
@@ -30,7 +31,7 @@ use upm_hardware::{
 use upm_motion::{Pose, Rig, RigError, Twist};
 
 pub use config::{ActuatorModel, SimConfig, SimConfigError};
-pub use part::{PartError, PartSpec, PartState, Shape};
+pub use part::{BodyShape, PartError, PartSpec, PartState};
 pub use part_capacity::{MAX_CONTACTS, MAX_POLYGON_VERTICES};
 pub use truth::{
     FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PlateTruth, TruthError,
@@ -39,6 +40,7 @@ pub use truth::{
 
 use contact::Broadphase;
 use friction::Coulomb;
+use ground_truth::GroundTruthSlot;
 use lanes::{LaneKind, Lanes, W};
 use part::Body;
 use plate::{Plate, Target};
@@ -117,6 +119,7 @@ pub struct Simulator {
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
+    ground_truth: GroundTruthSlot,
 }
 
 impl Simulator {
@@ -165,6 +168,7 @@ impl Simulator {
             broadphase: Broadphase::with_capacity(parts.len()),
             rng: SplitMix64::new(cfg.seed),
             counters: SimCounters::default(),
+            ground_truth: GroundTruthSlot::default(),
             part_friction: vec![1.0; bodies.len()],
             friction_uneven: !cfg.truth.friction_map.is_flat(),
             plant,
@@ -275,6 +279,7 @@ impl Simulator {
     /// plate and parts integrate), then contacts and fence.
     pub fn step(&mut self) {
         step_tick(self);
+        self.publish_ground_truth_if_due();
     }
 
     #[inline(always)]

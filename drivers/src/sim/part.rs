@@ -5,7 +5,7 @@ use super::part_capacity::{MAX_CONTACTS, MAX_POLYGON_VERTICES};
 use super::polygon_limit::PolygonLimit;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Shape {
+pub enum BodyShape {
     /// A point mass; `radius` only matters for the fence and collisions.
     Point { radius: f64 },
     /// A uniform disc with uniform pressure over its whole face; its
@@ -18,19 +18,19 @@ pub enum Shape {
     Polygon { vertices: [[f64; 2]; MAX_POLYGON_VERTICES], count: usize },
 }
 
-impl Shape {
+impl BodyShape {
     /// The outline in the part's body frame, as the simulator keeps it: a
     /// polygon re-centred on its centroid (where the part's position is).
-    pub fn body_frame(&self) -> Shape {
+    pub fn body_frame(&self) -> BodyShape {
         match *self {
-            Shape::Polygon { vertices, count } => {
+            BodyShape::Polygon { vertices, count } => {
                 let n = count.min(MAX_POLYGON_VERTICES);
                 let (_, cen) = area2_and_centroid(&vertices[..n]);
                 let mut out = vertices;
                 for v in &mut out[..n] {
                     *v = [v[0] - cen[0], v[1] - cen[1]];
                 }
-                Shape::Polygon { vertices: out, count: n }
+                BodyShape::Polygon { vertices: out, count: n }
             }
             other => other,
         }
@@ -40,7 +40,7 @@ impl Shape {
 /// A part to put on the plate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartSpec {
-    pub shape: Shape,
+    pub shape: BodyShape,
     pub mass: f64,
     /// World position of the center of mass and orientation.
     pub position: [f64; 2],
@@ -114,14 +114,14 @@ impl Body {
         b.weights[0] = 1.0;
         let ok_r = |r: f64| r.is_finite() && r >= 0.0;
         match spec.shape {
-            Shape::Point { radius } => {
+            BodyShape::Point { radius } => {
                 if !ok_r(radius) {
                     return Err(PartError::Radius);
                 }
                 b.radius = radius;
                 Ok((b, [0.0; 2]))
             }
-            Shape::Disc { radius } => {
+            BodyShape::Disc { radius } => {
                 if !(ok_r(radius) && radius > 0.0) {
                     return Err(PartError::Radius);
                 }
@@ -134,7 +134,7 @@ impl Body {
                 b.disc = true;
                 Ok((b, [0.0; 2]))
             }
-            Shape::Polygon { vertices, count } => polygon(b, &vertices, count),
+            BodyShape::Polygon { vertices, count } => polygon(b, &vertices, count),
         }
     }
 }

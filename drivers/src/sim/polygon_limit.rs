@@ -154,14 +154,14 @@ fn min_psi(r: &[[f64; 2]], w: &[f64], kinks: &PolygonLimit, f: [f64; 2], tau: f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::part::{Body, PartSpec, Shape};
+    use crate::sim::part::{Body, BodyShape, PartSpec};
     use crate::sim::part_capacity::MAX_POLYGON_VERTICES;
 
     fn polygon(v: &[[f64; 2]]) -> Body {
         let mut vertices = [[0.0; 2]; MAX_POLYGON_VERTICES];
         vertices[..v.len()].copy_from_slice(v);
         let spec = PartSpec {
-            shape: Shape::Polygon { vertices, count: v.len() },
+            shape: BodyShape::Polygon { vertices, count: v.len() },
             mass: 0.04,
             position: [0.0; 2],
             angle: 0.0,

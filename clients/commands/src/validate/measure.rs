@@ -2,7 +2,7 @@
 
 use anyhow::{Context, anyhow};
 use drivers::rng::SplitMix64;
-use drivers::{PartSpec, PartState, Shape, SimConfig, Simulator};
+use drivers::{BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::PlateState;
 use upm_hardware::playback::play_estimating;
 use upm_motion::{InertiaEstimate, PlateMotion, Rig};
@@ -50,7 +50,7 @@ impl Probe {
     /// clockwise about its centroid, placed at the centroid).
     fn spec(&self, mass: f64) -> PartSpec {
         let (shape, position) = match self.patch {
-            Some(PartShape::Disc { radius }) => (Shape::Disc { radius }, self.position),
+            Some(PartShape::Disc { radius }) => (BodyShape::Disc { radius }, self.position),
             Some(shape @ PartShape::Polygon { vertices, count }) => {
                 let v = &vertices[..count];
                 let g = shape.patch_points().centroid;
@@ -63,10 +63,13 @@ impl Probe {
                     let src = if twice_area > 0.0 { v[i] } else { v[count - 1 - i] };
                     *o = [src[0] - g[0], src[1] - g[1]];
                 }
-                (Shape::Polygon { vertices: out, count }, [self.position[0] + g[0], self.position[1] + g[1]])
+                (
+                    BodyShape::Polygon { vertices: out, count },
+                    [self.position[0] + g[0], self.position[1] + g[1]],
+                )
             }
-            _ if self.disc => (Shape::Disc { radius: DISC_RADIUS }, self.position),
-            _ => (Shape::Point { radius: 0.0 }, self.position),
+            _ if self.disc => (BodyShape::Disc { radius: DISC_RADIUS }, self.position),
+            _ => (BodyShape::Point { radius: 0.0 }, self.position),
         };
         PartSpec { shape, mass, position, angle: 0.0 }
     }

@@ -2,7 +2,7 @@
 //! running rig through the `Planner` trait. It gathers every part towards
 //! the plate's centre, at most 2 cm/s.
 //!
-//! cargo run --release -p upm-planner --example external_planner -- --prefix upm_run_1234_
+//! cargo run --release -p upm-planner --example gather -- --prefix upm_run_1234_
 
 pub mod gather {
     use ipc_types::{ForceEntry, ForceRequest, PartStates};

@@ -1,5 +1,5 @@
 """Gather every part towards the plate's centre at most 2 cm/s: the Python
-twin of clients/planner/examples/external_planner.rs. It sleeps until vision
+twin of examples/own-planner/gather.rs. It sleeps until vision
 announces new part states, and learns the rig from RigInfo (no config file).
 
     UPM_PREFIX=upm_run_1234_ python gather.py [--prefix P] [--duration S]

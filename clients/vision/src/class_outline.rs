@@ -13,14 +13,14 @@ use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum PartShape {
+pub enum ClassOutline {
     #[default]
     Disc,
     Square,
     Triangle,
 }
 
-impl PartShape {
+impl ClassOutline {
     /// Vertices of the polygon (0 for a disc).
     pub const fn corners(self) -> u32 {
         match self {
@@ -173,14 +173,14 @@ mod tests {
 
     #[test]
     fn areas_match_the_polygons() {
-        assert!((PartShape::Square.area(2f64.sqrt()) - 4.0).abs() < 1e-12);
+        assert!((ClassOutline::Square.area(2f64.sqrt()) - 4.0).abs() < 1e-12);
         let side = 3f64.sqrt();
-        assert!((PartShape::Triangle.area(1.0) - 3f64.sqrt() / 4.0 * side * side).abs() < 1e-12);
+        assert!((ClassOutline::Triangle.area(1.0) - 3f64.sqrt() / 4.0 * side * side).abs() < 1e-12);
     }
 
     #[test]
     fn square_at_zero_has_axis_parallel_edges() {
-        let s = PartShape::Square;
+        let s = ClassOutline::Square;
         let r = 2f64.sqrt(); // side 2
         assert!(s.contains(r, 0.0, 0.99, 0.99));
         assert!(!s.contains(r, 0.0, 1.01, 0.0));
@@ -190,7 +190,7 @@ mod tests {
 
     #[test]
     fn triangle_at_zero_points_along_x() {
-        let t = PartShape::Triangle;
+        let t = ClassOutline::Triangle;
         assert!(t.contains(1.0, 0.0, 0.99, 0.0));
         assert!(!t.contains(1.0, 0.0, -0.99, 0.0));
         assert!(t.contains(1.0, PI, -0.99, 0.0));
@@ -200,7 +200,7 @@ mod tests {
     /// regular n-gon is real and positive.
     #[test]
     fn a_vertex_on_x_gives_a_positive_real_moment() {
-        for shape in [PartShape::Triangle, PartShape::Square] {
+        for shape in [ClassOutline::Triangle, ClassOutline::Square] {
             let n = shape.corners() as i32;
             let (mut re, mut im) = (0.0, 0.0);
             let steps = 200;
@@ -220,14 +220,14 @@ mod tests {
     }
 
     /// The outline published for a class is the one rendered and detected:
-    /// its vertices, turned by θ, are the corners of [`PartShape::outline`].
+    /// its vertices, turned by θ, are the corners of [`ClassOutline::outline`].
     #[test]
     fn body_outline_is_the_class_polygon_at_zero_counter_clockwise() {
         let r = 0.02;
-        let disc = PartShape::Disc.body_outline(r);
+        let disc = ClassOutline::Disc.body_outline(r);
         let part = PartState::new(1, 0, 0, [0.0; 3], [0.0; 3]);
         assert_eq!(disc.put_on(part), part.with_disc(r));
-        for (shape, first) in [(PartShape::Square, PI / 4.0), (PartShape::Triangle, 0.0)] {
+        for (shape, first) in [(ClassOutline::Square, PI / 4.0), (ClassOutline::Triangle, 0.0)] {
             let o = shape.body_outline(r);
             let p = o.put_on(part);
             assert_eq!(p.check_shape(1.0), Ok(()), "{shape:?}");
@@ -258,13 +258,13 @@ mod tests {
 
     #[test]
     fn wrap_keeps_the_angle_within_half_a_period() {
-        let s = PartShape::Square;
+        let s = ClassOutline::Square;
         for a in [-7.0, -1.0, -0.7, 0.0, 0.3, 0.78, 2.0, 9.0] {
             let w = s.wrap(a);
             assert!(w.abs() <= PI / 4.0 + 1e-12, "{a} -> {w}");
             let turns = (a - w) / s.period();
             assert!((turns - turns.round()).abs() < 1e-9);
         }
-        assert_eq!(PartShape::Disc.wrap(5.0), 5.0);
+        assert_eq!(ClassOutline::Disc.wrap(5.0), 5.0);
     }
 }
