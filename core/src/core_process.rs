@@ -6,7 +6,6 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Parser;
-use ipc_types::PartStates;
 use rt_core::{CoreParams, RunOptions, RunReport, run_core_with_truth};
 
 use crate::config::{CoreConfig, DriverChoice};

@@ -33,9 +33,10 @@
 
 use core::fmt;
 
+use super::actuator_command::MAX_ACTUATORS;
 use super::plate_follow::PlateFollow;
 use super::pose::{PlateSample, Pose};
-use super::rig::{MAX_ACTUATORS, Rig};
+use super::rig::Rig;
 use crate::PlateState;
 
 /// Tunables, with defaults.

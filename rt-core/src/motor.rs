@@ -71,7 +71,6 @@ pub struct MotorLoop<D: PlateDriver> {
     state: PlateState,
     frame_to_active_ns: u64,
     dropped_samples: u64,
-    ticks: u64,
     /// Holding because the driver reported a fault.
     fault_hold: bool,
     /// Healthy reads since the last driver fault.
@@ -110,7 +109,6 @@ impl<D: PlateDriver> MotorLoop<D> {
             state: PlateState::default(),
             frame_to_active_ns: 0,
             dropped_samples: 0,
-            ticks: 0,
             fault_hold: false,
             healthy_reads: 0,
             inertia: policy.inertia_adaptation.map(InertiaEstimate::new),
@@ -155,7 +153,7 @@ impl<D: PlateDriver> MotorLoop<D> {
         // update: a fault holds at once; otherwise decisions only at a cycle
         // boundary, where the plate is home
         if self.holds_for_fault(read) {
-            return self.hold_tick(now_ns);
+            return self.hold_tick();
         }
         if self.phase == 0 && self.at_boundary(now_ns) == TickOutcome::Stopped {
             self.driver.hold();
@@ -200,7 +198,6 @@ impl<D: PlateDriver> MotorLoop<D> {
 
     fn finish_tick(&mut self) {
         self.shared.ticks.fetch_add(1, Relaxed);
-        self.ticks += 1;
     }
 
     /// True while the plate must be held whatever the schedule says: a core
@@ -264,7 +261,7 @@ impl<D: PlateDriver> MotorLoop<D> {
     }
 
     /// A tick that only holds the plate; a stop request ends the loop.
-    fn hold_tick(&mut self, now_ns: u64) -> TickOutcome {
+    fn hold_tick(&mut self) -> TickOutcome {
         self.driver.hold();
         self.driver.advance();
         if self.shared.stop.load(Relaxed) {

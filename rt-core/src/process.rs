@@ -29,13 +29,12 @@ use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
 use super::motor::MotorLoop;
-use super::params::{CoreParams, CoreParamsError, ReceiverWake};
+use super::params::{CoreParams, ReceiverWake};
 use super::rejection_log::RejectionLog;
 use super::rt_setup::{
     RT_STACK_BYTES, ThreadPlacement, hold_cpu_dma_latency, keep_current_thread_off, lock_memory,
     make_current_thread_realtime, make_current_thread_realtime_on, pin_current_thread, prefault_stack,
 };
-use super::samples::{MOTOR_RING, MotorSample, StageOutputs};
 use super::shared::{CoreShared, HealthReport, InertiaReport};
 use super::solve_stage::SolveStage;
 use super::stage_graph::StageGraph;
@@ -43,7 +42,6 @@ use super::start_error::StartError;
 use super::thread_health::CoreThread;
 use super::wake_budget::WakeBudget;
 use upm_hardware::PlateDriver;
-use upm_motion::{PlateMotion, Rig};
 
 /// The iceoryx2 node name of the core's io thread; a second core on the
 /// same prefix finds it alive and refuses to start.
@@ -470,93 +468,6 @@ fn spawn_solver(
     mut stage: SolveStage,
     shared: Arc<CoreShared>,
     inbound: rtrb::Consumer<Received>,
-) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
-    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
-    let (prefix, poll_ns, rt) = (prefix.to_owned(), params.solver_poll_ns, params.rt);
-    let thread = std::thread::Builder::new()
-        .name("upm-ipc-rx".into())
-        .spawn(move || {
-            let _guard = CoreThread::enter(HealthSource::ReceiverThread, shared.clone());
-            // Woken at real-time priority it is not queued behind a
-            // solve; on the motor's CPU it never delays the solver, and the
-            // motor preempts it. Only there: if the motor is unpinned or
-            // shares the solver's CPU, or the pin or SCHED_FIFO is refused,
-            // it stays a normal thread.
-            let mut placement = ThreadPlacement::default();
-            if let (ReceiverWake::Event, Some(cpu)) = (rt.receiver, rt.motor_cpu)
-                && rt.receiver_priority > 0
-                && rt.solver_cpu != Some(cpu)
-            {
-                placement = make_current_thread_realtime_on(rt.receiver_priority, cpu);
-            }
-            let mut inbox = match IpcInbox::new(&prefix) {
-                Ok(i) => i,
-                Err(e) => {
-                    let _ = ready_tx.send(Err(e));
-                    shared.stop.store(true, Relaxed);
-                    return;
-                }
-            };
-            let _ = ready_tx.send(Ok(placement));
-            #[cfg(feature = "fault-injection")]
-            let inject = super::fault_injection::FaultPlan::from_env();
-            let mut buf = InboxBuffers::default();
-            // Without a wake-up, look twice per solver period.
-            let poll = Duration::from_nanos((poll_ns / 2).max(50_000));
-            let mut placed = false;
-            let mut wakes = WakeBudget::new();
-            let mut receive_errors = 0;
-            while !shared.stop.load(Relaxed) {
-                #[cfg(feature = "fault-injection")]
-                inject.panic_if_due(HealthSource::ReceiverThread, monotonic_now_ns());
-                // Spinning shares the motor's CPU, once the motor is known to
-                // be SCHED_FIFO (it then preempts the spin at once; on the
-                // solver's CPU a solve would stall it). A motor without
-                // real-time rights keeps its CPU to itself.
-                if rt.receiver == ReceiverWake::Spin && !placed && motor_fifo.load(Relaxed) {
-                    if let Some(cpu) = rt.motor_cpu {
-                        pin_current_thread(cpu);
-                    }
-                    placed = true;
-                }
-                let (forwarded, dropped) = forward(&mut inbox, &mut buf, &mut ring);
-                if forwarded > 0 {
-                    shared.solver_doorbell.ring();
-                }
-                shared.rejected_requests.fetch_add(dropped, Relaxed);
-                shared.count_rejects(RejectReason::Overflow, dropped);
-                shared.count_rejects(RejectReason::ReceiveError, inbox.receive_errors - receive_errors);
-                receive_errors = inbox.receive_errors;
-                match rt.receiver {
-                    ReceiverWake::Event => {
-                        wakes.pace();
-                        inbox.wait(poll);
-                    }
-                    ReceiverWake::Spin => core::hint::spin_loop(),
-                }
-            }
-        })
-        .map_err(|_| StartError::Thread { thread: "ipc receiver" })?;
-    match ready_rx.recv() {
-        Ok(Ok(placement)) => Ok((thread, placement)),
-        Ok(Err(e)) => {
-            let _ = thread.join();
-            Err(e)
-        }
-        Err(_) => Err(StartError::ThreadStartup { thread: "ipc receiver" }),
-    }
-}
-
-/// The solver thread: the stage is built (and warmed up) on it.
-/// `plate`: the rig and its per-center bounds on |k| (computed once, at
-/// start-up, for RigInfo and the solve stage alike).
-fn spawn_solver(
-    params: &CoreParams,
-    plate: (Rig, Vec<f64>),
-    writer: super::handoff::MotionWriter,
-    shared: Arc<CoreShared>,
-    inbound: rtrb::Consumer<Received>,
-    out: StageOutputs,
 ) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
     let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
     let params = params.clone();
