@@ -1,7 +1,7 @@
 //! A trivial driver: the plate is exactly where the last command put it.
 //! Used as the mock for the conformance suite and for kinematic tests.
 
-use crate::{ActuatorCommand, ActuatorLimits, PlateDriver, PlateState, ReadError, WriteError, apply_limits};
+use crate::{ActuatorCommand, ActuatorLimits, CommandGate, PlateDriver, PlateState, ReadError, WriteError};
 use upm_motion::{Rig, RigError, RigParams};
 
 #[derive(Debug, Clone)]
@@ -9,27 +9,15 @@ pub struct IdealDriver {
     rig: Rig,
     limits: ActuatorLimits,
     h: f64,
-    command: ActuatorCommand,
+    gate: CommandGate,
     tick: u64,
-    clamped: u64,
-    rejected: u64,
-    holding: bool,
 }
 
 impl IdealDriver {
     pub fn new(rig: RigParams, tick_hz: f64) -> Result<Self, RigError> {
         let rig = Rig::new(rig)?;
         let h = if tick_hz.is_finite() && tick_hz > 0.0 { 1.0 / tick_hz } else { 1e-4 };
-        Ok(Self {
-            limits: ActuatorLimits::from_rig(&rig),
-            rig,
-            h,
-            command: ActuatorCommand::HOME,
-            tick: 0,
-            clamped: 0,
-            rejected: 0,
-            holding: false,
-        })
+        Ok(Self { limits: ActuatorLimits::from_rig(&rig), rig, h, gate: CommandGate::default(), tick: 0 })
     }
 }
 
@@ -45,33 +33,21 @@ impl PlateDriver for IdealDriver {
     fn read(&mut self, state: &mut PlateState) -> Result<(), ReadError> {
         state.tick = self.tick;
         state.time = self.tick as f64 * self.h;
-        state.pose = self.rig.pose_from_actuators(&self.command.position);
-        state.velocity = self.rig.twist_from_actuators(&state.pose, &self.command.velocity);
-        state.actuator_position = self.command.position;
-        state.actuator_force = self.command.force;
-        state.clamped = self.clamped;
-        state.rejected = self.rejected;
-        state.holding = self.holding;
+        let command = &self.gate.command;
+        state.pose = self.rig.pose_from_actuators(&command.position);
+        state.velocity = self.rig.twist_from_actuators(&state.pose, &command.velocity);
+        state.actuator_position = command.position;
+        state.actuator_force = command.force;
+        self.gate.report(state);
         Ok(())
     }
 
     fn write(&mut self, command: &ActuatorCommand) -> Result<(), WriteError> {
-        match apply_limits(&self.limits, command, &mut self.command) {
-            Ok(c) => {
-                self.clamped += c as u64;
-                self.holding = false;
-                Ok(())
-            }
-            Err(e) => {
-                self.rejected += 1;
-                Err(e)
-            }
-        }
+        self.gate.write(&self.limits, command)
     }
 
     fn hold(&mut self) {
-        self.command = ActuatorCommand::HOME;
-        self.holding = true;
+        self.gate.hold();
     }
 
     fn advance(&mut self) {

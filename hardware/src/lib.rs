@@ -12,12 +12,14 @@
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
+mod command_gate;
 pub mod conformance;
 mod health;
 pub mod ideal;
 mod limits;
 pub mod playback;
 
+pub use command_gate::CommandGate;
 pub use health::{BusState, DriverHealth, DriverKind};
 pub use ideal::IdealDriver;
 pub use limits::{ActuatorLimits, apply_limits};

@@ -35,8 +35,8 @@ use ethercrab::{
     SubDeviceState, Timeouts,
 };
 use upm_hardware::{
-    ActuatorCommand, ActuatorLimits, BusState, DriverHealth, DriverKind, MAX_ACTUATORS, PlateDriver,
-    PlateState, ReadError, WriteError, apply_limits,
+    ActuatorCommand, ActuatorLimits, BusState, CommandGate, DriverHealth, DriverKind, MAX_ACTUATORS,
+    PlateDriver, PlateState, ReadError, WriteError,
 };
 use upm_motion::{Rig, RigParams};
 
@@ -160,16 +160,13 @@ pub struct EthercatDriver<W: Wire> {
     axes: [Cia402Axis; MAX_ACTUATORS],
     statusword: [u16; MAX_ACTUATORS],
     /// The accepted command (limited); home while holding.
-    command: ActuatorCommand,
+    gate: CommandGate,
     /// Position targets sent (m).
     target: [f64; MAX_ACTUATORS],
     actual: [f64; MAX_ACTUATORS],
     speed: [f64; MAX_ACTUATORS],
     force: [f64; MAX_ACTUATORS],
     tick: u64,
-    clamped: u64,
-    rejected: u64,
-    holding: bool,
     /// The last exchange came back whole with every device in OP.
     link_ok: bool,
     /// Distributed clocks, as the last exchange saw them.
@@ -245,15 +242,12 @@ impl<W: Wire> EthercatDriver<W> {
             params,
             axes: [Cia402Axis::default(); MAX_ACTUATORS],
             statusword: [0; MAX_ACTUATORS],
-            command: ActuatorCommand::HOME,
+            gate: CommandGate::default(),
             target: [0.0; MAX_ACTUATORS],
             actual: [0.0; MAX_ACTUATORS],
             speed: [0.0; MAX_ACTUATORS],
             force: [0.0; MAX_ACTUATORS],
             tick: 0,
-            clamped: 0,
-            rejected: 0,
-            holding: false,
             link_ok: false,
             dc: None,
             correction_ns: 0,
@@ -333,7 +327,7 @@ impl<W: Wire> EthercatDriver<W> {
             let live = self.link_ok && self.enabled(i);
             let (speed, force) = if live {
                 let step = self.limits.velocity[i] * self.cycle_s;
-                let want = self.command.position[i] - self.target[i];
+                let want = self.gate.command.position[i] - self.target[i];
                 let moved = want.clamp(-step, step);
                 // Never further from where the drive stands (its last
                 // reading, a cycle on) than it may follow: a command the
@@ -342,11 +336,11 @@ impl<W: Wire> EthercatDriver<W> {
                 let reach = FOLLOWING_GUARD * p.following_error_m;
                 let stands = self.actual[i] + self.speed[i] * self.cycle_s;
                 let next = (self.target[i] + moved).clamp(stands - reach, stands + reach);
-                if next != self.target[i] + want && !self.holding {
-                    self.clamped += 1;
+                if next != self.target[i] + want && !self.gate.holding {
+                    self.gate.clamped += 1;
                 }
                 self.target[i] = next;
-                (self.command.velocity[i], self.command.force[i])
+                (self.gate.command.velocity[i], self.gate.command.force[i])
             } else {
                 // Enabling takes the drive where it stands.
                 self.target[i] = self.actual[i];
@@ -506,29 +500,16 @@ impl<W: Wire> PlateDriver for EthercatDriver<W> {
         state.actuator_force = self.force;
         state.pose = self.rig.pose_from_actuators(&self.actual);
         state.velocity = self.rig.twist_from_actuators(&state.pose, &self.speed);
-        state.clamped = self.clamped;
-        state.rejected = self.rejected;
-        state.holding = self.holding;
+        self.gate.report(state);
         if self.link_ok && self.all_enabled() { Ok(()) } else { Err(ReadError::Fault) }
     }
 
     fn write(&mut self, command: &ActuatorCommand) -> Result<(), WriteError> {
-        match apply_limits(&self.limits, command, &mut self.command) {
-            Ok(c) => {
-                self.clamped += c as u64;
-                self.holding = false;
-                Ok(())
-            }
-            Err(e) => {
-                self.rejected += 1;
-                Err(e)
-            }
-        }
+        self.gate.write(&self.limits, command)
     }
 
     fn hold(&mut self) {
-        self.command = ActuatorCommand::HOME;
-        self.holding = true;
+        self.gate.hold();
     }
 
     fn advance(&mut self) {

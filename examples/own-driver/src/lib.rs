@@ -1,13 +1,13 @@
 //! Your own plate driver: a plate on stepper actuators that count whole
 //! steps. Everything a real driver does is here in small: the rig's
 //! kinematics and limits from `upm-motion`, the one limit policy
-//! (`apply_limits`), the hardware's own units (steps), hold, and a tick
+//! (`CommandGate`), the hardware's own units (steps), hold, and a tick
 //! that lets time pass. `tests/conformance.rs` runs the suite every driver
 //! passes.
 
 use upm_hardware::{
-    ActuatorCommand, ActuatorLimits, MAX_ACTUATORS, PlateDriver, PlateState, ReadError, WriteError,
-    apply_limits,
+    ActuatorCommand, ActuatorLimits, CommandGate, MAX_ACTUATORS, PlateDriver, PlateState, ReadError,
+    WriteError,
 };
 use upm_motion::{Rig, RigError, RigParams};
 
@@ -23,13 +23,11 @@ pub struct StepperPlate {
     limits: ActuatorLimits,
     tick_s: f64,
     tick: u64,
-    /// The last accepted command, after the limits.
-    command: ActuatorCommand,
+    /// The command, through the one limit policy; clamps and refusals
+    /// counted.
+    gate: CommandGate,
     /// Each actuator's step counter.
     steps: [i64; MAX_ACTUATORS],
-    clamped: u64,
-    rejected: u64,
-    holding: bool,
 }
 
 impl StepperPlate {
@@ -40,11 +38,8 @@ impl StepperPlate {
             rig,
             tick_s: 1.0 / tick_hz,
             tick: 0,
-            command: ActuatorCommand::HOME,
+            gate: CommandGate::default(),
             steps: [0; MAX_ACTUATORS],
-            clamped: 0,
-            rejected: 0,
-            holding: false,
         })
     }
 }
@@ -65,36 +60,23 @@ impl PlateDriver for StepperPlate {
         state.tick = self.tick;
         state.time = self.tick as f64 * self.tick_s;
         state.pose = self.rig.pose_from_actuators(&state.actuator_position);
-        state.velocity = self.rig.twist_from_actuators(&state.pose, &self.command.velocity);
+        state.velocity = self.rig.twist_from_actuators(&state.pose, &self.gate.command.velocity);
         // Steppers have no force sensor: report the feed-forward.
-        state.actuator_force = self.command.force;
-        state.clamped = self.clamped;
-        state.rejected = self.rejected;
-        state.holding = self.holding;
+        state.actuator_force = self.gate.command.force;
+        self.gate.report(state);
         Ok(())
     }
 
     fn write(&mut self, command: &ActuatorCommand) -> Result<(), WriteError> {
-        match apply_limits(&self.limits, command, &mut self.command) {
-            Ok(clamped) => {
-                self.clamped += clamped as u64;
-                self.holding = false;
-                Ok(())
-            }
-            Err(e) => {
-                self.rejected += 1;
-                Err(e)
-            }
-        }
+        self.gate.write(&self.limits, command)
     }
 
     fn hold(&mut self) {
-        self.command = ActuatorCommand::HOME;
-        self.holding = true;
+        self.gate.hold();
     }
 
     fn advance(&mut self) {
-        for (s, &p) in self.steps.iter_mut().zip(&self.command.position) {
+        for (s, &p) in self.steps.iter_mut().zip(&self.gate.command.position) {
             *s = (p * STEPS_PER_M).round() as i64;
         }
         self.tick += 1;
