@@ -460,9 +460,8 @@ fn spawn_receiver(
     }
 }
 
-/// The solver thread: the stage is built (and warmed up) on it.
-/// `plate`: the rig and its per-center bounds on |k| (computed once, at
-/// start-up, for RigInfo and the solve stage alike).
+/// The solver thread, serving `stage` (built and warmed up by the
+/// [`StageGraph`]) until stop.
 fn spawn_solver(
     params: &CoreParams,
     mut stage: SolveStage,

@@ -255,8 +255,8 @@ impl SolveStage {
         let k_max = k_bounds.iter().fold(0.0, |a: f64, &k| a.max(k));
         let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
         let mut solver = Solver::new(cap, super::rig_info::stage_solver_params(params));
-        // First gemm on this thread allocates a thread-local buffer; the
-        // stage is built on the thread that will use it.
+        // Touch every buffer page and resolve every SIMD dispatch now, not
+        // on the first frame.
         solver.warm_up();
         let solution = solver.new_solution();
         let probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;

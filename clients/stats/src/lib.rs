@@ -1,7 +1,6 @@
 //! The one percentile of samples UPM quotes (benches, vision's frame
-//! timings, the calibration fit's robust scale): nearest rank over sorted
-//! samples, so every figure is a sample that was seen, never an
-//! interpolation. Latency histograms use hdrhistogram's own percentiles.
+//! timings) and the one median (the calibration fit's robust scale, the
+//! benches): a sample that was seen, never an interpolation. Latency histograms use hdrhistogram's own percentiles.
 
 /// Nearest-rank `q`-quantile (`q` in 0..=1) of `sorted` (ascending); None
 /// without samples. q = 0 is the smallest sample, q = 1 the largest.
@@ -15,10 +14,11 @@ pub fn percentile_or_nan(sorted: &[f64], q: f64) -> f64 {
     percentile(sorted, q).unwrap_or(f64::NAN)
 }
 
-/// Sorts `v` (NaN last) and takes its nearest-rank median; None when empty.
+/// Sorts `v` (NaN last) and takes its middle sample, the upper one of the
+/// two middles of an even count; None when empty.
 pub fn median(v: &mut [f64]) -> Option<f64> {
     v.sort_by(f64::total_cmp);
-    percentile(v, 0.5)
+    v.get(v.len() / 2).copied()
 }
 
 #[cfg(test)]
@@ -35,5 +35,7 @@ mod tests {
         assert_eq!(percentile(&v, 1.0), Some(4.0));
         assert_eq!(percentile(&[], 0.5), None);
         assert_eq!(median(&mut [3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), Some(3.0));
+        assert_eq!(median(&mut []), None);
     }
 }
