@@ -31,6 +31,8 @@
 
 use core::fmt;
 
+use serde::{Deserialize, Serialize};
+
 use ipc_types::{MAX_CURLS, MAX_PARTS};
 
 use crate::{
@@ -38,8 +40,10 @@ use crate::{
 };
 use upm_solver::{CurlConstraint, ForceConstraint, PartShape, Problem, Solution, Solver};
 
-/// The state each part's cycle starts from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// The state each part's cycle starts from (`about` in
+/// `[motion.part_dynamics]`: `"reported"` or `"rest"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum LinearizeAbout {
     /// The velocity and spin vision reports: the request is the mean force
     /// the part feels as it moves now. A planner then gets no damping from
@@ -53,8 +57,11 @@ pub enum LinearizeAbout {
     Rest,
 }
 
-/// Tunables of the correction (`[motion.part_dynamics]`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Tunables of the correction, read as they are from
+/// `[motion.part_dynamics]` (the fields a rig file does not set are the
+/// callers').
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct PartDynamicsParams {
     /// Correction steps after the first answer; 0 turns it off.
     pub steps: u32,
@@ -66,13 +73,16 @@ pub struct PartDynamicsParams {
     pub substeps: u32,
     /// How the plate follows its command (`upm solve` takes the rig's
     /// drives; the core its command, exactly).
+    #[serde(skip)]
     pub follow: PlateFollow,
     /// true: a part asked only a force is integrated over its whole patch
     /// (`upm solve`; a disc costs 96 points); false: as a point at its
     /// centroid.
+    #[serde(skip)]
     pub patch_forces: bool,
     /// Most contact-point evaluations per request ([`MAX_CORRECTION_WORK`]
     /// on the solver thread; `upm solve`, offline, has no bound).
+    #[serde(skip)]
     pub max_work: u64,
 }
 

@@ -9,8 +9,8 @@
 
 use serde_json::{Value, json};
 
-use upm_commands::config::AboutSection;
 use upm_commands::scenario::{Scenario, resolve};
+use upm_motion::LinearizeAbout;
 use upm_planner::PlannerConfig;
 
 /// The scenarios measured: turn in place (disc, square), turn while
@@ -25,7 +25,7 @@ pub struct Model {
     pub part_shapes: bool,
     /// Part-dynamics correction steps (0: off) and the state it starts from.
     pub dynamics_steps: u32,
-    pub about: AboutSection,
+    pub about: LinearizeAbout,
     /// `spin`'s `damping`: a core that corrects for the part's own spin no
     /// longer damps it (0.3 settles `spin` fastest of 0.05, 0.15, 0.3 on
     /// seed 1).
@@ -39,28 +39,28 @@ pub const MODELS: [Model; 4] = [
         name: "reported",
         part_shapes: true,
         dynamics_steps: 2,
-        about: AboutSection::Reported,
+        about: LinearizeAbout::Reported,
         spin_damping: 0.3,
     },
     Model {
         name: "rest",
         part_shapes: true,
         dynamics_steps: 2,
-        about: AboutSection::Rest,
+        about: LinearizeAbout::Rest,
         spin_damping: 0.0,
     },
     Model {
         name: "shapes",
         part_shapes: true,
         dynamics_steps: 0,
-        about: AboutSection::Reported,
+        about: LinearizeAbout::Reported,
         spin_damping: 0.0,
     },
     Model {
         name: "points",
         part_shapes: false,
         dynamics_steps: 0,
-        about: AboutSection::Reported,
+        about: LinearizeAbout::Reported,
         spin_damping: 0.0,
     },
 ];

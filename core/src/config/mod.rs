@@ -24,7 +24,7 @@ use upm_motion::RigParams;
 
 pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
 pub use driver::{DriverChoice, DriverSection, SubDeviceSection};
-pub use rig::{AboutSection, MotionSection, PartDynamicsSection, PlateSection};
+pub use rig::{MotionSection, PlateSection};
 pub use sim::{SimPartSection, SimParts, SimSection};
 
 /// The rig file. `V`, `P` and `C` are the clients' sections (`[vision]`,
@@ -132,7 +132,7 @@ impl<V, P, C> CoreConfig<V, P, C> {
             centers: self.plate.centers.clone(),
             cycle_slots: self.motion.cycle_slots,
             part_shapes: self.motion.part_shapes,
-            part_dynamics: self.motion.part_dynamics.params(),
+            part_dynamics: self.motion.part_dynamics,
             part_friction,
             inertia_adaptation: self.inertia_adaptation()?,
             mu_m_g: self.plate.mu_m_g,

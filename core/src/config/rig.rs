@@ -3,7 +3,7 @@
 
 use rt_core::CoreParams;
 use serde::{Deserialize, Serialize};
-use upm_motion::{LinearizeAbout, PartDynamicsParams};
+use upm_motion::PartDynamicsParams;
 use upm_motion::{MotionLimits, MotionParams};
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -28,7 +28,7 @@ pub struct MotionSection {
     /// vision reports it; false: every part is a point (the paper).
     pub part_shapes: bool,
     /// The core's correction for each part's own velocity and spin.
-    pub part_dynamics: PartDynamicsSection,
+    pub part_dynamics: PartDynamicsParams,
     /// The motor scales its feed-forward to the plate's mass and inertia
     /// as the drives' servo effort shows them; false: the model's. Unset:
     /// on with the simulator's drives (whose servo is specified in
@@ -59,58 +59,13 @@ impl Default for MotionSection {
             k_max: m.k_max,
             cycle_slots: 0,
             part_shapes: true,
-            part_dynamics: PartDynamicsSection::default(),
+            part_dynamics: PartDynamicsParams::default(),
             adapt_plate_inertia: None,
             max_angle: m.limits.max_angle,
             max_angular_velocity: m.limits.max_angular_velocity,
             max_angular_acceleration: m.limits.max_angular_acceleration,
             max_point_speed: m.limits.max_point_speed,
             max_point_acceleration: m.limits.max_point_acceleration,
-        }
-    }
-}
-
-/// `[motion.part_dynamics]`: rt-core's `PartDynamicsParams`.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
-#[serde(default, deny_unknown_fields)]
-pub struct PartDynamicsSection {
-    /// Correction steps per request; 0: the solver's answer as it is.
-    pub steps: u32,
-    /// "reported": each part's cycle from its velocity and spin as vision
-    /// reports them; "rest": from rest.
-    pub about: AboutSection,
-    /// μ·g of the parts, m/s².
-    pub mu_g: f64,
-    /// Integration steps per motor tick.
-    pub substeps: u32,
-}
-
-impl Default for PartDynamicsSection {
-    fn default() -> Self {
-        let p = PartDynamicsParams::default();
-        Self { steps: p.steps, about: AboutSection::Reported, mu_g: p.mu_g, substeps: p.substeps }
-    }
-}
-
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum AboutSection {
-    Reported,
-    Rest,
-}
-
-impl PartDynamicsSection {
-    pub fn params(&self) -> PartDynamicsParams {
-        let about = match self.about {
-            AboutSection::Reported => LinearizeAbout::Reported,
-            AboutSection::Rest => LinearizeAbout::Rest,
-        };
-        PartDynamicsParams {
-            steps: self.steps,
-            about,
-            mu_g: self.mu_g,
-            substeps: self.substeps,
-            ..PartDynamicsParams::default()
         }
     }
 }
@@ -146,11 +101,28 @@ mod tests {
     }
 
     #[test]
+    fn part_dynamics_left_out_is_the_default() {
+        let params = parse("").expect("parses").core_params("x.toml").expect("valid");
+        assert_eq!(params.part_dynamics, upm_motion::PartDynamicsParams::default());
+        let e = parse(
+            "[motion.part_dynamics]
+max_work = 3
+",
+        )
+        .expect_err("not a rig file key");
+        assert!(e.to_string().contains("max_work"), "{e}");
+    }
+
+    #[test]
     fn part_dynamics_is_read_and_its_errors_name_the_field() {
         let text = "[motion.part_dynamics]\nsteps = 2\nabout = \"rest\"\nmu_g = 3.0\nsubsteps = 8\n";
         let params = parse(text).expect("parses").core_params("x.toml").expect("valid");
         assert_eq!((params.part_dynamics.steps, params.part_dynamics.about), (2, LinearizeAbout::Rest));
         assert_eq!((params.part_dynamics.mu_g, params.part_dynamics.substeps), (3.0, 8));
+        // What a rig file does not set stays the model's default.
+        let d = upm_motion::PartDynamicsParams::default();
+        let p = params.part_dynamics;
+        assert_eq!((p.follow, p.patch_forces, p.max_work), (d.follow, d.patch_forces, d.max_work));
         for (bad, field) in [
             ("steps = 9", "motion.part_dynamics.steps"),
             ("steps = 1\nmu_g = -1.0", "motion.part_dynamics.mu_g"),
