@@ -468,14 +468,14 @@ fn spawn_solver(
     shared: Arc<CoreShared>,
     inbound: rtrb::Consumer<Received>,
 ) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
-    let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
-    let params = params.clone();
+    let (ready_tx, ready_rx) = mpsc::channel::<ThreadPlacement>();
+    let rt = params.rt;
     let thread = std::thread::Builder::new()
         .name("upm-solver".into())
         .stack_size(RT_STACK_BYTES)
         .spawn(move || {
             let _guard = CoreThread::enter(HealthSource::SolverThread, shared.clone());
-            let placement = make_current_thread_realtime(params.rt.solver_priority, params.rt.solver_cpu);
+            let placement = make_current_thread_realtime(rt.solver_priority, rt.solver_cpu);
             prefault_stack();
             let mut inbox = RingInbox(inbound);
             let mut buf = InboxBuffers::default();
@@ -485,18 +485,14 @@ fn spawn_solver(
             let before_each = || inject.panic_if_due(HealthSource::SolverThread, monotonic_now_ns());
             #[cfg(not(feature = "fault-injection"))]
             let before_each = || {};
-            let _ = ready_tx.send(Ok(placement));
+            let _ = ready_tx.send(placement);
             alloc_count::mark_rt_thread(true);
             stage.serve(&mut inbox, &mut buf, &MonotonicClock, before_each);
             alloc_count::mark_rt_thread(false);
         })
         .map_err(|_| StartError::Thread { thread: "solver" })?;
     match ready_rx.recv() {
-        Ok(Ok(placement)) => Ok((thread, placement)),
-        Ok(Err(e)) => {
-            let _ = thread.join();
-            Err(e)
-        }
+        Ok(placement) => Ok((thread, placement)),
         Err(_) => Err(StartError::ThreadStartup { thread: "solver" }),
     }
 }
