@@ -125,7 +125,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
     eprintln!(
         "upm-core: prefix {:?}, {} centers, {} Hz motor loop, driver {:?}, pid {}",
         options.prefix,
-        params.centers.len(),
+        params.plate.centers.len(),
         params.motion.tick_hz,
         config.driver.kind,
         std::process::id()

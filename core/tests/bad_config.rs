@@ -22,7 +22,8 @@ fn refused(tag: &str, text: &str) -> (String, Option<i32>) {
 fn a_bad_config_is_one_line_naming_the_field() {
     for (tag, text, field) in [
         ("type", "[motion]\ntick_hz = \"fast\"\n", "motion.tick_hz: "),
-        ("range", "[safety]\nparts_max_age_ms = -1.0\n", "safety.parts_max_age_ms must be"),
+        ("range", "[safety]\nparts_max_age_ms = -1.0\n", "safety.parts_max_age_ms: "),
+        ("zero", "[safety]\nparts_max_age_ms = 0\n", "safety.parts_max_age_ms must be"),
         ("unknown", "[visio]\nframe_hz = 30.0\n", "visio: "),
         ("field", "[sim]\nseeds = 3\n", "sim.seeds: "),
     ] {

@@ -9,7 +9,7 @@ pub mod rng;
 pub mod sim;
 
 pub use sim::{
-    ActuatorModel, BodyShape, FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE,
-    PartSpec, PartState, PlateTruth, SimConfig, SimConfigError, SimCounters, SimError, Simulator, TruthError,
-    friction_scale_ok,
+    ActuatorKind, ActuatorModel, BodyShape, FRICTION_MAP_TERMS, FrictionMap, MAX_FRICTION_SCALE,
+    MIN_FRICTION_SCALE, PartSpec, PartState, PlateTruth, SimConfig, SimConfigError, SimCounters, SimError,
+    Simulator, TruthError, friction_scale_ok,
 };

@@ -1,9 +1,9 @@
 //! The conformance suite, instantiated for the simulator's actuator models.
 
-use drivers::{ActuatorModel, BodyShape, PartSpec, SimConfig, Simulator};
+use drivers::{ActuatorKind, BodyShape, PartSpec, SimConfig, Simulator};
 use upm_hardware::conformance;
 
-fn sim(model: ActuatorModel) -> impl Fn() -> Simulator {
+fn sim(model: ActuatorKind) -> impl Fn() -> Simulator {
     move || {
         let cfg = SimConfig { actuator: model, ..SimConfig::default() };
         let parts = [
@@ -26,7 +26,7 @@ fn sim(model: ActuatorModel) -> impl Fn() -> Simulator {
 
 #[test]
 fn simulator_ideal_actuators_conforms() {
-    conformance::run_all(sim(ActuatorModel::Ideal), 0, 1e-12);
+    conformance::run_all(sim(ActuatorKind::Ideal), 0, 1e-12);
 }
 
 #[test]

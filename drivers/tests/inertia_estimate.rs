@@ -2,7 +2,7 @@
 //! a plate heavier than its model is found from the drives' effort, and an
 //! exact plate is found exact however finely the drives step their servo.
 
-use drivers::{ActuatorModel, PlateTruth, SimConfig, Simulator};
+use drivers::{ActuatorKind, PlateTruth, SimConfig, Simulator};
 use upm_hardware::PlateState;
 use upm_hardware::playback::play_estimating;
 use upm_motion::{
@@ -25,7 +25,7 @@ fn learnt(mass_error: f64, substeps: u32, servo: PlateFollow, cycles: u64) -> [f
         ScheduleEntry { center: [0.3, 2.0], k: 0.3 },
     ];
     m.set_schedule(&entries).expect("playable");
-    let ActuatorModel::SecondOrder { .. } = cfg.actuator else { panic!("a servo plate") };
+    assert_eq!(cfg.actuator, ActuatorKind::SecondOrder, "a servo plate");
     let params = InertiaParams { servo, servo_substeps: substeps, ..InertiaParams::default() };
     let mut estimate = InertiaEstimate::new(params);
     let (n, mut state) = (m.cycle_ticks(), PlateState::default());

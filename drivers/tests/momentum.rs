@@ -1,6 +1,6 @@
 //! Part–part impacts conserve linear momentum; the fence keeps parts on.
 
-use drivers::{ActuatorModel, BodyShape, PartSpec, PartState, SimConfig, Simulator};
+use drivers::{ActuatorKind, BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::PlateDriver;
 
 fn disc(p: [f64; 2], m: f64) -> PartSpec {
@@ -11,7 +11,7 @@ fn disc(p: [f64; 2], m: f64) -> PartSpec {
 fn collision_conserves_momentum() {
     // Friction made negligible so only the impact changes momentum.
     let cfg = SimConfig {
-        actuator: ActuatorModel::Ideal,
+        actuator: ActuatorKind::Ideal,
         mu_kinetic: 1e-12,
         mu_static: 1e-12,
         part_restitution: 1.0,
@@ -47,7 +47,7 @@ fn collision_conserves_momentum() {
 
 #[test]
 fn fence_keeps_parts_on_the_plate() {
-    let cfg = SimConfig { actuator: ActuatorModel::Ideal, ..SimConfig::default() };
+    let cfg = SimConfig { actuator: ActuatorKind::Ideal, ..SimConfig::default() };
     let mut s = Simulator::new(cfg, &[disc([0.9, 0.0], 0.04)]).expect("sim");
     assert!(s.set_part(0, PartState { position: [0.9, 0.0], velocity: [2.0, 0.0], ..PartState::default() }));
     for _ in 0..1000 {

@@ -1,12 +1,12 @@
 //! Coulomb stick–slip against analytic answers.
 
-use drivers::{ActuatorModel, BodyShape, PartSpec, PartState, SimConfig, Simulator};
+use drivers::{ActuatorKind, BodyShape, PartSpec, PartState, SimConfig, Simulator};
 use upm_hardware::{ActuatorCommand, PlateDriver};
 use upm_motion::{Pose, Rig, Twist};
 
 fn sim(parts: &[PartSpec]) -> Simulator {
     let cfg =
-        SimConfig { actuator: ActuatorModel::Ideal, collisions: false, fence: false, ..SimConfig::default() };
+        SimConfig { actuator: ActuatorKind::Ideal, collisions: false, fence: false, ..SimConfig::default() };
     Simulator::new(cfg, parts).expect("valid sim")
 }
 

@@ -2,7 +2,7 @@
 //! of its errors says, not as the controller's model does; friction scales
 //! by part and by place; the sensors report what they read.
 
-use drivers::{ActuatorModel, BodyShape, FrictionMap, PartSpec, PartState, PlateTruth, SimConfig, Simulator};
+use drivers::{ActuatorKind, BodyShape, FrictionMap, PartSpec, PartState, PlateTruth, SimConfig, Simulator};
 use upm_hardware::playback::play;
 use upm_hardware::{ActuatorCommand, MAX_ACTUATORS, PlateDriver, PlateState};
 use upm_motion::{MotionParams, PlateMotion, Pose, Rig, ScheduleEntry, Twist};
@@ -144,7 +144,7 @@ fn friction_scales_with_the_part_and_with_the_map() {
 #[test]
 fn sensors_read_the_command_while_the_plate_sits_elsewhere() {
     let truth = PlateTruth::worn();
-    let cfg = SimConfig { actuator: ActuatorModel::Ideal, truth, ..SimConfig::default() };
+    let cfg = SimConfig { actuator: ActuatorKind::Ideal, truth, ..SimConfig::default() };
     let mut sim = Simulator::new(cfg, &[]).expect("sim");
     let rig = Rig::new(cfg.rig).expect("rig");
     let pose = Pose { x: 1e-3, y: -0.5e-3, theta: 1e-3 };

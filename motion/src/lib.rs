@@ -24,9 +24,11 @@ mod inertia_estimate;
 mod params;
 mod part_drift;
 mod part_dynamics;
+mod part_dynamics_params;
 mod part_friction;
 mod plan;
 mod plate_follow;
+mod plate_path;
 mod plate_state;
 mod playable;
 mod pose;
@@ -37,11 +39,12 @@ mod setpoint;
 pub use actuator_command::{ActuatorCommand, MAX_ACTUATORS};
 pub use cycle_entries::fill_entries;
 pub use inertia_estimate::{InertiaEstimate, InertiaParams, InertiaParamsError};
-pub use params::{MotionLimits, MotionParams, ParamsError};
+pub use params::{MotionParams, ParamsError};
 pub use part_drift::{DriftParams, PlateTrace, TraceTooLong, cycle_mean_acceleration, cycle_mean_twist};
-pub use part_dynamics::{
-    Correction, LinearizeAbout, MAX_CORRECTION_WORK, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, PartDynamics,
-    PartDynamicsError, PartDynamicsParams, PartMotion, relative_force_error,
+pub use part_dynamics::{Correction, PartDynamics, PartMotion, relative_force_error};
+pub use part_dynamics_params::{
+    LinearizeAbout, MAX_CORRECTION_WORK, MAX_DYNAMICS_STEPS, MAX_DYNAMICS_SUBSTEPS, MAX_TRACE_PIECES,
+    PartDynamicsError, PartDynamicsParams,
 };
 pub use part_friction::{
     FRICTION_MAP_TERMS, MAX_FRICTION_CLASSES, MAX_FRICTION_SCALE, MIN_FRICTION_SCALE, PartFriction,

@@ -20,7 +20,8 @@
 
 use core::fmt;
 
-use super::plate_follow::{PlateFollow, PlatePath};
+use super::plate_follow::PlateFollow;
+use super::plate_path::PlatePath;
 use super::{PlateMotion, Pose, Twist};
 use upm_solver::{PartShape, PatchPoints};
 

@@ -146,7 +146,7 @@ pub(crate) fn build_slot(p: &MotionParams, slot: usize, e: ScheduleEntry) -> Res
     if e.k.abs() > p.k_max {
         return Err(MotionError::KOutOfRange { slot, k: e.k, k_max: p.k_max });
     }
-    let l = &p.limits;
+    let l = p;
     let r = r_max(p, e.center);
     let amp = p.displacement / r;
     if amp > l.max_angle {

@@ -13,7 +13,7 @@ fn corners(p: &MotionParams) -> [[f64; 2]; 4] {
 #[test]
 fn sampled_velocity_and_acceleration_within_limits() {
     let p = MotionParams::default();
-    let l = p.limits;
+    let l = p;
     let mut m = PlateMotion::new(p).expect("valid");
     let es: Vec<_> = [0.58, -0.39, 0.48, -0.095, 0.7, -0.7, 0.0]
         .iter()
@@ -52,7 +52,7 @@ fn sampled_velocity_and_acceleration_within_limits() {
 #[test]
 fn too_asymmetric_slot_is_refused_with_the_playable_bound() {
     let mut p = MotionParams::default();
-    p.limits.max_angular_acceleration = 10_000.0;
+    p.max_angular_acceleration = 10_000.0;
     let mut m = PlateMotion::new(p).expect("valid");
     let r = m.set_schedule(&[ScheduleEntry { center: [1.0, 0.5], k: 0.9 }]);
     match r {

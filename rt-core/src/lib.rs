@@ -20,10 +20,13 @@ mod latency;
 pub mod lockstep;
 mod motor;
 mod params;
+mod plate_params;
 mod process;
 mod rejection_log;
 mod rig_info;
+mod rt_params;
 pub mod rt_setup;
+mod safety_params;
 mod samples;
 mod shared;
 mod solve_stage;
@@ -42,11 +45,14 @@ pub use inbox::{
 pub use ipc_inbox::IpcInbox;
 pub use latency::{LatencyHistograms, percentiles, write_hgrm};
 pub use motor::{MotorLoop, MotorPolicy, TickOutcome};
-pub use params::{CoreParams, CoreParamsError, ReceiverWake, RtParams};
+pub use params::{CoreParams, CoreParamsError};
+pub use plate_params::PlateParams;
 pub use process::{
     CORE_NODE_NAME, RealtimeStatus, RunOptions, RunReport, fill_telemetry, run_core, run_core_with_truth,
 };
 pub use rig_info::rig_info;
+pub use rt_params::{ReceiverWake, RtParams};
+pub use safety_params::{SafetyError, SafetyParams, TelemetryParams};
 pub use samples::{MotorSample, SolverSample, StageOutputs, StageOutputsRx};
 pub use shared::{CoreShared, HealthReport, InertiaReport};
 pub use solve_stage::{RequestError, SolveStage};

@@ -46,7 +46,7 @@ impl<D: PlateDriver> Lockstep<D> {
             clock: ManualClock::new(start_ns),
             start_ns,
             period_ns: params.tick_ns(),
-            poll_ns: params.solver_poll_ns,
+            poll_ns: params.rt.solver_poll_ns,
             next_poll_ns: start_ns,
             motor: graph.motor,
             stage: graph.stage,

@@ -41,11 +41,14 @@ pub struct MotorPolicy {
 
 impl MotorPolicy {
     pub fn from_params(p: &CoreParams) -> Self {
-        let auto_resume_ticks =
-            if p.auto_resume_ns == 0 { 0 } else { p.auto_resume_ns.div_ceil(p.tick_ns()).max(1) };
+        let auto_resume_ticks = if p.safety.auto_resume_ns == 0 {
+            0
+        } else {
+            p.safety.auto_resume_ns.div_ceil(p.tick_ns()).max(1)
+        };
         Self {
-            parts_max_age_ns: p.parts_max_age_ns,
-            request_max_age_ns: p.request_max_age_ns,
+            parts_max_age_ns: p.safety.parts_max_age_ns,
+            request_max_age_ns: p.safety.request_max_age_ns,
             auto_resume_ticks,
             inertia_adaptation: p.inertia_adaptation,
         }

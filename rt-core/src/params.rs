@@ -1,89 +1,34 @@
-//! Validated tunables of the core process. The TOML file is parsed in the
-//! `upm-core` binary's crate; this is the typed, checked result.
+//! The core process's tunables, checked. Each section of the rig file is
+//! read straight into its type here; the `upm-core` binary's crate reads
+//! the file and adds what a calibration says.
 
 use core::fmt;
 
 use upm_motion::PartFriction;
 use upm_motion::{InertiaParams, InertiaParamsError, MotionParams, ParamsError, RigError, RigParams};
-use upm_motion::{PartDynamicsError, PartDynamicsParams};
 
-/// Real-time placement of the threads.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RtParams {
-    /// SCHED_FIFO priority of the motor thread (1–99).
-    pub motor_priority: u8,
-    /// SCHED_FIFO priority of the solver thread (1–99, below the motor's).
-    pub solver_priority: u8,
-    /// CPU the motor thread is pinned to (`None`: not pinned).
-    pub motor_cpu: Option<usize>,
-    /// CPU the solver thread is pinned to.
-    pub solver_cpu: Option<usize>,
-    /// `mlockall` and prefault at start-up.
-    pub lock_memory: bool,
-    /// How the receiver thread waits for client messages.
-    pub receiver: ReceiverWake,
-    /// SCHED_FIFO priority of the receiver thread in `Event` mode (0 = normal
-    /// scheduling; else 1–99, below the motor's). It then runs pinned to the
-    /// motor's CPU: the motor preempts it, and it preempts neither the motor
-    /// nor, on the other CPU, the solver. Not applied in `Spin` mode, where a
-    /// real-time busy loop would starve its CPU.
-    pub receiver_priority: u8,
-    /// PM QoS request held on /dev/cpu_dma_latency for the core's life (µs
-    /// an idle CPU may take to wake); `None` leaves the host's idle policy.
-    pub cpu_dma_latency_us: Option<u32>,
-    /// Keep the core's io thread off the motor's CPU (only the motor and
-    /// the receiver, which the motor preempts, run there).
-    pub isolate_motor_cpu: bool,
-}
+use crate::plate_params::PlateParams;
+use crate::rt_params::RtParams;
+use crate::safety_params::{SafetyError, SafetyParams, TelemetryParams};
 
-/// How the receiver thread learns of a client message.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ReceiverWake {
-    /// Sleep on the clients' wake-up event (a few µs of wake-up, no CPU
-    /// burnt); clients that do not notify are seen at the next poll.
-    #[default]
-    Event,
-    /// Busy-poll the subscribers: the lowest latency, one CPU kept busy.
-    Spin,
-}
-
-impl Default for RtParams {
-    fn default() -> Self {
-        Self {
-            motor_priority: 80,
-            solver_priority: 70,
-            motor_cpu: Some(1),
-            solver_cpu: Some(0),
-            lock_memory: true,
-            receiver: ReceiverWake::Event,
-            receiver_priority: 75,
-            cpu_dma_latency_us: Some(0),
-            isolate_motor_cpu: true,
-        }
-    }
-}
-
-/// Everything the core needs besides its driver.
+/// Everything the core needs besides its driver: the rig file's core
+/// sections, read as they are, and what a calibration adds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoreParams {
+    /// `[plate]`.
+    pub plate: PlateParams,
+    /// `[motion]`; its `plate_half_extent` is `plate.half_extent`.
     pub motion: MotionParams,
+    /// `[rt]`.
+    pub rt: RtParams,
+    /// `[safety]`.
+    pub safety: SafetyParams,
+    /// `[telemetry]`.
+    pub telemetry: TelemetryParams,
     pub rig: RigParams,
     /// A plate calibration's twist correction (`motion::Rig::with_correction`);
     /// None: the rig is its model.
     pub twist_correction: Option<[[f64; 3]; 3]>,
-    /// Rotation centers (plate coordinates, m); schedules index into these.
-    pub centers: Vec<[f64; 2]>,
-    /// 0: a cycle plays every center once (the paper). N > 0: the centers
-    /// are candidates and a cycle is N slots, allocated sparsely to the
-    /// centers each request needs (`solver::sparse`).
-    pub cycle_slots: usize,
-    /// true: a part's rows are the friction wrench over the outline its
-    /// `PartState` carries (`solver::shape`); false: every part is a point,
-    /// the paper's model.
-    pub part_shapes: bool,
-    /// The solve stage's correction for each part's own velocity and spin
-    /// (`part_dynamics.rs`); `steps = 0` turns it off.
-    pub part_dynamics: PartDynamicsParams,
     /// Each part's friction as a plate calibration found it; read only by
     /// the part-dynamics correction (the calibrated planner divides
     /// requests by it; what online adaptation learns on top, the core does
@@ -93,49 +38,22 @@ pub struct CoreParams {
     /// drives' servo effort, scaling the feed-forward
     /// (`motion::InertiaEstimate`); None: the feed-forward is the model's.
     pub inertia_adaptation: Option<InertiaParams>,
-    /// μ·m·g of the parts (N): the scale of every requested force.
-    pub mu_m_g: f64,
-    /// PartStates older than this (by their stamp) put the core in hold.
-    pub parts_max_age_ns: u64,
-    /// Requests older than this (or past their own deadline) put the core in hold.
-    pub request_max_age_ns: u64,
-    /// How far a message stamp may be ahead of the core's clock.
-    pub max_future_skew_ns: u64,
-    /// Solver thread poll period.
-    pub solver_poll_ns: u64,
-    /// Telemetry publish period (io thread).
-    pub telemetry_period_ns: u64,
-    /// A driver-fault hold ends by itself after this long of healthy driver
-    /// reads; 0 = only `upm resume` ends it.
-    pub auto_resume_ns: u64,
-    /// After a core thread dies, how long the core keeps publishing its
-    /// health (plate held) before it exits with an error.
-    pub fault_exit_ns: u64,
-    pub rt: RtParams,
 }
 
 impl Default for CoreParams {
     /// The paper's 4-center rig at 10 kHz, 200 ms staleness.
     fn default() -> Self {
+        let plate = PlateParams::default();
         Self {
-            motion: MotionParams::default(),
+            motion: MotionParams { plate_half_extent: plate.half_extent, ..MotionParams::default() },
+            plate,
+            rt: RtParams::default(),
+            safety: SafetyParams::default(),
+            telemetry: TelemetryParams::default(),
             rig: RigParams::default(),
             twist_correction: None,
-            centers: vec![[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]],
-            cycle_slots: 0,
-            part_shapes: true,
-            part_dynamics: PartDynamicsParams::default(),
             part_friction: PartFriction::UNIFORM,
             inertia_adaptation: Some(InertiaParams::default()),
-            mu_m_g: 0.1,
-            parts_max_age_ns: 200_000_000,
-            request_max_age_ns: 200_000_000,
-            max_future_skew_ns: 1_000_000,
-            solver_poll_ns: 500_000,
-            telemetry_period_ns: 50_000_000,
-            auto_resume_ns: 0,
-            fault_exit_ns: 2_000_000_000,
-            rt: RtParams::default(),
         }
     }
 }
@@ -145,7 +63,6 @@ impl Default for CoreParams {
 pub enum CoreParamsError {
     Motion(ParamsError),
     Rig(RigError),
-    PartDynamics(PartDynamicsError),
     InertiaAdaptation(InertiaParamsError),
     NoCenters,
     TooManyCenters {
@@ -162,9 +79,12 @@ pub enum CoreParamsError {
         given: usize,
         capacity: usize,
     },
-    MaxAge,
+    Safety(SafetyError),
     SolverPoll,
+    /// Telemetry is published at most once a millisecond.
     TelemetryPeriod,
+    /// `motion.plate_half_extent` is not `plate.half_extent`.
+    PlateExtentMismatch,
     Priority,
     ReceiverPriority,
     /// A center cannot play any k within the motion and actuator limits.
@@ -178,7 +98,6 @@ impl fmt::Display for CoreParamsError {
         match self {
             Self::Motion(e) => write!(f, "{e}"),
             Self::Rig(e) => write!(f, "rig: {e}"),
-            Self::PartDynamics(e) => write!(f, "{e}"),
             Self::InertiaAdaptation(e) => write!(f, "{e}"),
             Self::NoCenters => f.write_str("plate.centers: at least one rotation center is needed"),
             Self::TooManyCenters { given, capacity } => {
@@ -193,9 +112,10 @@ impl fmt::Display for CoreParamsError {
                     "motion.cycle_slots: {given} slots, capacity is {capacity} (0: one slot per center)"
                 )
             }
-            Self::MaxAge => f.write_str("safety: max ages must be positive"),
+            Self::Safety(e) => write!(f, "{e}"),
             Self::SolverPoll => f.write_str("rt.solver_poll_us must be positive"),
-            Self::TelemetryPeriod => f.write_str("telemetry.period_ms must be positive"),
+            Self::TelemetryPeriod => f.write_str("telemetry.period_ms must be at least 1"),
+            Self::PlateExtentMismatch => f.write_str("motion.plate_half_extent must be plate.half_extent"),
             Self::Unplayable { center } => write!(
                 f,
                 "centers[{center}]: cannot play any k within the motion and actuator limits \
@@ -216,45 +136,47 @@ impl core::error::Error for CoreParamsError {}
 impl CoreParams {
     /// Slots of the longest cycle a request can be given.
     pub fn longest_cycle(&self) -> usize {
-        if self.cycle_slots > 0 { self.cycle_slots } else { self.centers.len() }
+        if self.motion.cycle_slots > 0 { self.motion.cycle_slots } else { self.plate.centers.len() }
     }
 
     pub fn validate(&self) -> Result<(), CoreParamsError> {
         self.motion.validate().map_err(CoreParamsError::Motion)?;
+        if self.motion.plate_half_extent != self.plate.half_extent {
+            return Err(CoreParamsError::PlateExtentMismatch);
+        }
         self.rig.validate().map_err(CoreParamsError::Rig)?;
-        self.part_dynamics.validate().map_err(CoreParamsError::PartDynamics)?;
         if let Some(p) = &self.inertia_adaptation {
             p.validate().map_err(CoreParamsError::InertiaAdaptation)?;
         }
         if self.twist_correction.is_some_and(|m| m.iter().flatten().any(|v| !v.is_finite())) {
             return Err(CoreParamsError::TwistCorrection);
         }
-        if self.centers.is_empty() {
+        let centers = &self.plate.centers;
+        if centers.is_empty() {
             return Err(CoreParamsError::NoCenters);
         }
         let capacity = ipc_types::MAX_CENTERS.min(upm_motion::MAX_SLOTS);
-        if self.centers.len() > capacity {
-            return Err(CoreParamsError::TooManyCenters { given: self.centers.len(), capacity });
+        if centers.len() > capacity {
+            return Err(CoreParamsError::TooManyCenters { given: centers.len(), capacity });
         }
-        if let Some(index) = self.centers.iter().position(|c| !(c[0].is_finite() && c[1].is_finite())) {
+        if let Some(index) = centers.iter().position(|c| !(c[0].is_finite() && c[1].is_finite())) {
             return Err(CoreParamsError::NonFiniteCenter { index });
         }
-        if !(self.mu_m_g.is_finite() && self.mu_m_g > 0.0) {
+        if !(self.plate.mu_m_g.is_finite() && self.plate.mu_m_g > 0.0) {
             return Err(CoreParamsError::MuMg);
         }
-        if self.cycle_slots > capacity {
-            return Err(CoreParamsError::CycleSlots { given: self.cycle_slots, capacity });
+        if self.motion.cycle_slots > capacity {
+            return Err(CoreParamsError::CycleSlots { given: self.motion.cycle_slots, capacity });
         }
-        self.part_dynamics
+        self.motion
+            .part_dynamics
             .trace_pieces(&self.motion, self.longest_cycle())
-            .map_err(CoreParamsError::PartDynamics)?;
-        if self.parts_max_age_ns == 0 || self.request_max_age_ns == 0 {
-            return Err(CoreParamsError::MaxAge);
-        }
-        if self.solver_poll_ns == 0 {
+            .map_err(|e| CoreParamsError::Motion(ParamsError::PartDynamics(e)))?;
+        self.safety.validate().map_err(CoreParamsError::Safety)?;
+        if self.rt.solver_poll_ns == 0 {
             return Err(CoreParamsError::SolverPoll);
         }
-        if self.telemetry_period_ns == 0 {
+        if self.telemetry.period_ns < 1_000_000 {
             return Err(CoreParamsError::TelemetryPeriod);
         }
         let rt = &self.rt;
@@ -305,6 +227,7 @@ pub(crate) fn playable_k_bounds(
 ) -> Result<Vec<f64>, CoreParamsError> {
     let mut probe = upm_motion::PlateMotion::new(params.motion).map_err(CoreParamsError::Motion)?;
     let bounds: Vec<f64> = params
+        .plate
         .centers
         .iter()
         .map(|&c| upm_motion::playable_k(&mut probe, rig, c, params.motion.k_max))
@@ -336,7 +259,11 @@ mod tests {
 
     #[test]
     fn cycle_slots_fit_a_schedule() {
-        let with = |cycle_slots| CoreParams { cycle_slots, ..CoreParams::default() }.validate();
+        let with = |cycle_slots| {
+            let mut params = CoreParams::default();
+            params.motion.cycle_slots = cycle_slots;
+            params.validate()
+        };
         assert_eq!(with(0), Ok(()));
         assert_eq!(with(upm_motion::MAX_SLOTS), Ok(()));
         let e = with(upm_motion::MAX_SLOTS + 1).expect_err("too many");

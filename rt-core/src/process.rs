@@ -29,8 +29,9 @@ use super::inbox::{INBOUND_RING, InboxBuffers, Received, RingInbox, forward};
 use super::ipc_inbox::IpcInbox;
 use super::latency::LatencyHistograms;
 use super::motor::MotorLoop;
-use super::params::{CoreParams, ReceiverWake};
+use super::params::CoreParams;
 use super::rejection_log::RejectionLog;
+use super::rt_params::ReceiverWake;
 use super::rt_setup::{
     RT_STACK_BYTES, ThreadPlacement, hold_cpu_dma_latency, keep_current_thread_off, lock_memory,
     make_current_thread_realtime, make_current_thread_realtime_on, pin_current_thread, prefault_stack,
@@ -279,7 +280,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         }
         let now = monotonic_now_ns();
         if force || now >= next_telemetry {
-            next_telemetry = now + params.telemetry_period_ns;
+            next_telemetry = now + params.telemetry.period_ns;
             fill_telemetry(tel, &shared, hist, now, start_ns);
             let _ = telemetry_pub.send_copy(*tel);
         }
@@ -295,7 +296,7 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             // The motor (if it lives) holds; say so for a while, then exit.
             shared.set_state(CoreState::Fault);
             let since = *fault_since.get_or_insert(now);
-            if now.saturating_sub(since) >= params.fault_exit_ns {
+            if now.saturating_sub(since) >= params.safety.fault_exit_ns {
                 break;
             }
         }
@@ -385,7 +386,7 @@ fn spawn_receiver(
     motor_fifo: Arc<AtomicBool>,
 ) -> Result<(JoinHandle<()>, ThreadPlacement), StartError> {
     let (ready_tx, ready_rx) = mpsc::channel::<Result<ThreadPlacement, StartError>>();
-    let (prefix, poll_ns, rt) = (prefix.to_owned(), params.solver_poll_ns, params.rt);
+    let (prefix, poll_ns, rt) = (prefix.to_owned(), params.rt.solver_poll_ns, params.rt);
     let thread = std::thread::Builder::new()
         .name("upm-ipc-rx".into())
         .spawn(move || {

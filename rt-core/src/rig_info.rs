@@ -9,15 +9,15 @@ use upm_solver::{SATURATION_FLOOR, SATURATION_TOLERANCE, SolverParams, max_force
 
 /// The solver parameters the solve stage runs with.
 pub(crate) fn stage_solver_params(params: &CoreParams) -> SolverParams {
-    SolverParams { cycle_slots: params.cycle_slots, ..SolverParams::default() }
+    SolverParams { cycle_slots: params.motion.cycle_slots, ..SolverParams::default() }
 }
 
 /// The limits the solve stage validates messages against (`now_ns` and
 /// `max_age_ns` are set per message).
 pub(crate) fn stage_limits(params: &CoreParams, k_max: f64) -> ValidationLimits {
     let mut limits = ValidationLimits::new(params.motion.plate_half_extent, 0);
-    limits.max_future_skew_ns = params.max_future_skew_ns;
-    limits.center_count = params.centers.len() as u32;
+    limits.max_future_skew_ns = params.safety.max_future_skew_ns;
+    limits.center_count = params.plate.centers.len() as u32;
     limits.k_max = k_max;
     limits
 }
@@ -30,24 +30,24 @@ pub fn rig_info(params: &CoreParams, k_bounds: &[f64], prefix: &str, vision_fram
     let limits = stage_limits(params, k_top);
     let solver = stage_solver_params(params);
     let mut m = RigInfo::new();
-    for (&[x, y], &k_bound) in params.centers.iter().zip(k_bounds) {
+    for (&[x, y], &k_bound) in params.plate.centers.iter().zip(k_bounds) {
         // CoreParams::validate caps the centers at MAX_CENTERS.
         let _ = m.push(RigCenter { x, y, k_bound });
     }
     let ms = |ns: u64| ns as f64 / 1e6;
     let slots = params.longest_cycle();
     let best = max_force_on_plate(
-        &params.centers,
+        &params.plate.centers,
         k_bounds,
-        params.mu_m_g,
-        params.cycle_slots,
+        params.plate.mu_m_g,
+        params.motion.cycle_slots,
         solver.sparse_keep_out,
         params.motion.plate_half_extent,
     );
     m.seq = 1;
     m.stamp_ns = ipc_types::monotonic_now_ns();
     m.core_pid = std::process::id();
-    m.cycle_slots = params.cycle_slots as u32;
+    m.cycle_slots = params.motion.cycle_slots as u32;
     m.class_count = limits.part_class_count;
     m.friction_class_count = limits.friction_class_count;
     m.slot_ticks = params.motion.slot_ticks;
@@ -56,7 +56,7 @@ pub fn rig_info(params: &CoreParams, k_bounds: &[f64], prefix: &str, vision_fram
     m.tick_hz = params.motion.tick_hz;
     m.vision_frame_hz =
         if vision_frame_hz.is_finite() && vision_frame_hz > 0.0 { vision_frame_hz } else { 0.0 };
-    m.mu_m_g = params.mu_m_g;
+    m.mu_m_g = params.plate.mu_m_g;
     m.plate_half_extent = params.motion.plate_half_extent;
     m.k_max = params.motion.k_max;
     m.max_part_force_n = best.force;
@@ -64,8 +64,8 @@ pub fn rig_info(params: &CoreParams, k_bounds: &[f64], prefix: &str, vision_fram
     m.keep_out_m = solver.sparse_keep_out;
     m.saturation_tolerance = SATURATION_TOLERANCE;
     m.saturation_floor = SATURATION_FLOOR;
-    m.parts_max_age_ms = ms(params.parts_max_age_ns);
-    m.request_max_age_ms = ms(params.request_max_age_ns);
+    m.parts_max_age_ms = ms(params.safety.parts_max_age_ns);
+    m.request_max_age_ms = ms(params.safety.request_max_age_ns);
     m.max_future_skew_ms = ms(limits.max_future_skew_ns);
     m.set_prefix(prefix);
     m

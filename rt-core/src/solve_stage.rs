@@ -253,31 +253,35 @@ impl SolveStage {
     ) -> Result<Self, super::params::CoreParamsError> {
         params.validate()?;
         let k_max = k_bounds.iter().fold(0.0, |a: f64, &k| a.max(k));
-        let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.centers.len() };
+        let cap = SolverCapacity { parts: MAX_PARTS, curls: MAX_CURLS, centers: params.plate.centers.len() };
         let mut solver = Solver::new(cap, super::rig_info::stage_solver_params(params));
         // Touch every buffer page and resolve every SIMD dispatch now, not
         // on the first frame.
         solver.warm_up();
         let solution = solver.new_solution();
         let probe = PlateMotion::new(params.motion).map_err(super::params::CoreParamsError::Motion)?;
-        let dynamics =
-            PartDynamics::new(params.part_dynamics, probe, params.longest_cycle(), solver.new_solution())
-                .map_err(super::params::CoreParamsError::PartDynamics)?;
+        let dynamics = PartDynamics::new(
+            params.motion.part_dynamics,
+            probe,
+            params.longest_cycle(),
+            solver.new_solution(),
+        )
+        .map_err(|e| super::params::CoreParamsError::Motion(upm_motion::ParamsError::PartDynamics(e)))?;
         let limits = super::rig_info::stage_limits(params, k_max);
         Ok(Self {
             solver,
             solution,
-            centers: params.centers.clone(),
-            mu_m_g: params.mu_m_g,
-            part_shapes: params.part_shapes,
+            centers: params.plate.centers.clone(),
+            mu_m_g: params.plate.mu_m_g,
+            part_shapes: params.motion.part_shapes,
             k_bounds,
             k_max,
             rig,
             writer,
             shared,
             limits,
-            parts_max_age_ns: params.parts_max_age_ns,
-            request_max_age_ns: params.request_max_age_ns,
+            parts_max_age_ns: params.safety.parts_max_age_ns,
+            request_max_age_ns: params.safety.request_max_age_ns,
             newest_parts: Newest::default(),
             newest_request: Newest::default(),
             parts: Box::new(PartStates::new()),

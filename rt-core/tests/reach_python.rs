@@ -16,8 +16,9 @@ fn python_max_force_is_the_solvers_reach() {
     let directions: Vec<[f64; 2]> =
         (0..7).map(|a| [(a as f64 * 0.9).cos(), (a as f64 * 0.9).sin()]).collect();
     for cycle_slots in [0, 12] {
-        let mut params = CoreParams { cycle_slots, ..CoreParams::default() };
-        params.centers.extend([[0.2, 0.3], [-0.4, -0.2], [0.7, 0.05]]);
+        let mut params = CoreParams::default();
+        params.motion.cycle_slots = cycle_slots;
+        params.plate.centers.extend([[0.2, 0.3], [-0.4, -0.2], [0.7, 0.05]]);
         let bounds = params.playable_k_bounds().expect("playable");
         let info = rig_info(&params, &bounds, "upm_py_", 30.0);
         let file =
@@ -29,9 +30,9 @@ fn python_max_force_is_the_solvers_reach() {
             for d in &directions {
                 queries += &format!("{} {} {} {}\n", p[0], p[1], d[0], d[1]);
                 want.push(max_force_in(
-                    &params.centers,
+                    &params.plate.centers,
                     &bounds,
-                    params.mu_m_g,
+                    params.plate.mu_m_g,
                     cycle_slots,
                     info.keep_out_m,
                     p,

@@ -14,14 +14,21 @@ fn met(out: &Solution, force: [f64; 2]) -> bool {
 #[test]
 fn the_rigs_max_part_force_is_met_in_its_best_direction_and_five_percent_more_is_not() {
     for cycle_slots in [0, 12] {
-        let params = CoreParams { cycle_slots, ..CoreParams::default() };
+        let mut params = CoreParams::default();
+        params.motion.cycle_slots = cycle_slots;
         let bounds = params.playable_k_bounds().expect("playable");
         let info = rig_info(&params, &bounds, "upm_test_", 30.0);
         let (at, most) = (info.max_part_force_at, info.max_part_force_n);
         let [hx, hy] = params.motion.plate_half_extent;
         assert!(at[0].abs() <= hx && at[1].abs() <= hy, "{at:?} on the plate");
-        let (here, d) =
-            max_force_at(&params.centers, &bounds, params.mu_m_g, cycle_slots, info.keep_out_m, at);
+        let (here, d) = max_force_at(
+            &params.plate.centers,
+            &bounds,
+            params.plate.mu_m_g,
+            cycle_slots,
+            info.keep_out_m,
+            at,
+        );
         assert_eq!(here, most);
         let mut s =
             Solver::new(SolverCapacity::DEFAULT, SolverParams { cycle_slots, ..SolverParams::default() });
@@ -31,9 +38,9 @@ fn the_rigs_max_part_force_is_met_in_its_best_direction_and_five_percent_more_is
             let force = [d[0] * gain * most, d[1] * gain * most];
             let parts = [ForceConstraint { position: at, force: Some(force), shape: PartShape::Point }];
             let problem = Problem {
-                mu_m_g: params.mu_m_g,
+                mu_m_g: params.plate.mu_m_g,
                 k_max,
-                centers: &params.centers,
+                centers: &params.plate.centers,
                 parts: &parts,
                 curls: &[],
                 k_bounds: &bounds,

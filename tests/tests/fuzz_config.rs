@@ -136,7 +136,7 @@ fn validate(text: &str) -> Result<Option<Config>, TestCaseError> {
         config.core_params(PATH).map(drop),
         config.sim_config(PATH).map(drop),
         config.sim_parts(PATH).map(drop),
-        config.vision.params().map(drop).map_err(|m| upm_commands::config::ConfigError::invalid(PATH, m)),
+        config.vision.validate().map_err(|m| upm_commands::config::ConfigError::invalid(PATH, m)),
         config.planner.build().map(drop).map_err(|m| upm_commands::config::ConfigError::invalid(PATH, m)),
     ] {
         if let Err(e) = verdict {

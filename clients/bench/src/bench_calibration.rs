@@ -96,8 +96,8 @@ fn force_errors(
         classes.push(rng.random_range(0..2u32));
     }
     let nominal = SolveInput {
-        mu_m_g: core.mu_m_g,
-        centers: core.centers.clone(),
+        mu_m_g: core.plate.mu_m_g,
+        centers: core.plate.centers.clone(),
         parts,
         curls: Vec::new(),
         k_max: Some(k_max),
@@ -284,7 +284,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         let mut cal_config = calibrate.config(seed.wrapping_add(case as u64), "unused_")?;
         cal_config.sim.truth = truth.clone();
         // Calibrated on the physics it is judged by.
-        cal_config.sim.substeps = upm_commands::validate::MEASURE_SUBSTEPS;
+        cal_config.sim.config.substeps = upm_commands::validate::MEASURE_SUBSTEPS;
         let cal = match upm_commands::calibrate_plate::lockstep(
             &cal_config,
             upm_calibrate::ExciteParams::default(),

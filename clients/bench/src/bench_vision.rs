@@ -30,12 +30,11 @@ use ipc_types::{PartState, PartStates};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
-use upm_camera::{CameraSection, Renderer};
-use upm_vision::blobs::SegmentParams;
+use upm_camera::{CameraSection, ClassLook, Renderer};
+use upm_vision::VisionSection;
 use upm_vision::class_outline::ClassOutline;
-use upm_vision::detect::PartLook;
+use upm_vision::part_look::PartLook;
 use upm_vision::pipeline::FramePipeline;
-use upm_vision::{FrameParams, TrackerParams};
 
 /// One bench case: a sensor, how many parts, and whether they are
 /// polygons (class 0 squares, class 1 triangles) or discs.
@@ -49,27 +48,20 @@ struct Case {
 
 impl Case {
     /// The two classes' outlines as the camera renders them.
-    fn classes(self) -> [upm_camera::ClassSection; 2] {
+    fn classes(self) -> [ClassLook; 2] {
         let [dark, grey] = [0.1, 0.4];
+        // Radii in mm, then m: the same numbers as when the type held mm.
         if self.polygons {
             [
-                upm_camera::ClassSection {
+                ClassLook {
                     level: dark,
-                    radius_mm: 24.0 * core::f64::consts::FRAC_1_SQRT_2,
+                    radius: 24.0 * core::f64::consts::FRAC_1_SQRT_2 * 1e-3,
                     shape: ClassOutline::Square,
                 },
-                upm_camera::ClassSection {
-                    level: grey,
-                    radius_mm: 30.0 / 3f64.sqrt(),
-                    shape: ClassOutline::Triangle,
-                },
+                ClassLook { level: grey, radius: 30.0 / 3f64.sqrt() * 1e-3, shape: ClassOutline::Triangle },
             ]
         } else {
-            [dark, grey].map(|level| upm_camera::ClassSection {
-                level,
-                radius_mm: 15.0,
-                shape: ClassOutline::Disc,
-            })
+            [dark, grey].map(|level| ClassLook { level, radius: 0.015, shape: ClassOutline::Disc })
         }
     }
 }
@@ -83,7 +75,7 @@ fn sorted(mut v: Vec<f64>) -> Vec<f64> {
 /// markers (≈ 2.3 × 1.3 m) fill the sensor.
 fn camera_for(case: Case) -> CameraSection {
     let base = CameraSection::default();
-    let h = base.mount_mm[2] * 1e-3;
+    let h = base.mount[2];
     let focal = (case.width as f64 / 2.3).min(case.height as f64 / 1.3) * h;
     CameraSection {
         width: case.width,
@@ -113,20 +105,12 @@ fn parts(n: usize, seed: u64, turning: bool) -> Vec<(u32, [f64; 3], [f64; 3])> {
 
 fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Result<(Value, PathBuf)> {
     let cam = camera_for(case);
-    let truth = cam.model().map_err(anyhow::Error::msg)?;
-    let scene = cam.scene().map_err(anyhow::Error::msg)?;
     // Vision works through what calibration found, as in a real rig.
-    let (cal, cal_report) = upm_commands::calibrate_camera::from_rendered(&cam, scene.plate_half_extent)?;
+    let (cal, cal_report) = upm_commands::calibrate_camera::from_rendered(&cam, cam.half_extent)?;
     let model = cal.camera;
-    let looks = scene.part_looks();
-    let frame_params = FrameParams {
-        calibration: PathBuf::new(),
-        looks,
-        segment: SegmentParams::default(),
-        roi_margin: 0.003,
-    };
-    let mut vision = FramePipeline::new(&cal, &frame_params, TrackerParams::default());
-    let mut renderer = Renderer::new(truth, scene.clone()).map_err(anyhow::Error::msg)?;
+    let vision_section = VisionSection { classes: cam.vision_classes(), ..VisionSection::default() };
+    let mut vision = FramePipeline::new(&cal, &vision_section);
+    let mut renderer = Renderer::new(&cam).map_err(anyhow::Error::msg)?;
     let mut truth_parts = parts(case.parts, 1000 + case.parts as u64, case.polygons);
     let dt = 1.0 / 30.0;
     let raw = dir.join(format!("frames_{}x{}_{}_{}.raw", case.width, case.height, case.parts, case.polygons));
@@ -153,7 +137,7 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
         // targets are for separated parts, a part within 3 mm of touching
         // another is counted apart.
         let mut used = vec![false; found.len()];
-        let radius = frame_params.looks.iter().map(|l| l.radius).fold(0.0, f64::max);
+        let radius = vision_section.classes.iter().map(|l| l.radius).fold(0.0, f64::max);
         for (k, (class, p, _)) in truth_parts.iter().enumerate() {
             let separated = truth_parts
                 .iter()
@@ -174,7 +158,7 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
                         err_mm.push(e * 1e3);
                         err_px.push(e / model.metres_per_pixel(p[0], p[1]).unwrap_or(f64::NAN));
                         class_errors += u64::from(d.class != *class);
-                        let shape = frame_params.looks[*class as usize].shape;
+                        let shape = vision_section.classes[*class as usize].shape;
                         if shape.corners() > 0 {
                             angle_err_deg[*class as usize]
                                 .push(shape.wrap(d.theta - p[2]).abs().to_degrees());
@@ -202,8 +186,6 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
     }
     std::fs::write(&raw, &raw_bytes)?;
     // The same frames again, through a real vision process.
-    let vision_section =
-        upm_vision::VisionSection { classes: cam.vision_classes(), ..upm_vision::VisionSection::default() };
     let frame_list: Vec<&[u8]> = raw_bytes.chunks_exact((case.width * case.height) as usize).collect();
     let latency =
         crate::bench_vision_latency::measure(&cal, &vision_section, &frame_list, rounds, 30.0, dir)?;
@@ -219,7 +201,7 @@ fn one_case(case: Case, frames: usize, rounds: usize, dir: &Path) -> anyhow::Res
     let [square_deg, triangle_deg] = angle_err_deg.map(sorted);
     let angle_p99 =
         |v: &[f64]| if v.is_empty() { Value::Null } else { json!(upm_stats::percentile_or_nan(v, 0.99)) };
-    let part_area_mm2 = frame_params.looks.iter().map(PartLook::area).fold(0.0, f64::max) * 1e6;
+    let part_area_mm2 = vision_section.classes.iter().map(PartLook::area).fold(0.0, f64::max) * 1e6;
     let mpp = model.metres_per_pixel(0.0, 0.0).unwrap_or(f64::NAN);
     Ok((
         json!({

@@ -6,10 +6,8 @@ use upm_camera::{CameraSection, Renderer};
 
 fn main() -> anyhow::Result<()> {
     let path = std::env::args().nth(1).unwrap_or_else(|| "frame.png".into());
-    let section = CameraSection::default();
-    let model = section.model().map_err(anyhow::Error::msg)?;
-    let mut renderer =
-        Renderer::new(model, section.scene().map_err(anyhow::Error::msg)?).map_err(anyhow::Error::msg)?;
+    let mut renderer = Renderer::new(&CameraSection::default()).map_err(anyhow::Error::msg)?;
+    let model = *renderer.model();
     let mut truth = PartStates::new();
     for (i, (x, y, vx)) in
         [(-0.6, 0.2, 0.0), (-0.2, -0.1, 0.3), (0.3, 0.25, 0.0), (0.95, -0.45, 0.0)].iter().enumerate()

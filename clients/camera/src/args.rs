@@ -65,9 +65,7 @@ pub fn run_camera(args: CameraArgs) -> anyhow::Result<u64> {
         eprintln!("upm-camera: {stats}");
         return Ok(stats.published);
     }
-    let invalid = |m| ConfigError::invalid(file.shown(), m);
-    let model = section.model().map_err(invalid)?;
-    let scene = section.scene().map_err(invalid)?;
-    let renderer = Renderer::new(model, scene).map_err(anyhow::Error::msg)?;
+    section.validate().map_err(|m| ConfigError::invalid(file.shown(), m))?;
+    let renderer = Renderer::new(&section).map_err(anyhow::Error::msg)?;
     crate::run::run(&prefix, renderer, section.frame_hz, duration)
 }

@@ -17,6 +17,6 @@ pub mod render;
 pub mod run;
 
 pub use board::Board;
-pub use config::{CameraSection, ClassSection};
-pub use render::{ClassLook, Renderer, Scene};
+pub use config::{CameraSection, ClassLook};
+pub use render::Renderer;
 pub use run::FrameOut;

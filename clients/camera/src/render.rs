@@ -17,60 +17,108 @@ use ipc_types::PartStates;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use upm_vision::class_outline::ClassOutline;
-use upm_vision::detect::PartLook;
 use upm_vision::lens::CameraModel;
 
-/// How one part class looks: reflectance in (0, 1], outline and its
-/// circumradius (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ClassLook {
-    pub level: f64,
-    pub radius: f64,
-    pub shape: ClassOutline,
-}
+use crate::{Board, CameraSection, ClassLook};
 
-/// What is in front of the camera, and how the sensor sees it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scene {
-    pub plate_half_extent: [f64; 2],
-    /// Reflectance of the plate and of what lies beyond its edge.
-    pub plate_level: f64,
-    pub surround_level: f64,
-    /// Illumination gain change per metre along plate x and y.
-    pub gradient: [f64; 2],
-    /// Sensor noise std, 8-bit levels.
-    pub noise_sigma: f64,
-    pub exposure_s: f64,
-    pub classes: Vec<ClassLook>,
-    /// Side of a fiducial marker (m); markers sit just beyond the plate's
-    /// corners and mid-edges ([`Scene::fiducials`]).
-    pub fiducial_side: f64,
-    pub seed: u64,
+/// Sub-pixel sample offsets (4 × 4, in pixels from the centre).
+const SUB: [f64; 4] = [-0.375, -0.125, 0.125, 0.375];
+/// Noise table length beyond one frame: frames start at a random offset.
+const NOISE_SLACK: usize = 1 << 16;
+/// Time samples of a blurred part, at most.
+const MAX_BLUR_SAMPLES: usize = 16;
+
+#[derive(Debug)]
+pub struct Renderer {
+    model: CameraModel,
+    camera: CameraSection,
     /// A calibration board lying on the plate (`upm calibrate camera`).
-    pub board: Option<crate::board::Board>,
+    board: Option<Board>,
+    /// Plate point of every pixel centre (NaN where the ray misses).
+    plate_xy: Vec<[f32; 2]>,
+    /// The still scene, lit, without noise (levels 0–255).
+    still: Vec<u8>,
+    noise: Vec<i8>,
+    rng: ChaCha8Rng,
+    frame: Vec<u8>,
 }
 
-impl Scene {
-    /// Marker centres: beyond the plate's four corners and four mid-edges.
-    pub fn fiducials(&self) -> [[f64; 2]; 8] {
-        let m = 0.6 * self.fiducial_side + 0.01;
-        let (hx, hy) = (self.plate_half_extent[0] + m, self.plate_half_extent[1] + m);
-        [[-hx, -hy], [0.0, -hy], [hx, -hy], [hx, 0.0], [hx, hy], [0.0, hy], [-hx, hy], [-hx, 0.0]]
+impl Renderer {
+    /// The rig's camera looking at the plate and its parts. Precomputes
+    /// the still scene and the noise table (allocates; slow for large
+    /// sensors: about 0.1 s per megapixel).
+    pub fn new(camera: &CameraSection) -> Result<Self, String> {
+        Self::with_board(camera, None)
     }
 
-    /// How vision knows each class: brightness relative to the plate,
-    /// outline and circumradius, as this scene draws them.
-    pub fn part_looks(&self) -> Vec<PartLook> {
-        self.classes
-            .iter()
-            .map(|c| PartLook { ratio: c.level / self.plate_level, radius: c.radius, shape: c.shape })
-            .collect()
+    /// The same camera looking at its calibration board (`camera.board`)
+    /// lying on the plate.
+    pub fn board(camera: &CameraSection) -> Result<Self, String> {
+        Self::with_board(camera, Some(camera.board))
+    }
+
+    fn with_board(camera: &CameraSection, board: Option<Board>) -> Result<Self, String> {
+        let model = camera.model()?;
+        let (w, h) = (model.width as usize, model.height as usize);
+        let mut plate_xy = Vec::with_capacity(w * h);
+        for v in 0..h {
+            for u in 0..w {
+                let p = model.unproject(u as f64, v as f64).map_or([f32::NAN; 2], |p| p.map(|c| c as f32));
+                plate_xy.push(p);
+            }
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(camera.seed);
+        let normal = Normal::new(0.0, camera.noise).map_err(|e| format!("camera.noise: {e}"))?;
+        let noise = (0..w * h + NOISE_SLACK)
+            .map(|_| normal.sample(&mut rng).round().clamp(-127.0, 127.0) as i8)
+            .collect();
+        let mut r = Self {
+            model,
+            camera: camera.clone(),
+            board,
+            plate_xy,
+            still: vec![0; w * h],
+            noise,
+            rng,
+            frame: vec![0; w * h],
+        };
+        for v in 0..h {
+            for u in 0..w {
+                let i = v * w + u;
+                let Some((p, ju, jv)) = r.pixel_frame(u, v) else { continue };
+                let mut sum = 0.0;
+                for su in SUB {
+                    for sv in SUB {
+                        let (x, y) = (p[0] + ju[0] * su + jv[0] * sv, p[1] + ju[1] * su + jv[1] * sv);
+                        sum += r.still_level(x, y);
+                    }
+                }
+                let level = sum / 16.0 * r.gain(p[0], p[1]);
+                r.still[i] = (255.0 * level).round().clamp(0.0, 255.0) as u8;
+            }
+        }
+        Ok(r)
+    }
+
+    pub fn model(&self) -> &CameraModel {
+        &self.model
+    }
+
+    pub fn camera(&self) -> &CameraSection {
+        &self.camera
+    }
+
+    /// Marker centres: beyond the plate's four corners and four mid-edges.
+    pub fn fiducials(&self) -> [[f64; 2]; 8] {
+        let m = 0.6 * self.camera.fiducial_side + 0.01;
+        let [hx, hy] = self.camera.half_extent.map(|h| h + m);
+        [[-hx, -hy], [0.0, -hy], [hx, -hy], [hx, 0.0], [hx, hy], [0.0, hy], [-hx, hy], [-hx, 0.0]]
     }
 
     /// Reflectance of the still scene (plate, surround, markers) at a point.
     fn still_level(&self, x: f64, y: f64) -> f64 {
-        let s = self.fiducial_side;
+        let c = &self.camera;
+        let s = c.fiducial_side;
         for (i, [fx, fy]) in self.fiducials().into_iter().enumerate() {
             let (dx, dy) = (x - fx, y - fy);
             if dx.abs() <= s / 2.0 && dy.abs() <= s / 2.0 {
@@ -85,111 +133,13 @@ impl Scene {
         if let Some(level) = self.board.as_ref().and_then(|b| b.level(x, y)) {
             return level;
         }
-        let [hx, hy] = self.plate_half_extent;
-        if x.abs() <= hx && y.abs() <= hy { self.plate_level } else { self.surround_level }
+        let [hx, hy] = c.half_extent;
+        if x.abs() <= hx && y.abs() <= hy { c.plate_level } else { c.surround_level }
     }
 
     fn gain(&self, x: f64, y: f64) -> f64 {
-        (1.0 + self.gradient[0] * x + self.gradient[1] * y).max(0.05)
-    }
-
-    /// One line naming the first field that makes no sense.
-    pub fn validate(&self) -> Result<(), String> {
-        let level = |v: f64| v.is_finite() && v > 0.0 && v <= 1.0;
-        if !(level(self.plate_level) && level(self.surround_level)) {
-            return Err("camera.plate_level and camera.surround_level must be in (0, 1]".into());
-        }
-        if self.classes.is_empty() {
-            return Err("camera.classes: at least one part class is needed".into());
-        }
-        for (i, c) in self.classes.iter().enumerate() {
-            if !(level(c.level) && c.radius.is_finite() && c.radius > 0.0) {
-                return Err(format!("camera.classes[{i}]: level in (0, 1] and radius_mm > 0 are needed"));
-            }
-        }
-        if !(self.noise_sigma.is_finite() && (0.0..=64.0).contains(&self.noise_sigma)) {
-            return Err(format!("camera.noise must be in [0, 64] levels, got {}", self.noise_sigma));
-        }
-        if !(self.exposure_s.is_finite() && (0.0..1.0).contains(&self.exposure_s)) {
-            return Err(format!("camera.exposure_ms must be in [0, 1000), got {}", self.exposure_s * 1e3));
-        }
-        if !(self.gradient.iter().all(|g| g.is_finite() && g.abs() <= 0.5)) {
-            return Err("camera.gradient must be within ±0.5 per metre".into());
-        }
-        if !(self.fiducial_side.is_finite() && self.fiducial_side > 0.0) {
-            return Err("camera.fiducial_mm must be positive".into());
-        }
-        if let Some(b) = &self.board {
-            b.validate()?;
-        }
-        Ok(())
-    }
-}
-
-/// Sub-pixel sample offsets (4 × 4, in pixels from the centre).
-const SUB: [f64; 4] = [-0.375, -0.125, 0.125, 0.375];
-/// Noise table length beyond one frame: frames start at a random offset.
-const NOISE_SLACK: usize = 1 << 16;
-/// Time samples of a blurred part, at most.
-const MAX_BLUR_SAMPLES: usize = 16;
-
-#[derive(Debug)]
-pub struct Renderer {
-    model: CameraModel,
-    scene: Scene,
-    /// Plate point of every pixel centre (NaN where the ray misses).
-    plate_xy: Vec<[f32; 2]>,
-    /// The still scene, lit, without noise (levels 0–255).
-    still: Vec<u8>,
-    noise: Vec<i8>,
-    rng: ChaCha8Rng,
-    frame: Vec<u8>,
-}
-
-impl Renderer {
-    /// Precompute the still scene and the noise table (allocates; slow for
-    /// large sensors: about 0.1 s per megapixel).
-    pub fn new(model: CameraModel, scene: Scene) -> Result<Self, String> {
-        model.validate()?;
-        scene.validate()?;
-        let (w, h) = (model.width as usize, model.height as usize);
-        let mut plate_xy = Vec::with_capacity(w * h);
-        for v in 0..h {
-            for u in 0..w {
-                let p = model.unproject(u as f64, v as f64).map_or([f32::NAN; 2], |p| p.map(|c| c as f32));
-                plate_xy.push(p);
-            }
-        }
-        let mut rng = ChaCha8Rng::seed_from_u64(scene.seed);
-        let normal = Normal::new(0.0, scene.noise_sigma).map_err(|e| format!("camera.noise: {e}"))?;
-        let noise = (0..w * h + NOISE_SLACK)
-            .map(|_| normal.sample(&mut rng).round().clamp(-127.0, 127.0) as i8)
-            .collect();
-        let mut r = Self { model, scene, plate_xy, still: vec![0; w * h], noise, rng, frame: vec![0; w * h] };
-        for v in 0..h {
-            for u in 0..w {
-                let i = v * w + u;
-                let Some((p, ju, jv)) = r.pixel_frame(u, v) else { continue };
-                let mut sum = 0.0;
-                for su in SUB {
-                    for sv in SUB {
-                        let (x, y) = (p[0] + ju[0] * su + jv[0] * sv, p[1] + ju[1] * su + jv[1] * sv);
-                        sum += r.scene.still_level(x, y);
-                    }
-                }
-                let level = sum / 16.0 * r.scene.gain(p[0], p[1]);
-                r.still[i] = (255.0 * level).round().clamp(0.0, 255.0) as u8;
-            }
-        }
-        Ok(r)
-    }
-
-    pub fn model(&self) -> &CameraModel {
-        &self.model
-    }
-
-    pub fn scene(&self) -> &Scene {
-        &self.scene
+        let g = self.camera.gradient;
+        (1.0 + g[0] * x + g[1] * y).max(0.05)
     }
 
     /// Plate point of pixel (u, v) and the plate offsets of one pixel step
@@ -212,7 +162,8 @@ impl Renderer {
     pub fn render(&mut self, truth: &PartStates) -> &[u8] {
         self.frame.copy_from_slice(&self.still);
         for p in truth.parts() {
-            let look = self.scene.classes.get(p.class as usize).copied().unwrap_or(self.scene.classes[0]);
+            let classes = &self.camera.classes;
+            let look = classes.get(p.class as usize).copied().unwrap_or(classes[0]);
             self.draw_part([p.x, p.y, p.theta], [p.vx, p.vy, p.omega], look);
         }
         let offset = self.rng.random_range(0..NOISE_SLACK);
@@ -227,7 +178,7 @@ impl Renderer {
         let centre = [pose[0], pose[1]];
         let Some(mpp) = self.model.metres_per_pixel(centre[0], centre[1]) else { return };
         let Some([cu, cv]) = self.model.project(centre[0], centre[1]) else { return };
-        let e = self.scene.exposure_s;
+        let e = self.camera.exposure_s;
         let travel = velocity[0].hypot(velocity[1]) * e;
         // Enough time samples that no edge point moves more than half a
         // pixel between two: translation plus the rim's travel in a spin.
@@ -273,7 +224,7 @@ impl Renderer {
                 };
                 if coverage > 0.0 {
                     let i = (v * w + u) as usize;
-                    let part = 255.0 * look.level * self.scene.gain(p[0], p[1]);
+                    let part = 255.0 * look.level * self.gain(p[0], p[1]);
                     let value = self.frame[i] as f64 * (1.0 - coverage) + part * coverage;
                     self.frame[i] = value.round().clamp(0.0, 255.0) as u8;
                 }

@@ -25,7 +25,7 @@ pub fn run(
     let truth = ipc_types::ports::subscriber::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)?;
     let mut frames = FrameOut::open(&node, (w * h) as usize)?;
     let period_ns = (1e9 / frame_hz) as u64;
-    let exposure_ns = (renderer.scene().exposure_s * 1e9) as u64;
+    let exposure_ns = (renderer.camera().exposure_s * 1e9) as u64;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
     let mut next = start;

@@ -7,10 +7,10 @@ use ipc_types::{PartState, PartStates};
 use rt_core::{RtAllocCounter, alloc_count};
 use upm_camera::CameraSection;
 use upm_camera::Renderer;
+use upm_vision::VisionSection;
 use upm_vision::calibration::Calibration;
 use upm_vision::class_outline::ClassOutline;
 use upm_vision::pipeline::FramePipeline;
-use upm_vision::{FrameParams, TrackerParams};
 
 #[global_allocator]
 static ALLOC: RtAllocCounter = RtAllocCounter;
@@ -19,19 +19,12 @@ static ALLOC: RtAllocCounter = RtAllocCounter;
 fn a_frame_allocates_nothing_after_warm_up() {
     let mut cam = CameraSection::default();
     cam.classes[1].shape = ClassOutline::Square;
-    cam.classes[1].radius_mm = 17.0;
+    cam.classes[1].radius = 0.017;
     let model = cam.model().expect("model");
-    let scene = cam.scene().expect("scene");
-    let looks = scene.part_looks();
-    let params = FrameParams {
-        calibration: std::path::PathBuf::new(),
-        looks,
-        segment: Default::default(),
-        roi_margin: 0.003,
-    };
-    let cal = Calibration { plate_half_extent: scene.plate_half_extent, camera: model };
-    let mut vision = FramePipeline::new(&cal, &params, TrackerParams::default());
-    let mut renderer = Renderer::new(model, scene).expect("renderer");
+    let params = VisionSection { classes: cam.vision_classes(), ..VisionSection::default() };
+    let cal = Calibration { plate_half_extent: cam.half_extent, camera: model };
+    let mut vision = FramePipeline::new(&cal, &params);
+    let mut renderer = Renderer::new(&cam).expect("renderer");
     // Parts moving and turning; two of them touching; one over the edge.
     let frame = |k: usize| {
         let t = k as f64 / 30.0;

@@ -7,34 +7,22 @@
 //! their angle (modulo their symmetry) within 0.5°.
 
 use ipc_types::{PartState, PartStates};
-use upm_camera::{ClassLook, Renderer, Scene};
+use upm_camera::{CameraSection, ClassLook, Renderer};
 use upm_vision::Detection;
 use upm_vision::blobs::{BadFrame, SegmentParams, Segmenter};
 use upm_vision::class_outline::ClassOutline;
-use upm_vision::detect::{BlobCounts, PartLook, detect, split_area_px};
-use upm_vision::lens::{CameraModel, Mount};
+use upm_vision::detect::{BlobCounts, detect, split_area_px};
+use upm_vision::lens::CameraModel;
+use upm_vision::part_look::PartLook;
 
-fn model() -> CameraModel {
-    let mount = Mount { x: 0.004, y: -0.003, height: 1.6, yaw: 0.004, tilt_x: 0.035, tilt_y: -0.026 };
-    CameraModel::mounted(2240, 1216, 1560.0, [-0.06, 0.015, 0.0004, -0.0003], mount)
+/// A tilted, distorted camera over the 2 × 1 m plate, two disc classes.
+fn scene() -> CameraSection {
+    // The rig's default camera, turned and tilted less, with its own seed.
+    CameraSection { yaw: 0.004, tilt: [0.035, -0.026], seed: 7, ..CameraSection::default() }
 }
 
-fn scene() -> Scene {
-    Scene {
-        plate_half_extent: [1.0, 0.5],
-        plate_level: 0.8,
-        surround_level: 0.3,
-        gradient: [0.12, -0.08],
-        noise_sigma: 2.0,
-        exposure_s: 0.008,
-        classes: vec![
-            ClassLook { level: 0.1, radius: 0.015, shape: ClassOutline::Disc },
-            ClassLook { level: 0.4, radius: 0.015, shape: ClassOutline::Disc },
-        ],
-        fiducial_side: 0.06,
-        seed: 7,
-        board: None,
-    }
+fn model() -> CameraModel {
+    scene().model().expect("model")
 }
 
 struct Vision {
@@ -48,9 +36,9 @@ impl Vision {
         Self::for_scene(&scene())
     }
 
-    fn for_scene(scene: &Scene) -> Self {
+    fn for_scene(scene: &CameraSection) -> Self {
         let m = model();
-        let looks = scene.part_looks();
+        let looks = scene.vision_classes();
         let params = SegmentParams { split_above_px: split_area_px(&m, &looks), ..SegmentParams::default() };
         Self { segmenter: Segmenter::new(&m, [1.0, 0.5], 0.003, params), model: m, looks }
     }
@@ -67,7 +55,7 @@ impl Vision {
 
 #[test]
 fn squares_and_triangles_are_found_with_their_angle_within_half_a_degree() {
-    let polygons = Scene {
+    let polygons = CameraSection {
         classes: vec![
             // A 24 mm square and a 30 mm triangle (sides).
             ClassLook { level: 0.1, radius: 0.012 * 2f64.sqrt(), shape: ClassOutline::Square },
@@ -75,7 +63,7 @@ fn squares_and_triangles_are_found_with_their_angle_within_half_a_degree() {
         ],
         ..scene()
     };
-    let mut cam = Renderer::new(model(), polygons.clone()).expect("renderer");
+    let mut cam = Renderer::new(&polygons).expect("renderer");
     let mut vision = Vision::for_scene(&polygons);
     let mut truth = PartStates::new();
     let mut expected = Vec::new();
@@ -113,7 +101,7 @@ fn states(parts: &[(u32, u32, [f64; 2], [f64; 2])]) -> PartStates {
 
 #[test]
 fn separated_parts_are_found_within_a_tenth_of_a_millimetre() {
-    let mut cam = Renderer::new(model(), scene()).expect("renderer");
+    let mut cam = Renderer::new(&scene()).expect("renderer");
     let mut vision = Vision::new();
     // Spread over the whole plate, corners included, some moving.
     let mut parts = Vec::new();
@@ -151,7 +139,7 @@ fn separated_parts_are_found_within_a_tenth_of_a_millimetre() {
 
 #[test]
 fn touching_pairs_are_split_clusters_and_cut_parts_counted() {
-    let mut cam = Renderer::new(model(), scene()).expect("renderer");
+    let mut cam = Renderer::new(&scene()).expect("renderer");
     let mut vision = Vision::new();
     let pair = [(1, 0, [0.0, 0.0]), (2, 1, [0.0295, 0.004])];
     let truth = states(&[

@@ -215,8 +215,7 @@ pub fn mapping_error(truth: &CameraModel, estimated: &CameraModel, half_extent: 
 /// fit, and compare with the camera's hidden truth.
 pub fn from_rendered(camera: &CameraSection, half_extent: [f64; 2]) -> anyhow::Result<(Calibration, Value)> {
     let truth = camera.model().map_err(anyhow::Error::msg)?;
-    let mut renderer = Renderer::new(truth, camera.board_scene().map_err(anyhow::Error::msg)?)
-        .map_err(anyhow::Error::msg)?;
+    let mut renderer = Renderer::board(camera).map_err(anyhow::Error::msg)?;
     let pixels = renderer.render(&ipc_types::PartStates::new()).to_vec();
     let img = image::GrayImage::from_raw(truth.width, truth.height, pixels)
         .ok_or_else(|| anyhow::anyhow!("rendered frame of the wrong size"))?;

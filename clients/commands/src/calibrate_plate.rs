@@ -15,16 +15,16 @@ pub fn setup(config: &Config, params: ExciteParams) -> anyhow::Result<CalibrateS
     // The core's threads and CPUs are none of this process's business (it
     // may run off the motor's CPU, where `rt.motor_cpu` would not check).
     let mut plate_only = config.clone();
-    plate_only.rt.motor_cpu = -1;
+    plate_only.rt.motor_cpu = None;
     let core = plate_only.core_params("config")?;
     let k_bounds = core.playable_k_bounds().map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut planner = config.planner.clone();
     let drive = planner.drive_mut();
     Ok(CalibrateSetup {
-        centers: core.centers.clone(),
+        centers: core.plate.centers.clone(),
         k_bounds,
         motion: core.motion,
-        mu_m_g: core.mu_m_g,
+        mu_m_g: core.plate.mu_m_g,
         mu_g: drive.mu_m_g / drive.part_mass,
         plate_half_extent: config.plate.half_extent,
         actuators: core.rig.count as u32,

@@ -16,10 +16,8 @@ pub type Config = CoreConfig<VisionSection, PlannerConfig, CameraSection>;
 pub fn validate(config: &Config, path: &str) -> Result<(), ConfigError> {
     let invalid = |m: String| ConfigError::invalid(path, m);
     config.validate_core(path)?;
-    config.vision.params().map_err(invalid)?;
-    config.vision.frames().map_err(invalid)?;
-    config.camera.model().map_err(invalid)?;
-    config.camera.scene().map_err(invalid)?;
+    config.vision.validate().map_err(invalid)?;
+    config.camera.validate().map_err(invalid)?;
     config.planner.build().map_err(invalid)?;
     Ok(())
 }

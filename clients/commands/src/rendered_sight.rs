@@ -23,14 +23,12 @@ pub struct RenderedSight {
 
 impl RenderedSight {
     pub fn new(config: &Config) -> anyhow::Result<Self> {
-        let truth = config.camera.model().map_err(anyhow::Error::msg)?;
-        let scene = config.camera.scene().map_err(anyhow::Error::msg)?;
         let (cal, _) = crate::calibrate_camera::from_rendered(&config.camera, config.plate.half_extent)?;
-        let frames = config.vision.frames_for_camera().map_err(anyhow::Error::msg)?;
-        let (_, tracker) = config.vision.params().map_err(anyhow::Error::msg)?;
+        config.vision.validate().map_err(anyhow::Error::msg)?;
+        config.vision.validate_frames().map_err(anyhow::Error::msg)?;
         Ok(Self {
-            vision: FramePipeline::new(&cal, &frames, tracker),
-            renderer: Renderer::new(truth, scene).map_err(anyhow::Error::msg)?,
+            vision: FramePipeline::new(&cal, &config.vision),
+            renderer: Renderer::new(&config.camera).map_err(anyhow::Error::msg)?,
             bad_frames: 0,
         })
     }

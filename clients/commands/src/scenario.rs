@@ -85,9 +85,9 @@ impl Scenario {
     pub fn config(&self, seed: u64, prefix: &str) -> anyhow::Result<Config> {
         let mut c = self.rig.clone();
         c.service.prefix = prefix.to_owned();
-        c.sim.seed = seed;
+        c.sim.config.seed = seed;
         c.vision.seed = seed;
-        let mass = c.plate.mu_m_g / (c.sim.mu_kinetic * 9.81);
+        let mass = c.plate.mu_m_g / (c.sim.config.mu_kinetic * 9.81);
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut next_id = c.sim.parts.iter().map(|p| p.id).max().unwrap_or(0) + 1;
         for group in &self.random_parts {
@@ -142,9 +142,9 @@ impl Scenario {
                     Some("triangle") => ClassOutline::Triangle,
                     _ => ClassOutline::Disc,
                 };
-                upm_camera::ClassSection {
+                upm_camera::ClassLook {
                     level: levels[k % levels.len()],
-                    radius_mm: part.map_or(0.015, bounding_radius) * 1e3,
+                    radius: part.map_or(0.015, bounding_radius),
                     shape,
                 }
             })

@@ -20,10 +20,9 @@ pub struct TruthSight {
 
 impl TruthSight {
     pub fn new(config: &Config) -> anyhow::Result<Self> {
-        let (camera, tracker) = config.vision.params().map_err(anyhow::Error::msg)?;
         Ok(Self {
-            camera: Camera::new(camera).map_err(anyhow::Error::msg)?,
-            tracker: Tracker::new(tracker),
+            camera: Camera::new(&config.vision).map_err(anyhow::Error::msg)?,
+            tracker: Tracker::new(&config.vision),
             seq: 0,
             last_stamp_ns: None,
         })
@@ -67,8 +66,8 @@ mod tests {
     #[test]
     fn frames_come_out_after_the_latency_with_noise_and_tracker_ids() {
         let mut config = Config::default();
-        config.vision.latency_ms = 10.0;
-        config.vision.noise_mm = 0.5;
+        config.vision.latency_s = 0.01;
+        config.vision.noise_m = 0.0005;
         let mut sight = TruthSight::new(&config).expect("sight");
         let mut out = PartStates::new();
         sight.capture(&truth(1_000_000_000, 0.2));

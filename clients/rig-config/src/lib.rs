@@ -9,6 +9,7 @@ pub mod frame_rate;
 pub mod plate_calibration;
 mod process_args;
 mod service;
+pub mod shared_table;
 
 pub use error::ConfigError;
 pub use file::{RigFile, load_toml, parse_toml};

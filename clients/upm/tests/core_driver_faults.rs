@@ -47,7 +47,8 @@ impl PlateDriver for Faulty {
 
 fn core(auto_resume_ns: u64) -> Lockstep<Faulty> {
     let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
-    let params = CoreParams { auto_resume_ns, ..CoreParams::default() };
+    let mut params = CoreParams::default();
+    params.safety.auto_resume_ns = auto_resume_ns;
     Lockstep::new(&params, Faulty { sim, read_fault: false, write_fault: false }, START_NS).expect("core")
 }
 

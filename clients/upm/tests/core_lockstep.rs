@@ -125,7 +125,7 @@ fn plays_solved_schedule_and_swaps_only_at_cycle_boundaries() {
 #[test]
 fn stale_input_holds_within_one_cycle_and_fresh_input_resumes() {
     let params = CoreParams::default();
-    let max_age_ticks = params.parts_max_age_ns / TICK_NS;
+    let max_age_ticks = params.safety.parts_max_age_ns / TICK_NS;
     let mut c = core();
     let stop_feeding = 1000;
     let resume = 5000;
@@ -259,12 +259,12 @@ fn explicit_schedule_bypasses_the_solver() {
 fn each_center_is_bounded_by_what_it_can_play() {
     use core::sync::atomic::Ordering::Relaxed;
     let mut params = CoreParams::default();
-    params.centers.push([2.5, 0.0]);
-    let far = params.centers.len() - 1;
+    params.plate.centers.push([2.5, 0.0]);
+    let far = params.plate.centers.len() - 1;
     let sim = Simulator::new(SimConfig::default(), &[]).expect("sim");
     let mut c = Lockstep::new(&params, sim, START_NS).expect("core");
     let bounds = c.stage().k_bounds().to_vec();
-    assert_eq!(bounds.len(), params.centers.len());
+    assert_eq!(bounds.len(), params.plate.centers.len());
     assert!(bounds[far] < bounds[0], "bounds {bounds:?}");
     assert_eq!(c.stage().k_max(), bounds.iter().fold(0.0, |a: f64, &u| a.max(u)));
     let k = 0.5 * (bounds[far] + bounds[0]);
@@ -302,7 +302,9 @@ fn each_center_is_bounded_by_what_it_can_play() {
 /// (0.5, 0), 0.5 m from the nearest corner center) is `part_1` and the
 /// core's `part_shapes` is as given.
 fn published_k(part_1: PartState, part_shapes: bool) -> Vec<u64> {
-    published_k_with(part_1, &CoreParams { part_shapes, ..CoreParams::default() })
+    let mut params = CoreParams::default();
+    params.motion.part_shapes = part_shapes;
+    published_k_with(part_1, &params)
 }
 
 fn published_k_with(part_1: PartState, params: &CoreParams) -> Vec<u64> {
@@ -333,8 +335,8 @@ fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
     let sliding = PartState::new(1, 0, 0, [0.5, 0.0, 0.0], [0.01, -0.004, 0.0]);
     let with = |steps, about| {
         let mut p = CoreParams::default();
-        p.part_dynamics.steps = steps;
-        p.part_dynamics.about = about;
+        p.motion.part_dynamics.steps = steps;
+        p.motion.part_dynamics.about = about;
         p
     };
     let off = with(0, LinearizeAbout::Reported);
@@ -365,7 +367,8 @@ fn a_parts_reported_motion_reaches_the_part_dynamics_correction() {
         published_k_with(still, &rest),
         "class 1's friction ignored"
     );
-    let off_calibrated = CoreParams { part_dynamics: off.part_dynamics, ..calibrated };
+    let mut off_calibrated = calibrated;
+    off_calibrated.motion.part_dynamics = off.motion.part_dynamics;
     assert_eq!(published_k_with(gripping, &off_calibrated), uncorrected, "off: friction is not read");
 }
 
@@ -397,9 +400,9 @@ fn a_parts_outline_reaches_the_solver() {
         })
         .collect();
     let problem = Problem {
-        mu_m_g: params.mu_m_g,
+        mu_m_g: params.plate.mu_m_g,
         k_max,
-        centers: &params.centers,
+        centers: &params.plate.centers,
         parts: &constraints,
         curls: &[],
         k_bounds: &bounds,

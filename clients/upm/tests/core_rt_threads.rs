@@ -47,8 +47,9 @@ fn rt_threads_make_no_allocations_with_sparse_cycles() {
 /// calibration's friction.
 #[test]
 fn rt_threads_make_no_allocations_with_part_dynamics() {
-    let mut params = CoreParams { cycle_slots: 4, ..CoreParams::default() };
-    params.part_dynamics.steps = 2;
+    let mut params = CoreParams::default();
+    params.motion.cycle_slots = 4;
+    params.motion.part_dynamics.steps = 2;
     params.part_friction =
         upm_motion::PartFriction::new(&[(0, 1.2), (1, 0.8)], [0.05, -0.1, 0.0, 0.1, 0.1], [1.0, 0.5])
             .expect("friction");
@@ -56,7 +57,9 @@ fn rt_threads_make_no_allocations_with_part_dynamics() {
 }
 
 fn rt_threads_allocate_nothing(cycle_slots: usize) {
-    rt_threads_allocate_nothing_with(CoreParams { cycle_slots, ..CoreParams::default() });
+    let mut params = CoreParams::default();
+    params.motion.cycle_slots = cycle_slots;
+    rt_threads_allocate_nothing_with(params);
 }
 
 fn rt_threads_allocate_nothing_with(mut params: CoreParams) {

@@ -61,7 +61,8 @@ fn runs_over_the_simulated_chain_are_bit_identical() {
 fn ethercat_core(auto_resume_ms: f64) -> Lockstep<EthercatDriver<SimulatedRig>> {
     let config = Config::default();
     let (driver, _) = upm_core::plate_driver::ethercat_sim(&config, "default").expect("driver");
-    let params = CoreParams { auto_resume_ns: (auto_resume_ms * 1e6) as u64, ..CoreParams::default() };
+    let mut params = CoreParams::default();
+    params.safety.auto_resume_ns = (auto_resume_ms * 1e6) as u64;
     Lockstep::new(&params, driver, 1_000_000_000).expect("core")
 }
 

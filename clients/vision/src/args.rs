@@ -20,20 +20,16 @@ pub fn run_vision(args: VisionArgs) -> anyhow::Result<u64> {
     let file = args.process.file()?;
     let prefix = args.process.prefix(&file)?;
     let section = file.section::<VisionSection>("vision")?;
-    let invalid = |m| ConfigError::invalid(file.shown(), m);
-    let (camera, tracker) = section.params().map_err(invalid)?;
-    let frames = section.frames().map_err(invalid)?;
+    section.validate().map_err(|m| ConfigError::invalid(file.shown(), m))?;
     let duration = args.process.duration().map_err(anyhow::Error::msg)?;
-    match frames {
-        None => crate::run(&prefix, camera, tracker, duration),
-        Some(frames) => {
-            let stats = crate::frame_loop::run_frames(&prefix, &frames, tracker, duration)?;
-            eprintln!("upm-vision: {}", serde_json::to_string(&stats)?);
-            if let Some(path) = &args.stats {
-                std::fs::write(path, serde_json::to_string_pretty(&stats)?)
-                    .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
-            }
-            Ok(stats.published)
-        }
+    if !section.from_frames() {
+        return crate::run(&prefix, &section, duration);
     }
+    let stats = crate::frame_loop::run_frames(&prefix, &section, duration)?;
+    eprintln!("upm-vision: {}", serde_json::to_string(&stats)?);
+    if let Some(path) = &args.stats {
+        std::fs::write(path, serde_json::to_string_pretty(&stats)?)
+            .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
+    }
+    Ok(stats.published)
 }

@@ -9,35 +9,9 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
+use crate::VisionSection;
 use crate::class_outline::BodyOutline;
 use crate::tracker::Detection;
-
-/// Tunables of the simulated camera (`[vision]` in the config).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CameraParams {
-    pub frame_hz: f64,
-    /// Std of position noise (m) and angle noise (rad).
-    pub noise_m: f64,
-    pub noise_rad: f64,
-    /// Frame stamp → published (s).
-    pub latency_s: f64,
-    /// Probability a frame is lost.
-    pub drop_probability: f64,
-    pub seed: u64,
-}
-
-impl Default for CameraParams {
-    fn default() -> Self {
-        Self {
-            frame_hz: rig_config::frame_rate::DEFAULT_FRAME_HZ,
-            noise_m: 0.0005,
-            noise_rad: 0.005,
-            latency_s: 0.0,
-            drop_probability: 0.0,
-            seed: 1,
-        }
-    }
-}
 
 /// A captured frame waiting for its latency to pass.
 #[derive(Debug, Clone)]
@@ -46,9 +20,11 @@ pub struct Frame {
     pub detections: Vec<Detection>,
 }
 
+/// Runs on `[vision]`'s `frame_hz`, `noise_mm`, `noise_deg`, `latency_ms`,
+/// `drop_probability` and `seed`.
 #[derive(Debug)]
 pub struct Camera {
-    params: CameraParams,
+    params: VisionSection,
     rng: ChaCha8Rng,
     pos: Normal<f64>,
     ang: Normal<f64>,
@@ -58,35 +34,20 @@ pub struct Camera {
 
 impl Camera {
     /// Fails only for invalid parameters, with a message naming the field.
-    pub fn new(params: CameraParams) -> Result<Self, String> {
-        let ok = |x: f64| x.is_finite() && x >= 0.0;
-        if !(params.frame_hz.is_finite() && params.frame_hz > 0.0 && params.frame_hz <= 1000.0) {
-            return Err(format!("vision.frame_hz must be in (0, 1000], got {}", params.frame_hz));
-        }
-        if !(ok(params.noise_m) && ok(params.noise_rad)) {
-            return Err("vision.noise_m and vision.noise_rad must be finite and >= 0".into());
-        }
-        if !(ok(params.latency_s) && params.latency_s < 10.0) {
-            return Err(format!("vision.latency_ms must be in [0, 10000), got {}", params.latency_s * 1e3));
-        }
-        if !(0.0..1.0).contains(&params.drop_probability) {
-            return Err(format!(
-                "vision.drop_probability must be in [0, 1), got {}",
-                params.drop_probability
-            ));
-        }
+    pub fn new(params: &VisionSection) -> Result<Self, String> {
+        params.validate()?;
         let normal = |s: f64| Normal::new(0.0, s).map_err(|e| format!("vision noise: {e}"));
         Ok(Self {
-            params,
             rng: ChaCha8Rng::seed_from_u64(params.seed),
             pos: normal(params.noise_m)?,
             ang: normal(params.noise_rad)?,
+            params: params.clone(),
             queue: VecDeque::new(),
             dropped: 0,
         })
     }
 
-    pub fn params(&self) -> &CameraParams {
+    pub fn params(&self) -> &VisionSection {
         &self.params
     }
 

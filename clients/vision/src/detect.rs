@@ -13,27 +13,8 @@
 use crate::blobs::{Blob, binomial};
 use crate::class_outline::{BodyOutline, ClassOutline};
 use crate::lens::CameraModel;
+use crate::part_look::PartLook;
 use crate::tracker::Detection;
-
-/// What vision knows about a part class: its brightness relative to the
-/// plate, its outline and circumradius (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PartLook {
-    pub ratio: f64,
-    pub radius: f64,
-    pub shape: ClassOutline,
-}
-
-impl PartLook {
-    pub fn area(&self) -> f64 {
-        self.shape.area(self.radius)
-    }
-
-    /// The class's contact outline in a part's own frame.
-    pub fn outline(&self) -> BodyOutline {
-        self.shape.body_outline(self.radius)
-    }
-}
 
 /// Counts of blobs that did not become a detection.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -158,15 +139,13 @@ fn plate_angle(b: &Blob, shape: ClassOutline, model: &CameraModel) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lens::Mount;
     use ipc_types::{SHAPE_DISC, SHAPE_POLYGON};
 
     /// Each detection carries its class's outline: a disc of the class
     /// radius, a polygon of its corners at the circumradius.
     #[test]
     fn detections_carry_their_class_outline() {
-        let mount = Mount { x: 0.0, y: 0.0, height: 1.5, yaw: 0.0, tilt_x: 0.0, tilt_y: 0.0 };
-        let model = CameraModel::mounted(1001, 501, 1000.0, [0.0; 4], mount);
+        let model = CameraModel::mounted(1001, 501, 1000.0, [0.0; 4], [0.0, 0.0, 1.5], 0.0, [0.0; 2]);
         let looks = [
             PartLook { ratio: 0.2, radius: 0.015, shape: ClassOutline::Disc },
             PartLook { ratio: 0.5, radius: 0.02, shape: ClassOutline::Square },

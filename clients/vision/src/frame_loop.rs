@@ -6,17 +6,16 @@
 //! frame event, so a source that notifies is served at once; one that does
 //! not is read at the next poll (every millisecond).
 
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use ipc_types::wake_event::{WakeEvent, wake_listener};
 use ipc_types::{PartState, monotonic_now_ns};
 use serde::Serialize;
 
+use crate::VisionSection;
 use crate::blobs::BadFrame;
 use crate::calibration::Calibration;
-use crate::config::FrameParams;
-
-use crate::TrackerParams;
 use crate::outputs::Outputs;
 use crate::pipeline::FramePipeline;
 
@@ -81,20 +80,19 @@ const POLL: Duration = Duration::from_millis(1);
 /// `duration`).
 pub fn run_frames(
     prefix: &str,
-    params: &FrameParams,
-    tracker: TrackerParams,
+    params: &VisionSection,
     duration: Option<Duration>,
 ) -> anyhow::Result<FrameStats> {
-    let cal = Calibration::load(&params.calibration).map_err(anyhow::Error::msg)?;
+    let cal = Calibration::load(Path::new(&params.calibration)).map_err(anyhow::Error::msg)?;
     let (width, height) = (cal.camera.width, cal.camera.height);
     // The core refuses every message with an outline wider than the plate.
     let extent = ipc_types::ValidationLimits::new(cal.plate_half_extent, 0).max_part_extent();
-    for (i, look) in params.looks.iter().enumerate() {
+    for (i, look) in params.classes.iter().enumerate() {
         if let Err(e) = look.outline().put_on(PartState::ZERO).check_shape(extent) {
             anyhow::bail!("vision.classes[{i}].radius_mm {}: {e}", look.radius * 1e3);
         }
     }
-    let mut pipeline = FramePipeline::new(&cal, params, tracker);
+    let mut pipeline = FramePipeline::new(&cal, params);
     let mut out = Outputs::open(prefix)?;
     let frames = ipc_types::ports::frame_subscriber(out.node())?;
     let woken = wake_listener(out.node(), WakeEvent::Frame)?;

@@ -30,21 +30,6 @@ pub struct CameraModel {
     pub translation: [f64; 3],
 }
 
-/// Where a camera hangs above the plate, in the units a rig builder
-/// measures: its lens centre over plate point `(x, y)` at `height`, looking
-/// down, turned by `yaw` about the vertical and tilted by `tilt_x` / `tilt_y`
-/// about the plate's axes (radians; 0, 0, 0 is straight down with image
-/// rows along the plate's x axis).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Mount {
-    pub x: f64,
-    pub y: f64,
-    pub height: f64,
-    pub yaw: f64,
-    pub tilt_x: f64,
-    pub tilt_y: f64,
-}
-
 type Mat3 = [[f64; 3]; 3];
 
 fn mul(a: &Mat3, b: &Mat3) -> Mat3 {
@@ -67,21 +52,32 @@ fn transpose(m: &Mat3) -> Mat3 {
 
 impl CameraModel {
     /// A camera of `width × height` px with focal length `f` px, principal
-    /// point at the image centre, the given distortion, hung at `mount`.
-    pub fn mounted(width: u32, height: u32, f: f64, distortion: [f64; 4], mount: Mount) -> Self {
+    /// point at the image centre, the given distortion, hung where a rig
+    /// builder measures it: its lens centre over plate point `(x, y)` at
+    /// height `h` (`centre` = `[x, y, h]`, m), looking down, turned by
+    /// `yaw` about the vertical and tilted by `tilt` about the plate's x and
+    /// y axes (rad; all 0 is straight down with image rows along plate x).
+    pub fn mounted(
+        width: u32,
+        height: u32,
+        f: f64,
+        distortion: [f64; 4],
+        centre: [f64; 3],
+        yaw: f64,
+        tilt: [f64; 2],
+    ) -> Self {
         // Looking straight down: camera x = plate x, camera y = −plate y,
         // camera z = −plate z.
         let down: Mat3 = [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]];
-        let (s, c) = mount.yaw.sin_cos();
+        let (s, c) = yaw.sin_cos();
         let yaw: Mat3 = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]];
-        let (s, c) = mount.tilt_x.sin_cos();
+        let (s, c) = tilt[0].sin_cos();
         let tx: Mat3 = [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]];
-        let (s, c) = mount.tilt_y.sin_cos();
+        let (s, c) = tilt[1].sin_cos();
         let ty: Mat3 = [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]];
         // Camera → plate: tilt and yaw the straight-down camera.
         let cam_to_plate = mul(&mul(&mul(&ty, &tx), &yaw), &transpose(&down));
         let rotation = transpose(&cam_to_plate);
-        let centre = [mount.x, mount.y, mount.height];
         let rc = apply(&rotation, centre);
         let [k1, k2, p1, p2] = distortion;
         Self {
@@ -196,14 +192,20 @@ mod tests {
     use super::*;
 
     fn tilted() -> CameraModel {
-        let mount = Mount { x: 0.02, y: -0.01, height: 1.6, yaw: 0.01, tilt_x: 0.05, tilt_y: -0.03 };
-        CameraModel::mounted(2048, 1152, 1500.0, [-0.08, 0.02, 0.0005, -0.0003], mount)
+        CameraModel::mounted(
+            2048,
+            1152,
+            1500.0,
+            [-0.08, 0.02, 0.0005, -0.0003],
+            [0.02, -0.01, 1.6],
+            0.01,
+            [0.05, -0.03],
+        )
     }
 
     #[test]
     fn straight_down_maps_plate_x_to_image_columns() {
-        let mount = Mount { x: 0.0, y: 0.0, height: 1.5, yaw: 0.0, tilt_x: 0.0, tilt_y: 0.0 };
-        let cam = CameraModel::mounted(1001, 501, 1000.0, [0.0; 4], mount);
+        let cam = CameraModel::mounted(1001, 501, 1000.0, [0.0; 4], [0.0, 0.0, 1.5], 0.0, [0.0; 2]);
         let [u, v] = cam.project(0.0, 0.0).expect("in front");
         assert!((u - 500.0).abs() < 1e-9 && (v - 250.0).abs() < 1e-9);
         let [u, v] = cam.project(0.15, 0.3).expect("in front");

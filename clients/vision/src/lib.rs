@@ -16,13 +16,15 @@ pub mod detect;
 pub mod frame_loop;
 pub mod lens;
 pub mod outputs;
+pub mod part_look;
 pub mod pipeline;
 pub mod run;
 pub mod tracker;
 
-pub use camera::{Camera, CameraParams};
+pub use camera::Camera;
 pub use class_outline::BodyOutline;
-pub use config::{FrameParams, VisionClass, VisionSection};
+pub use config::VisionSection;
 pub use outputs::part_states;
+pub use part_look::PartLook;
 pub use run::run;
-pub use tracker::{Detection, Track, Tracker, TrackerParams};
+pub use tracker::{Detection, Track, Tracker};

@@ -5,10 +5,10 @@
 
 use crate::blobs::{BadFrame, SegmentParams, Segmenter};
 use crate::calibration::Calibration;
-use crate::config::FrameParams;
-use crate::detect::{BlobCounts, PartLook, detect, split_area_px};
+use crate::detect::{BlobCounts, detect, split_area_px};
 use crate::lens::CameraModel;
-use crate::{Detection, Track, Tracker, TrackerParams};
+use crate::part_look::PartLook;
+use crate::{Detection, Track, Tracker, VisionSection};
 
 #[derive(Debug)]
 pub struct FramePipeline {
@@ -24,14 +24,17 @@ pub struct FramePipeline {
 impl FramePipeline {
     /// Allocates every buffer (the region of interest costs one
     /// unprojection per pixel); a frame then allocates nothing.
-    pub fn new(cal: &Calibration, params: &FrameParams, tracker: TrackerParams) -> Self {
-        let segment =
-            SegmentParams { split_above_px: split_area_px(&cal.camera, &params.looks), ..params.segment };
+    pub fn new(cal: &Calibration, params: &VisionSection) -> Self {
+        let segment = SegmentParams {
+            threshold: params.threshold,
+            split_above_px: split_area_px(&cal.camera, &params.classes),
+            ..SegmentParams::default()
+        };
         Self {
             model: cal.camera,
-            looks: params.looks.clone(),
+            looks: params.classes.clone(),
             segmenter: Segmenter::new(&cal.camera, cal.plate_half_extent, params.roi_margin, segment),
-            tracker: Tracker::new(tracker),
+            tracker: Tracker::new(params),
             found: Vec::with_capacity(4 * ipc_types::MAX_PARTS),
             counts: BlobCounts::default(),
         }

@@ -7,20 +7,15 @@ use std::time::Duration;
 use ipc_types::{PartStates, monotonic_now_ns, service_names};
 
 use crate::outputs::Outputs;
-use crate::{Camera, CameraParams, Tracker, TrackerParams};
+use crate::{Camera, Tracker, VisionSection};
 
 /// Run the camera on `prefix` until SIGINT/SIGTERM (or `duration`).
-pub fn run(
-    prefix: &str,
-    camera: CameraParams,
-    tracker: TrackerParams,
-    duration: Option<Duration>,
-) -> anyhow::Result<u64> {
-    let mut cam = Camera::new(camera).map_err(anyhow::Error::msg)?;
-    let mut tracker = Tracker::new(tracker);
+pub fn run(prefix: &str, params: &VisionSection, duration: Option<Duration>) -> anyhow::Result<u64> {
+    let mut cam = Camera::new(params).map_err(anyhow::Error::msg)?;
+    let mut tracker = Tracker::new(params);
     let mut out = Outputs::open(prefix)?;
     let truth = ipc_types::ports::subscriber::<PartStates>(out.node(), service_names::SIM_GROUND_TRUTH)?;
-    let period_ns = (1e9 / cam.params().frame_hz) as u64;
+    let period_ns = (1e9 / params.frame_hz) as u64;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
     let mut next_frame = start;

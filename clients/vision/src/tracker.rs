@@ -5,6 +5,7 @@
 //! the first sighting on. A track carries the outline of its latest
 //! detection.
 
+use crate::VisionSection;
 use crate::class_outline::{BodyOutline, wrap_period};
 
 /// One detection in a frame (what a camera sees: where, which class).
@@ -35,31 +36,13 @@ pub struct Track {
     pub outline: BodyOutline,
 }
 
-/// Tunables of the tracker.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TrackerParams {
-    /// Position gain of the alpha-beta filter (0, 1].
-    pub alpha: f64,
-    /// Velocity gain (0, 2).
-    pub beta: f64,
-    /// Largest distance (m) between a prediction and its detection.
-    pub gate_m: f64,
-    /// A track is dropped after this many frames unseen.
-    pub max_missed: u32,
-}
-
-impl Default for TrackerParams {
-    fn default() -> Self {
-        Self { alpha: 0.5, beta: 0.1, gate_m: 0.05, max_missed: 30 }
-    }
-}
-
 /// Tracks a tracker keeps at most; more new parts wait for a free slot.
 pub const MAX_TRACKS: usize = 4 * ipc_types::MAX_PARTS;
 
+/// Runs on `[vision]`'s `alpha`, `beta`, `gate_mm` and `max_missed_frames`.
 #[derive(Debug, Clone)]
 pub struct Tracker {
-    params: TrackerParams,
+    params: VisionSection,
     tracks: Vec<Track>,
     next_id: u32,
     // Scratch, sized once: an update allocates nothing.
@@ -72,9 +55,9 @@ pub struct Tracker {
 }
 
 impl Tracker {
-    pub fn new(params: TrackerParams) -> Self {
+    pub fn new(params: &VisionSection) -> Self {
         Self {
-            params,
+            params: params.clone(),
             tracks: Vec::with_capacity(MAX_TRACKS),
             next_id: 1,
             predicted: Vec::with_capacity(MAX_TRACKS),
@@ -93,7 +76,7 @@ impl Tracker {
     /// Greedy nearest-neighbour association, closest pairs first; new
     /// tracks get ids in detection order.
     pub fn update(&mut self, detections: &[Detection], dt: f64) {
-        let p = self.params;
+        let p = &self.params;
         // Detections beyond what the scratch holds are not considered.
         let detections = &detections[..detections.len().min(MAX_TRACKS)];
         self.predicted.clear();
@@ -151,7 +134,7 @@ impl Tracker {
                 t.missed += 1;
             }
         }
-        self.tracks.retain(|t| t.missed <= p.max_missed);
+        self.tracks.retain(|t| t.missed <= p.max_missed_frames);
         for (di, d) in detections.iter().enumerate() {
             if !self.det_used[di] {
                 if self.tracks.len() == self.tracks.capacity() {

@@ -9,7 +9,7 @@ use std::time::Duration;
 use ipc_types::{PartState, PartStates, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, service_names};
 use upm_test_harness::{Running, TestRig};
 use upm_vision::class_outline::ClassOutline;
-use upm_vision::{BodyOutline, Camera, CameraParams, Detection, Tracker, TrackerParams, part_states};
+use upm_vision::{BodyOutline, Camera, Detection, Tracker, VisionSection, part_states};
 
 /// A point detection (no outline) at rest.
 fn at(x: f64, y: f64, class: u32) -> Detection {
@@ -27,7 +27,7 @@ fn outlined_truth() -> [PartState; 3] {
 
 #[test]
 fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
-    let mut t = Tracker::new(TrackerParams::default());
+    let mut t = Tracker::new(&VisionSection::default());
     let dt = 1.0 / 30.0;
     let v = [0.05, -0.02];
     for frame in 0..60 {
@@ -49,8 +49,8 @@ fn tracker_keeps_ids_through_reordering_and_estimates_velocity() {
 
 #[test]
 fn tracker_drops_lost_tracks_and_starts_new_ones() {
-    let params = TrackerParams { max_missed: 2, ..TrackerParams::default() };
-    let mut t = Tracker::new(params);
+    let params = VisionSection { max_missed_frames: 2, ..VisionSection::default() };
+    let mut t = Tracker::new(&params);
     let d = at(0.0, 0.0, 0);
     t.update(&[d], 0.0);
     for _ in 0..3 {
@@ -63,7 +63,7 @@ fn tracker_drops_lost_tracks_and_starts_new_ones() {
 
 #[test]
 fn a_track_publishes_the_outline_of_its_latest_detection() {
-    let mut t = Tracker::new(TrackerParams::default());
+    let mut t = Tracker::new(&VisionSection::default());
     let square = ClassOutline::Square.body_outline(0.02);
     let disc = ClassOutline::Disc.body_outline(0.015);
     let d = Detection { outline: square, ..at(0.1, 0.1, 0) };
@@ -88,9 +88,9 @@ fn a_track_publishes_the_outline_of_its_latest_detection() {
 
 #[test]
 fn the_simulated_camera_and_tracker_pass_truth_outlines_through() {
-    let params = CameraParams { noise_m: 0.001, noise_rad: 0.01, ..CameraParams::default() };
-    let mut cam = Camera::new(params).expect("camera");
-    let mut tracker = Tracker::new(TrackerParams::default());
+    let params = VisionSection { noise_m: 0.001, noise_rad: 0.01, ..VisionSection::default() };
+    let mut cam = Camera::new(&params).expect("camera");
+    let mut tracker = Tracker::new(&VisionSection::default());
     let parts = outlined_truth();
     let mut out = PartStates::new();
     for frame in 0..3u64 {

@@ -1,8 +1,10 @@
 //! The rig's one TOML config, as the core reads it: every section and
 //! field is optional and has a default; unknown fields are errors, and
-//! every message names the field. One module per concern: [`rig`] (plate,
-//! motion), [`core`] (rt, safety, telemetry), [`sim`] (and its hidden
-//! [`truth`]), [`driver`]. The `[vision]`, `[planner]` and `[camera]`
+//! every message names the field. `[plate]`, `[motion]`, `[rt]`,
+//! `[safety]` and `[telemetry]` are read straight into the types the core
+//! runs on (`rt_core::PlateParams`, `upm_motion::MotionParams`, …); one
+//! module per remaining concern: [`core`] (the CPUs `[rt]` names), [`sim`]
+//! (and its hidden [`truth`]), [`driver`]. The `[vision]`, `[planner]` and `[camera]`
 //! sections belong to their crates: [`CoreConfig`] keeps them as written
 //! (TOML tables) for the core, and `upm` reads the same schema with them
 //! typed (`CoreConfig<VisionSection, PlannerConfig, CameraSection>`), so
@@ -17,14 +19,12 @@ pub mod truth;
 use std::path::Path;
 
 pub use rig_config::{ConfigError, ServiceSection};
-use rt_core::CoreParams;
+use rt_core::{CoreParams, PlateParams, RtParams, SafetyParams, TelemetryParams};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-use upm_motion::RigParams;
+use upm_motion::{MotionParams, RigParams};
 
-pub use self::core::{DmaLatency, Receiver, RtSection, SafetySection, TelemetrySection};
-pub use driver::{DriverChoice, DriverSection, SubDeviceSection};
-pub use rig::{MotionSection, PlateSection};
+pub use driver::{DriverChoice, DriverSection};
 pub use sim::{SimPartSection, SimParts, SimSection};
 
 /// The rig file. `V`, `P` and `C` are the clients' sections (`[vision]`,
@@ -34,11 +34,11 @@ pub use sim::{SimPartSection, SimParts, SimSection};
 #[serde(default, deny_unknown_fields)]
 pub struct CoreConfig<V = toml::Table, P = toml::Table, C = toml::Table> {
     pub service: ServiceSection,
-    pub plate: PlateSection,
-    pub motion: MotionSection,
-    pub rt: RtSection,
-    pub safety: SafetySection,
-    pub telemetry: TelemetrySection,
+    pub plate: PlateParams,
+    pub motion: MotionParams,
+    pub rt: RtParams,
+    pub safety: SafetyParams,
+    pub telemetry: TelemetryParams,
     pub sim: SimSection,
     pub driver: DriverSection,
     pub vision: V,
@@ -102,11 +102,8 @@ impl<V, P, C> CoreConfig<V, P, C> {
     }
 
     fn core_params_inner(&self) -> Result<CoreParams, String> {
-        use self::core::{ms_to_ns, ms_to_ns_or_zero};
-        if !(self.telemetry.period_ms.is_finite() && self.telemetry.period_ms >= 1.0) {
-            return Err(format!("telemetry.period_ms must be at least 1, got {}", self.telemetry.period_ms));
-        }
         self.service.prefix_or(None)?;
+        self::core::check_cpus(&self.rt)?;
         let rig = RigParams::default();
         let (twist_correction, part_friction) = match &self.calibration.file {
             Some(path) => {
@@ -126,24 +123,15 @@ impl<V, P, C> CoreConfig<V, P, C> {
             None => (None, upm_motion::PartFriction::UNIFORM),
         };
         let params = CoreParams {
-            motion: self.motion.params(&self.plate),
+            plate: self.plate.clone(),
+            motion: MotionParams { plate_half_extent: self.plate.half_extent, ..self.motion },
+            rt: self.rt,
+            safety: self.safety,
+            telemetry: self.telemetry.clone(),
             rig,
             twist_correction,
-            centers: self.plate.centers.clone(),
-            cycle_slots: self.motion.cycle_slots,
-            part_shapes: self.motion.part_shapes,
-            part_dynamics: self.motion.part_dynamics,
             part_friction,
             inertia_adaptation: self.inertia_adaptation()?,
-            mu_m_g: self.plate.mu_m_g,
-            parts_max_age_ns: ms_to_ns(self.safety.parts_max_age_ms, "safety.parts_max_age_ms")?,
-            request_max_age_ns: ms_to_ns(self.safety.request_max_age_ms, "safety.request_max_age_ms")?,
-            max_future_skew_ns: ms_to_ns(self.safety.max_future_skew_ms, "safety.max_future_skew_ms")?,
-            solver_poll_ns: self.rt.solver_poll_us.saturating_mul(1000),
-            telemetry_period_ns: ms_to_ns(self.telemetry.period_ms, "telemetry.period_ms")?,
-            auto_resume_ns: ms_to_ns_or_zero(self.safety.auto_resume_ms, "safety.auto_resume_ms")?,
-            fault_exit_ns: ms_to_ns_or_zero(self.safety.fault_exit_ms, "safety.fault_exit_ms")?,
-            rt: self.rt.params()?,
         };
         // Complete validation: the core would refuse an unplayable rig at start.
         params.playable_k_bounds().map_err(|e| e.to_string())?;
@@ -182,12 +170,12 @@ impl<V, P, C> CoreConfig<V, P, C> {
 
     /// The motor's CPU if normal-priority work should stay off it.
     pub fn cpu_to_avoid(&self) -> Option<usize> {
-        self.rt.isolate_motor_cpu.then(|| self.rt.motor_cpu()).flatten()
+        self.rt.isolate_motor_cpu.then_some(self.rt.motor_cpu).flatten()
     }
 
-    /// The motor thread's CPU, if it is pinned (and the number is valid).
+    /// The motor thread's CPU, if it is pinned.
     pub fn rt_motor_cpu(&self) -> Option<usize> {
-        self.rt.motor_cpu()
+        self.rt.motor_cpu
     }
 
     pub fn histogram_dir(&self) -> Option<&Path> {

@@ -1,27 +1,24 @@
 //! `[sim]`: the physics simulator behind the core's default driver, and
 //! the parts on its plate.
 
-use drivers::{ActuatorModel, SimConfig};
-use serde::{Deserialize, Serialize};
+use core::fmt;
+
+use drivers::SimConfig;
+use serde::de::{MapAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use upm_motion::RigParams;
 
 use super::truth::TruthSection;
 
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
-#[serde(default, deny_unknown_fields)]
+/// `[sim]`: the simulator's settings, read straight into
+/// `drivers::SimConfig`, and beside them the parts on its plate and how
+/// the plate really differs from the model (only the simulator reads it).
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct SimSection {
-    pub seed: u64,
-    pub mu_static: f64,
-    pub mu_kinetic: f64,
-    /// "second_order" or "ideal".
-    pub actuator: String,
-    pub bandwidth_hz: f64,
-    pub damping: f64,
-    pub substeps: u32,
+    pub config: SimConfig,
     /// Parts on the simulated plate (the simulated camera sees these).
     pub parts: Vec<SimPartSection>,
-    /// How the plate really differs from the model (only the simulator
-    /// reads it): a preset or a `[sim.truth]` table.
+    /// A preset or a `[sim.truth]` table.
     pub truth: TruthSection,
 }
 
@@ -52,24 +49,37 @@ pub struct SimParts {
     pub friction: Vec<f64>,
 }
 
-impl Default for SimSection {
-    fn default() -> Self {
-        let s = SimConfig::default();
-        let (bandwidth_hz, damping) = match s.actuator {
-            ActuatorModel::SecondOrder { bandwidth_hz, damping } => (bandwidth_hz, damping),
-            ActuatorModel::Ideal => (1000.0, 0.7),
-        };
-        Self {
-            seed: s.seed,
-            mu_static: s.mu_static,
-            mu_kinetic: s.mu_kinetic,
-            actuator: "second_order".into(),
-            bandwidth_hz,
-            damping,
-            substeps: s.substeps,
-            parts: Vec::new(),
-            truth: TruthSection::default(),
+impl<'de> Deserialize<'de> for SimSection {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = SimSection;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("the [sim] table")
+            }
+            fn visit_map<M: MapAccess<'de>>(self, m: M) -> Result<SimSection, M::Error> {
+                let (mut parts, mut truth) = (Vec::new(), TruthSection::default());
+                let config = rig_config::shared_table::read_shared(m, &["parts", "truth"], |key, m| {
+                    match key {
+                        "parts" => parts = m.next_value()?,
+                        _ => truth = m.next_value()?,
+                    }
+                    Ok(())
+                })?;
+                Ok(SimSection { config, parts, truth })
+            }
         }
+        d.deserialize_map(V)
+    }
+}
+
+impl Serialize for SimSection {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut table = rig_config::shared_table::write_rest(&self.config)?;
+        let value = |v: Result<toml::Value, toml::ser::Error>| v.map_err(serde::ser::Error::custom);
+        table.insert("parts".into(), value(toml::Value::try_from(&self.parts))?);
+        table.insert("truth".into(), value(toml::Value::try_from(&self.truth))?);
+        table.serialize(s)
     }
 }
 
@@ -77,24 +87,12 @@ impl SimSection {
     /// The simulator's configuration for a rig ticking at `tick_hz` with a
     /// plate of `plate_half_extent`; the message names the field.
     pub fn config(&self, tick_hz: f64, plate_half_extent: [f64; 2]) -> Result<SimConfig, String> {
-        let actuator = match self.actuator.as_str() {
-            "second_order" => {
-                ActuatorModel::SecondOrder { bandwidth_hz: self.bandwidth_hz, damping: self.damping }
-            }
-            "ideal" => ActuatorModel::Ideal,
-            other => return Err(format!("sim.actuator {other:?}: expected \"second_order\" or \"ideal\"")),
-        };
         let cfg = SimConfig {
             tick_hz,
-            substeps: self.substeps,
-            mu_static: self.mu_static,
-            mu_kinetic: self.mu_kinetic,
-            actuator,
             rig: RigParams::default(),
             plate_half_extent,
-            seed: self.seed,
             truth: self.truth.resolve(RigParams::default().count, plate_half_extent)?.plate,
-            ..SimConfig::default()
+            ..self.config
         };
         cfg.validate().map_err(|e| e.to_string())?;
         Ok(cfg)
@@ -146,5 +144,33 @@ impl SimSection {
         // The simulator checks mass, position and capacity; name the part.
         drivers::Simulator::new(SimConfig::default(), &out.specs).map_err(|e| format!("sim.parts: {e}"))?;
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::CoreConfig;
+
+    #[test]
+    fn the_simulators_settings_are_read_beside_its_parts_and_truth_and_errors_name_the_field() {
+        let text = "[sim]\nseed = 9\nactuator = \"ideal\"\ntruth = \"worn\"\n\
+                    [[sim.parts]]\nid = 4\nshape = \"disc\"\nsize = 0.01\nmass = 0.02\nposition = [0.1, 0.2]\n";
+        let c: CoreConfig = CoreConfig::parse(text, "x.toml").expect("parses");
+        assert_eq!((c.sim.config.seed, c.sim.config.actuator), (9, drivers::ActuatorKind::Ideal));
+        assert_eq!((c.sim.parts.len(), c.sim.parts[0].id), (1, 4));
+        assert_eq!(c.sim.config.mu_kinetic, drivers::SimConfig::default().mu_kinetic);
+        let back: CoreConfig =
+            CoreConfig::parse(&toml::to_string(&c).expect("prints"), "x.toml").expect("reads");
+        assert_eq!(back.sim, c.sim);
+        for (bad, field) in [
+            ("[sim]\nseeds = 3", "sim.seeds: "),
+            ("[sim]\nactuator = \"third_order\"", "actuator: unknown variant"),
+            ("[sim]\nmu_static = \"high\"", "mu_static: invalid type"),
+            ("[[sim.parts]]\nid = \"one\"", "sim.parts[0].id: "),
+            ("[sim]\ntruth = 3", "sim.truth: "),
+        ] {
+            let e = CoreConfig::<toml::Table>::parse(bad, "x.toml").expect_err(bad).to_string();
+            assert!(e.contains(field) && !e.contains('\n'), "{bad}: {e}");
+        }
     }
 }

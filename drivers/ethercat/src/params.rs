@@ -2,10 +2,13 @@
 
 use core::fmt;
 
+use serde::{Deserialize, Serialize};
 use upm_hardware::MAX_ACTUATORS;
 
-/// A SubDevice the rig expects at a position on the bus.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A SubDevice the rig expects at a position on the bus: its identity
+/// from the drive's SII (`[[driver.subdevices]]`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
 pub struct ExpectedSubDevice {
     pub vendor: u32,
     pub product: u32,
@@ -16,12 +19,18 @@ impl ExpectedSubDevice {
     pub const SIMULATED_DRIVE: Self = Self { vendor: 0x0055_504D, product: 0x0000_0402 };
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What `[driver]` of the rig file sets is read straight into these; the
+/// drives expected, their count and the motor's rate are the caller's.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct EthercatParams {
     /// One drive per actuator, in bus order (only `count` are used).
+    #[serde(skip)]
     pub expected: [ExpectedSubDevice; MAX_ACTUATORS],
+    #[serde(skip)]
     pub count: usize,
     /// The motor loop's rate (Hz).
+    #[serde(skip)]
     pub tick_hz: f64,
     /// One process-data exchange every `cycle_divisor` motor ticks; the
     /// bus cycle must be 1–4 kHz.
@@ -34,8 +43,10 @@ pub struct EthercatParams {
     /// (0x60B2) and actual torque (0x6077) are scaled by it.
     pub rated_force_n: f64,
     /// Per-frame deadline at start-up (ms), for ethercrab's PDU timeout.
+    #[serde(skip)]
     pub startup_pdu_timeout_ms: u64,
     /// Exchanges allowed for every drive to reach operation enabled.
+    #[serde(skip)]
     pub enable_cycles: u32,
     /// Run the drives on distributed-clock SYNC0 at the bus cycle when
     /// every one of them offers it (otherwise, or when false, free run:

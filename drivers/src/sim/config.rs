@@ -1,6 +1,9 @@
-//! Simulator configuration.
+//! Simulator configuration: what `[sim]` of the rig file sets is read
+//! straight into [`SimConfig`]; the rest is the caller's.
 
 use core::fmt;
+
+use serde::{Deserialize, Serialize};
 
 use upm_motion::{InertiaParams, PlateFollow, RigParams};
 
@@ -18,30 +21,56 @@ pub enum ActuatorModel {
     SecondOrder { bandwidth_hz: f64, damping: f64 },
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `sim.actuator`: which [`ActuatorModel`] the plate follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ActuatorKind {
+    Ideal,
+    SecondOrder,
+}
+
+/// The fields the rig file does not set are `#[serde(skip)]`: the motor's
+/// rate and the plate's extent come from `[motion]` and `[plate]`, the
+/// truth from `[sim] truth`, the rest are the physics' constants.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
-    /// Driver tick rate (Hz); one `advance` = one tick.
-    pub tick_hz: f64,
-    /// Integration substeps per tick.
-    pub substeps: u32,
-    pub gravity: f64,
+    pub seed: u64,
     pub mu_static: f64,
     pub mu_kinetic: f64,
-    pub actuator: ActuatorModel,
+    pub actuator: ActuatorKind,
+    /// The servo's natural frequency (`second_order`).
+    pub bandwidth_hz: f64,
+    /// The servo's damping ratio (`second_order`).
+    pub damping: f64,
+    /// Integration substeps per tick.
+    pub substeps: u32,
+    /// Driver tick rate (Hz); one `advance` = one tick.
+    #[serde(skip)]
+    pub tick_hz: f64,
+    #[serde(skip)]
+    pub gravity: f64,
+    #[serde(skip)]
     pub rig: RigParams,
     /// Plate outline half-extent (m); the fence sits on this edge.
+    #[serde(skip)]
     pub plate_half_extent: [f64; 2],
+    #[serde(skip)]
     pub fence: bool,
     /// Restitution of part–fence and part–part impacts.
+    #[serde(skip)]
     pub fence_restitution: f64,
+    #[serde(skip)]
     pub part_restitution: f64,
     /// Part–part contact on/off (discs; polygons use their bounding circle).
+    #[serde(skip)]
     pub collisions: bool,
     /// Std of white noise added to each actuator force (N), seeded.
+    #[serde(skip)]
     pub force_noise: f64,
-    pub seed: u64,
     /// How the plate really differs from `rig` and `mu_*` (only the
     /// simulator reads it).
+    #[serde(skip)]
     pub truth: PlateTruth,
 }
 
@@ -55,7 +84,9 @@ impl Default for SimConfig {
             gravity: 9.81,
             mu_static: 0.3,
             mu_kinetic: 0.25,
-            actuator: ActuatorModel::SecondOrder { bandwidth_hz: 1000.0, damping: 0.7 },
+            actuator: ActuatorKind::SecondOrder,
+            bandwidth_hz: 1000.0,
+            damping: 0.7,
             rig: RigParams::default(),
             plate_half_extent: [1.0, 0.5],
             fence: true,
@@ -89,7 +120,7 @@ impl fmt::Display for SimConfigError {
             Self::Substeps => "sim.substeps must be in 1..=64",
             Self::Gravity => "sim.gravity must be finite and positive",
             Self::Friction => "sim: need 0 < mu_kinetic <= mu_static, both finite",
-            Self::Actuator => "sim.actuator: bandwidth and damping must be finite and positive",
+            Self::Actuator => "sim: bandwidth_hz and damping must be finite and positive",
             Self::PlateExtent => "sim.plate_half_extent must be finite and positive",
             Self::Restitution => "sim: restitutions must be in [0, 1]",
             Self::Noise => "sim.force_noise must be finite and >= 0",
@@ -101,10 +132,20 @@ impl fmt::Display for SimConfigError {
 impl core::error::Error for SimConfigError {}
 
 impl SimConfig {
+    /// How the plate follows its actuators.
+    pub fn actuator_model(&self) -> ActuatorModel {
+        match self.actuator {
+            ActuatorKind::Ideal => ActuatorModel::Ideal,
+            ActuatorKind::SecondOrder => {
+                ActuatorModel::SecondOrder { bandwidth_hz: self.bandwidth_hz, damping: self.damping }
+            }
+        }
+    }
+
     /// The motor's inertia estimate for these drives as specified (not as
     /// any hidden truth has the plate): their servo and its updates per tick.
     pub fn drive_servo(&self) -> InertiaParams {
-        let servo = match self.actuator {
+        let servo = match self.actuator_model() {
             ActuatorModel::Ideal => PlateFollow::Exact,
             ActuatorModel::SecondOrder { bandwidth_hz, damping } => {
                 PlateFollow::Servo { bandwidth_hz, damping }
@@ -127,9 +168,7 @@ impl SimConfig {
         if !(pos(self.mu_kinetic) && self.mu_static.is_finite() && self.mu_static >= self.mu_kinetic) {
             return Err(SimConfigError::Friction);
         }
-        if let ActuatorModel::SecondOrder { bandwidth_hz, damping } = self.actuator
-            && !(pos(bandwidth_hz) && pos(damping))
-        {
+        if self.actuator == ActuatorKind::SecondOrder && !(pos(self.bandwidth_hz) && pos(self.damping)) {
             return Err(SimConfigError::Actuator);
         }
         if !(pos(self.plate_half_extent[0]) && pos(self.plate_half_extent[1])) {

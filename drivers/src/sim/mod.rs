@@ -30,7 +30,7 @@ use upm_hardware::{
 };
 use upm_motion::{Pose, Rig, RigError, Twist};
 
-pub use config::{ActuatorModel, SimConfig, SimConfigError};
+pub use config::{ActuatorKind, ActuatorModel, SimConfig, SimConfigError};
 pub use part::{BodyShape, PartError, PartSpec, PartState};
 pub use part_capacity::{MAX_CONTACTS, MAX_POLYGON_VERTICES};
 pub use truth::{
@@ -293,7 +293,7 @@ impl Simulator {
         let mut force_sum = [0.0; MAX_ACTUATORS];
         for sub in 0..n {
             self.plate.plan_substep(
-                self.cfg.actuator,
+                self.cfg.actuator_model(),
                 &self.plant,
                 &self.target,
                 s,
@@ -335,7 +335,7 @@ impl Simulator {
         self.plate.tick_force = if n == 1 { self.plate.force } else { force_sum.map(|f| f / n as f64) };
         // The reference has reached this tick's setpoint.
         self.target.advance();
-        if let ActuatorModel::Ideal = self.cfg.actuator {
+        if self.cfg.actuator == ActuatorKind::Ideal {
             // Land exactly on the command (keeps closed motions exactly closed).
             self.plate.set_pose(self.target.pose);
             self.plate.vel = self.target.vel;
@@ -380,7 +380,7 @@ fn write_command(sim: &mut Simulator, command: &ActuatorCommand) -> Result<(), W
                 sensed.position[i] /= sim.sensor_gain[i];
                 sensed.velocity[i] /= sim.sensor_gain[i];
             }
-            sim.target.accept(sim.cfg.actuator, &sim.plant, &sensed);
+            sim.target.accept(sim.cfg.actuator_model(), &sim.plant, &sensed);
             sim.holding = false;
             Ok(())
         }
@@ -430,7 +430,7 @@ impl PlateDriver for Simulator {
 
     fn hold(&mut self) {
         self.command = ActuatorCommand::HOME;
-        self.target.accept(self.cfg.actuator, &self.plant, &ActuatorCommand::HOME);
+        self.target.accept(self.cfg.actuator_model(), &self.plant, &ActuatorCommand::HOME);
         self.holding = true;
     }
 

@@ -408,8 +408,8 @@ impl HungWatch {
     fn new(config: &Config, judge_planner: bool) -> Self {
         Self {
             judge_planner,
-            parts_limit_ms: config.safety.parts_max_age_ms,
-            request_limit_ms: config.safety.request_max_age_ms,
+            parts_limit_ms: config.safety.parts_max_age_ns as f64 / 1e6,
+            request_limit_ms: config.safety.request_max_age_ns as f64 / 1e6,
             vision_since: None,
             planner_since: None,
         }

@@ -81,7 +81,7 @@ pub fn run(
         "displacement_mm": setup.motion.displacement * 1e3,
         "tick_hz": setup.motion.tick_hz,
         "disc_radius": DISC_RADIUS,
-        "actuator": format!("{:?}", setup.sim.actuator),
+        "actuator": format!("{:?}", setup.sim.actuator_model()),
         "actuator_force_saturated_substeps": m.force_saturated,
         "clamped_commands": m.clamped,
         "fence_hits": m.fence_hits,
