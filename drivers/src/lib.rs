@@ -5,6 +5,7 @@
 // Index loops mirror the matrix formulas; `!(x > 0.0)` deliberately rejects NaN.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod feed;
 pub mod rng;
 pub mod sim;
 

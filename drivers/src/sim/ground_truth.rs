@@ -46,10 +46,13 @@ impl Simulator {
     /// Allocation-free.
     pub fn write_ground_truth(&self, templates: &[WirePart], out: &mut PartStates) {
         out.clear();
-        for i in 0..self.part_count() {
+        for i in (0..self.part_count()).filter(|&i| !self.is_parked(i)) {
             let Some(p) = self.part(i) else { continue };
             let fallback = WirePart::new(i as u32 + 1, 0, 0, [0.0; 3], [0.0; 3]);
             let mut s = templates.get(i).copied().unwrap_or(fallback);
+            if let Some(feed) = self.feed() {
+                s.id = feed.id_of(i);
+            }
             [s.x, s.y, s.theta] = [p.position[0], p.position[1], p.angle];
             [s.vx, s.vy, s.omega] = [p.velocity[0], p.velocity[1], p.angular_velocity];
             // The wire holds as many parts as the simulator or more.

@@ -18,6 +18,7 @@ mod part_capacity;
 mod plate;
 mod point_lanes;
 mod polygon_limit;
+mod pool;
 mod truth;
 
 use core::fmt;
@@ -116,6 +117,10 @@ pub struct Simulator {
     /// Indices of the extended parts other than discs (friction summed over
     /// contact points, one part at a time).
     patches: Vec<usize>,
+    /// Each part: off the plate ([`Simulator::park`]).
+    parked: Vec<bool>,
+    /// The feed cell around this simulator, if any ([`crate::feed`]).
+    feed: Option<Box<crate::feed::FeedCell>>,
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
@@ -159,6 +164,8 @@ impl Simulator {
         let mut sim = Self {
             lanes: Lanes::new(&states, &kind, &fence_limits, &radius),
             patches,
+            parked: vec![false; parts.len()],
+            feed: None,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
             h: 1.0 / cfg.tick_hz,
             plate: Plate::default(),
@@ -279,7 +286,21 @@ impl Simulator {
     /// plate and parts integrate), then contacts and fence.
     pub fn step(&mut self) {
         step_tick(self);
+        if let Some(mut feed) = self.feed.take() {
+            feed.step(self);
+            self.feed = Some(feed);
+        }
         self.publish_ground_truth_if_due();
+    }
+
+    /// The feed cell around this simulator, if it has one.
+    pub fn feed(&self) -> Option<&crate::feed::FeedCell> {
+        self.feed.as_deref()
+    }
+
+    /// Build-time only (it allocates).
+    pub(crate) fn attach_feed(&mut self, cell: crate::feed::FeedCell) {
+        self.feed = Some(Box::new(cell));
     }
 
     #[inline(always)]
@@ -319,6 +340,9 @@ impl Simulator {
                 );
             }
             for &i in &self.patches {
+                if self.parked[i] {
+                    continue;
+                }
                 let l = self.lanes.lane[i];
                 let (g, k) = (&mut self.lanes.groups[l / W], l % W);
                 let (a, xi) = disc_lanes::relative_twist(&now, [g.x[k], g.y[k]], [g.vx[k], g.vy[k]], g.w[k]);

@@ -1,0 +1,220 @@
+//! The cell: its pool of parts in the simulator, what each is doing, and
+//! the millisecond step that runs the robot and the infeed.
+
+use core::fmt;
+
+use upm_recipe::{Outline, Recipe};
+
+use super::counts::{FeedCounts, PickRecord};
+use super::symmetry::symmetry_order;
+use crate::rng::SplitMix64;
+use crate::sim::{BodyShape, MAX_POLYGON_VERTICES, PartSpec, SimConfig, SimError, Simulator};
+
+/// Picks kept for the report (the oldest are dropped beyond this).
+const PICK_LOG: usize = 1 << 16;
+
+/// Why a cell could not be built.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FeedError {
+    /// The recipe does not fit this plate (the message names the field).
+    Recipe(String),
+    Sim(SimError),
+}
+
+impl fmt::Display for FeedError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Recipe(m) => write!(f, "recipe: {m}"),
+            Self::Sim(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl core::error::Error for FeedError {}
+
+#[derive(Debug, Clone)]
+pub struct FeedCell {
+    pub(super) recipe: Recipe,
+    /// Per simulator part (its pool slot): the index of its class in the
+    /// recipe, its id while on the plate (0 parked), when it arrived.
+    pub(super) slot_class: Vec<usize>,
+    pub(super) slot_id: Vec<u32>,
+    pub(super) arrived_t: Vec<f64>,
+    /// Since when the part has lain within tolerance of `within_pose`
+    /// (NaN: of no pose).
+    pub(super) within_since: Vec<f64>,
+    pub(super) within_pose: Vec<usize>,
+    /// Per class: outline reach (m), symmetry order, cumulative share.
+    pub(super) reach: Vec<f64>,
+    pub(super) order: Vec<u32>,
+    pub(super) cumulative_share: Vec<f64>,
+    /// The cell steps every this many simulator ticks (1 ms).
+    every: u64,
+    pub(super) next_id: u32,
+    pub(super) next_arrival: f64,
+    pub(super) busy_until: f64,
+    pub(super) next_pose: usize,
+    pub(super) rng: SplitMix64,
+    pub(super) counts: FeedCounts,
+    picks: Vec<PickRecord>,
+    /// Where the next pick goes once `picks` is full.
+    pick_head: usize,
+}
+
+impl FeedCell {
+    /// A simulator with the cell around it: `recipe.infeed.max_on_plate`
+    /// parts of each class, each of `part_mass` (kg), all parked until
+    /// they arrive. The recipe is checked against `cfg`'s plate.
+    pub fn simulator(cfg: SimConfig, recipe: &Recipe, part_mass: f64) -> Result<Simulator, FeedError> {
+        recipe.validate(cfg.plate_half_extent).map_err(FeedError::Recipe)?;
+        let per_class = recipe.infeed.max_on_plate as usize;
+        let mut specs = Vec::with_capacity(per_class * recipe.classes.len());
+        let mut slot_class = Vec::with_capacity(specs.capacity());
+        for (ci, class) in recipe.classes.iter().enumerate() {
+            let shape = body_shape(&class.outline);
+            for _ in 0..per_class {
+                specs.push(PartSpec { shape, mass: part_mass, position: [0.0, 0.0], angle: 0.0 });
+                slot_class.push(ci);
+            }
+        }
+        let mut sim = Simulator::new(cfg, &specs).map_err(FeedError::Sim)?;
+        for (i, &ci) in slot_class.iter().enumerate() {
+            sim.park(i);
+            let scale = recipe.classes[ci].friction;
+            if scale != 1.0 && !sim.set_part_friction(i, scale) {
+                return Err(FeedError::Recipe(format!(
+                    "class[{ci}].friction: {scale} out of the simulator's range"
+                )));
+            }
+        }
+        let mut total = 0.0;
+        let cumulative_share = recipe
+            .classes
+            .iter()
+            .map(|c| {
+                total += c.share;
+                total
+            })
+            .collect();
+        let n = slot_class.len();
+        let mut rng = SplitMix64::new(cfg.seed ^ 0xFEED_CE11_0000_0001);
+        let first = super::infeed::interval(&mut rng, recipe.infeed.rate_per_min);
+        let cell = Self {
+            reach: recipe.classes.iter().map(|c| c.outline.reach()).collect(),
+            order: recipe
+                .classes
+                .iter()
+                .map(|c| match &c.outline {
+                    Outline::Disc { .. } => symmetry_order(None),
+                    Outline::Polygon(v) => symmetry_order(Some(v)),
+                })
+                .collect(),
+            cumulative_share,
+            recipe: recipe.clone(),
+            slot_class,
+            slot_id: vec![0; n],
+            arrived_t: vec![0.0; n],
+            within_since: vec![f64::NAN; n],
+            within_pose: vec![0; n],
+            every: (cfg.tick_hz / 1000.0).round().max(1.0) as u64,
+            next_id: 1,
+            next_arrival: first,
+            busy_until: 0.0,
+            next_pose: 0,
+            rng,
+            counts: FeedCounts::default(),
+            picks: Vec::with_capacity(PICK_LOG),
+            pick_head: 0,
+        };
+        sim.attach_feed(cell);
+        Ok(sim)
+    }
+
+    /// One step of the cell, after the simulator's tick. Allocation-free.
+    pub(crate) fn step(&mut self, sim: &mut Simulator) {
+        if !sim.counters().ticks.is_multiple_of(self.every) {
+            return;
+        }
+        let t = sim.time();
+        self.count_lost(sim);
+        self.track_settling(sim, t);
+        self.robot_step(sim, t);
+        self.infeed_step(sim, t);
+    }
+
+    pub fn counts(&self) -> FeedCounts {
+        self.counts
+    }
+
+    pub fn recipe(&self) -> &Recipe {
+        &self.recipe
+    }
+
+    /// The id part `i` carries on the wire (0: parked).
+    pub fn id_of(&self, i: usize) -> u32 {
+        self.slot_id.get(i).copied().unwrap_or(0)
+    }
+
+    /// The recipe class id of part `i`.
+    pub fn class_of(&self, i: usize) -> Option<u32> {
+        self.slot_class.get(i).map(|&ci| self.recipe.classes[ci].id)
+    }
+
+    /// When part `i` arrived (s; meaningful while it is on the plate).
+    pub fn arrived_at(&self, i: usize) -> Option<f64> {
+        (self.id_of(i) != 0).then(|| self.arrived_t[i])
+    }
+
+    /// The picks kept, oldest first (allocates: not for the motor thread).
+    pub fn picks(&self) -> Vec<PickRecord> {
+        let (newer, older) = self.picks.split_at(self.pick_head.min(self.picks.len()));
+        older.iter().chain(newer).copied().collect()
+    }
+
+    pub(super) fn log_pick(&mut self, record: PickRecord) {
+        if self.picks.len() < PICK_LOG {
+            self.picks.push(record);
+        } else {
+            self.picks[self.pick_head] = record;
+            self.pick_head = (self.pick_head + 1) % PICK_LOG;
+        }
+    }
+
+    /// A part off the plate by any way but the robot: parked and counted.
+    fn count_lost(&mut self, sim: &mut Simulator) {
+        let [hx, hy] = sim.config().plate_half_extent;
+        for i in 0..self.slot_id.len() {
+            if self.slot_id[i] == 0 {
+                continue;
+            }
+            let r = self.reach[self.slot_class[i]];
+            let on =
+                sim.part(i).is_some_and(|p| p.position[0].abs() <= hx + r && p.position[1].abs() <= hy + r);
+            if !on {
+                self.take_off(sim, i);
+                self.counts.lost += 1;
+            }
+        }
+    }
+
+    /// Part `i` leaves the plate.
+    pub(super) fn take_off(&mut self, sim: &mut Simulator, i: usize) {
+        sim.park(i);
+        self.slot_id[i] = 0;
+        self.within_since[i] = f64::NAN;
+        self.counts.on_plate = self.counts.on_plate.saturating_sub(1);
+    }
+}
+
+/// The simulator's body for a recipe outline (checked by the recipe).
+fn body_shape(outline: &Outline) -> BodyShape {
+    match outline {
+        Outline::Disc { radius } => BodyShape::Disc { radius: *radius },
+        Outline::Polygon(v) => {
+            let mut vertices = [[0.0; 2]; MAX_POLYGON_VERTICES];
+            let count = v.len().min(MAX_POLYGON_VERTICES);
+            vertices[..count].copy_from_slice(&v[..count]);
+            BodyShape::Polygon { vertices, count }
+        }
+    }
+}

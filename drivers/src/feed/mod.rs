@@ -1,0 +1,17 @@
+//! A production feed cell around the simulator: parts of a recipe's
+//! classes arrive at random in the infeed region, and a simulated robot
+//! takes a part lying at a free pick pose of its class, within tolerance,
+//! settled, with no other part in the gripper's clearance. The cell steps
+//! where the simulator steps (every millisecond of simulated time), on a
+//! pool of parts built once: arriving places a parked part, picking parks
+//! it again, so nothing allocates.
+
+mod cell;
+mod counts;
+mod infeed;
+mod robot;
+mod symmetry;
+
+pub use cell::{FeedCell, FeedError};
+pub use counts::{FeedCounts, PickRecord};
+pub use symmetry::{angle_error, symmetry_order};

@@ -1,0 +1,53 @@
+//! How often an outline repeats as it turns, and an angle error modulo it.
+
+use core::f64::consts::TAU;
+
+/// The largest n such that turning `vertices` by 2π/n maps them onto
+/// themselves (1 for an asymmetric polygon); 0 for a disc (`None`), whose
+/// angle never matters.
+pub fn symmetry_order(vertices: Option<&[[f64; 2]]>) -> u32 {
+    let Some(v) = vertices else { return 0 };
+    let scale = v.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+    let tol = 1e-9 * scale.max(1e-12);
+    for n in (2..=v.len()).rev() {
+        let (s, c) = (TAU / n as f64).sin_cos();
+        let maps = v.iter().all(|p| {
+            let q = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
+            v.iter().any(|r| (r[0] - q[0]).hypot(r[1] - q[1]) <= tol)
+        });
+        if maps {
+            return n as u32;
+        }
+    }
+    1
+}
+
+/// `angle − target` wrapped into [−π/n, π/n) for an outline of symmetry
+/// `order` n; 0 for a disc (order 0).
+pub fn angle_error(angle: f64, target: f64, order: u32) -> f64 {
+    if order == 0 {
+        return 0.0;
+    }
+    let period = TAU / f64::from(order);
+    (angle - target + 0.5 * period).rem_euclid(period) - 0.5 * period
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn squares_repeat_four_times_triangles_three_and_a_kite_once() {
+        let square = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+        let triangle: Vec<[f64; 2]> =
+            (0..3).map(|k| (TAU * k as f64 / 3.0).sin_cos()).map(|(s, c)| [c, s]).collect();
+        let kite = [[0.0, -1.0], [1.0, 0.0], [0.0, 2.0], [-1.0, 0.0]];
+        assert_eq!(symmetry_order(Some(&square)), 4);
+        assert_eq!(symmetry_order(Some(&triangle)), 3);
+        assert_eq!(symmetry_order(Some(&kite)), 1);
+        assert_eq!(symmetry_order(None), 0);
+        assert!((angle_error(1.6, 0.0, 4) - (1.6 - core::f64::consts::FRAC_PI_2)).abs() < 1e-12);
+        assert!((angle_error(-0.1, 6.2, 1) - (-0.1 - 6.2 + TAU)).abs() < 1e-12);
+        assert_eq!(angle_error(2.0, 0.0, 0), 0.0);
+    }
+}
