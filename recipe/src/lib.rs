@@ -6,7 +6,9 @@
 mod error;
 mod outline;
 mod recipe;
+mod symmetry;
 
 pub use error::RecipeError;
 pub use outline::Outline;
 pub use recipe::{Infeed, PartClass, PickPose, Recipe, Robot};
+pub use symmetry::angle_error;

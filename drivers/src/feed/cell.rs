@@ -6,7 +6,6 @@ use core::fmt;
 use upm_recipe::{Outline, Recipe};
 
 use super::counts::{FeedCounts, PickRecord};
-use super::symmetry::symmetry_order;
 use crate::rng::SplitMix64;
 use crate::sim::{BodyShape, MAX_POLYGON_VERTICES, PartSpec, SimConfig, SimError, Simulator};
 
@@ -101,14 +100,7 @@ impl FeedCell {
         let first = super::infeed::interval(&mut rng, recipe.infeed.rate_per_min);
         let cell = Self {
             reach: recipe.classes.iter().map(|c| c.outline.reach()).collect(),
-            order: recipe
-                .classes
-                .iter()
-                .map(|c| match &c.outline {
-                    Outline::Disc { .. } => symmetry_order(None),
-                    Outline::Polygon(v) => symmetry_order(Some(v)),
-                })
-                .collect(),
+            order: recipe.classes.iter().map(|c| c.outline.symmetry_order()).collect(),
             cumulative_share,
             recipe: recipe.clone(),
             slot_class,

@@ -10,8 +10,6 @@ mod cell;
 mod counts;
 mod infeed;
 mod robot;
-mod symmetry;
 
 pub use cell::{FeedCell, FeedError};
 pub use counts::{FeedCounts, PickRecord};
-pub use symmetry::{angle_error, symmetry_order};

@@ -4,8 +4,8 @@
 
 use super::cell::FeedCell;
 use super::counts::PickRecord;
-use super::symmetry::angle_error;
 use crate::sim::Simulator;
+use upm_recipe::angle_error;
 
 impl FeedCell {
     /// Note since when each part has lain within tolerance of a pose.

@@ -2,11 +2,21 @@
 
 use core::f64::consts::TAU;
 
-/// The largest n such that turning `vertices` by 2π/n maps them onto
-/// themselves (1 for an asymmetric polygon); 0 for a disc (`None`), whose
-/// angle never matters.
-pub fn symmetry_order(vertices: Option<&[[f64; 2]]>) -> u32 {
-    let Some(v) = vertices else { return 0 };
+use crate::outline::Outline;
+
+impl Outline {
+    /// The largest n such that turning the outline by 2π/n maps it onto
+    /// itself (1 for an asymmetric polygon); 0 for a disc, whose angle
+    /// never matters.
+    pub fn symmetry_order(&self) -> u32 {
+        match self {
+            Self::Disc { .. } => 0,
+            Self::Polygon(v) => polygon_order(v),
+        }
+    }
+}
+
+fn polygon_order(v: &[[f64; 2]]) -> u32 {
     let scale = v.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
     let tol = 1e-9 * scale.max(1e-12);
     for n in (2..=v.len()).rev() {
@@ -42,10 +52,10 @@ mod tests {
         let triangle: Vec<[f64; 2]> =
             (0..3).map(|k| (TAU * k as f64 / 3.0).sin_cos()).map(|(s, c)| [c, s]).collect();
         let kite = [[0.0, -1.0], [1.0, 0.0], [0.0, 2.0], [-1.0, 0.0]];
-        assert_eq!(symmetry_order(Some(&square)), 4);
-        assert_eq!(symmetry_order(Some(&triangle)), 3);
-        assert_eq!(symmetry_order(Some(&kite)), 1);
-        assert_eq!(symmetry_order(None), 0);
+        assert_eq!(Outline::Polygon(square.to_vec()).symmetry_order(), 4);
+        assert_eq!(Outline::Polygon(triangle).symmetry_order(), 3);
+        assert_eq!(Outline::Polygon(kite.to_vec()).symmetry_order(), 1);
+        assert_eq!(Outline::Disc { radius: 0.01 }.symmetry_order(), 0);
         assert!((angle_error(1.6, 0.0, 4) - (1.6 - core::f64::consts::FRAC_PI_2)).abs() < 1e-12);
         assert!((angle_error(-0.1, 6.2, 1) - (-0.1 - 6.2 + TAU)).abs() < 1e-12);
         assert_eq!(angle_error(2.0, 0.0, 0), 0.0);
