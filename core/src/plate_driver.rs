@@ -61,6 +61,17 @@ pub fn simulator<V, P, C>(
     config: &CoreConfig<V, P, C>,
     shown: &str,
 ) -> anyhow::Result<(Simulator, SimParts)> {
+    if let Some(recipe) = config.feed_recipe(shown)? {
+        let sim = drivers::feed::FeedCell::simulator(
+            config.sim_config(shown)?,
+            &recipe,
+            config.part_mass(),
+            config.feed.robot,
+        )
+        .map_err(|e| anyhow::anyhow!("feed cell: {e}"))?;
+        let parts = SimParts::of_pool(&sim);
+        return Ok((sim, parts));
+    }
     let parts = config.sim_parts(shown)?;
     let mut sim = Simulator::new(config.sim_config(shown)?, &parts.specs)
         .map_err(|e| anyhow::anyhow!("simulator: {e}"))?;

@@ -5,7 +5,7 @@
 //! the parts on the plate with their ids; same seed, same cell; the cell's
 //! step allocates nothing.
 
-use drivers::feed::FeedCell;
+use drivers::feed::{FeedCell, RobotMode};
 use drivers::{PartState, SimConfig, Simulator};
 use rt_core::alloc_count::{RtAllocCounter, allocations_in};
 use upm_recipe::Recipe;
@@ -24,7 +24,7 @@ fn cell(edits: &[(&str, &str)], seed: u64) -> Simulator {
     }
     let recipe = Recipe::parse(&text, "test.toml", [1.0, 0.5]).expect("recipe");
     let cfg = SimConfig { tick_hz: 1000.0, seed, ..SimConfig::default() };
-    FeedCell::simulator(cfg, &recipe, 0.04).expect("cell")
+    FeedCell::simulator(cfg, &recipe, 0.04, RobotMode::AtPose).expect("cell")
 }
 
 fn run(sim: &mut Simulator, seconds: f64) {
@@ -154,7 +154,7 @@ fn a_part_off_the_plate_is_lost_and_the_truth_shows_only_the_parts_on_it() {
     let mut open = {
         let recipe = Recipe::parse(DEFAULT, "d.toml", [1.0, 0.5]).expect("recipe");
         let cfg = SimConfig { tick_hz: 1000.0, fence: false, seed: 9, ..SimConfig::default() };
-        FeedCell::simulator(cfg, &recipe, 0.04).expect("cell")
+        FeedCell::simulator(cfg, &recipe, 0.04, RobotMode::AtPose).expect("cell")
     };
     let i = first_of(&mut open, 0);
     put(&mut open, i, [1.2, 0.0], 0.0);
@@ -178,4 +178,26 @@ fn the_same_seed_is_the_same_cell_and_its_step_allocates_nothing() {
     assert!(rt_core::alloc_count::counter_installed());
     let ((), allocated) = allocations_in(|| run(&mut a, 30.0));
     assert_eq!(allocated, 0, "the cell allocated");
+}
+
+#[test]
+fn the_feeders_robot_takes_any_still_isolated_part_in_the_zone() {
+    let recipe =
+        Recipe::parse(&DEFAULT.replacen("rate_per_min = 40", "rate_per_min = 4", 1), "d.toml", [1.0, 0.5])
+            .expect("recipe");
+    let cfg = SimConfig { tick_hz: 1000.0, seed: 5, ..SimConfig::default() };
+    let mut sim = FeedCell::simulator(cfg, &recipe, 0.04, RobotMode::AnyInZone).expect("cell");
+    let part = first_of(&mut sim, 1);
+    // Outside the zone (the poses' box, x ≥ 0.7 − 0.1): never taken.
+    put(&mut sim, part, [0.55, 0.0], 1.0);
+    run(&mut sim, 2.0);
+    assert_eq!(sim.feed().expect("feed").counts().picked, 0);
+    // In the zone, at any angle, between the poses: taken once settled.
+    put(&mut sim, part, [0.78, 0.05], 1.0);
+    run(&mut sim, 0.5);
+    let feed = sim.feed().expect("feed");
+    assert_eq!(feed.counts().picked, 1);
+    // Its error is against the nearest pose of its class, (0.85, 0.25).
+    let pick = feed.picks()[0];
+    assert!((pick.position_error - (0.07f64).hypot(0.2)).abs() < 1e-9, "{pick:?}");
 }

@@ -16,20 +16,27 @@ impl Outline {
     }
 }
 
+/// Vertices match when this close, over the outline's reach: recipes
+/// write coordinates to a few decimals (a hexagon's √3).
+const MATCH_TOLERANCE: f64 = 1e-3;
+
+/// The largest n dividing the vertex count that maps the vertex set onto
+/// itself; 1 if none does.
 fn polygon_order(v: &[[f64; 2]]) -> u32 {
-    let scale = v.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
-    let tol = 1e-9 * scale.max(1e-12);
-    for n in (2..=v.len()).rev() {
-        let (s, c) = (TAU / n as f64).sin_cos();
-        let maps = v.iter().all(|p| {
-            let q = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
-            v.iter().any(|r| (r[0] - q[0]).hypot(r[1] - q[1]) <= tol)
-        });
-        if maps {
-            return n as u32;
-        }
-    }
-    1
+    let reach = v.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+    let tol = MATCH_TOLERANCE * reach;
+    let count = v.len();
+    (2..=count)
+        .rev()
+        .filter(|n| count.is_multiple_of(*n))
+        .find(|&n| {
+            let (s, c) = (TAU / n as f64).sin_cos();
+            v.iter().all(|p| {
+                let q = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
+                v.iter().any(|w| (w[0] - q[0]).hypot(w[1] - q[1]) <= tol)
+            })
+        })
+        .map_or(1, |n| n as u32)
 }
 
 /// `angle − target` wrapped into [−π/n, π/n) for an outline of symmetry
@@ -39,7 +46,9 @@ pub fn angle_error(angle: f64, target: f64, order: u32) -> f64 {
         return 0.0;
     }
     let period = TAU / f64::from(order);
-    (angle - target + 0.5 * period).rem_euclid(period) - 0.5 * period
+    let e = (angle - target + 0.5 * period).rem_euclid(period) - 0.5 * period;
+    // A huge angle leaves rem_euclid nothing finite to work with.
+    if e.is_finite() { e } else { 0.0 }
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 
 pub mod bench_calibration;
 pub mod bench_ethercat;
+pub mod bench_feed;
 pub mod bench_fidelity;
 pub mod bench_fidelity_loop;
 pub mod bench_ipc;

@@ -33,6 +33,8 @@ pub struct LoopResult {
     pub first_rank_condition: (u32, f64),
     /// Through rendered frames: parts detected, blobs merged, frames skipped.
     pub sight: Option<(u64, u64, u64)>,
+    /// What the feed cell did, if the simulator plays one.
+    pub feed: Option<crate::feed_metrics::FeedOutcome>,
 }
 
 /// Run `seconds` of simulated time, the planner seeing the simulator's
@@ -170,8 +172,12 @@ fn run_on<D: SimulatedPlant>(
         core.run_ticks(until - t, |_| {});
         t = until;
     }
+    let mut feed = None;
+    let ran = t as f64 / tick_hz;
+    core.motor().driver().with_simulator(&mut |sim| feed = crate::feed_metrics::FeedOutcome::of(sim, ran));
     let sh = core.shared();
     Ok(LoopResult {
+        feed,
         trails,
         hold_events: sh.hold_events.load(core::sync::atomic::Ordering::Relaxed),
         rejected_requests: sh.rejected_requests.load(core::sync::atomic::Ordering::Relaxed),

@@ -10,6 +10,7 @@ pub mod config;
 pub mod cpu_load;
 pub mod die_with_parent;
 pub mod exit;
+pub mod feed_metrics;
 pub mod input;
 pub mod launcher;
 pub mod recording;

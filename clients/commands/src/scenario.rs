@@ -65,6 +65,34 @@ pub fn resolve(name_or_path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios").join(format!("{name_or_path}.toml"))
 }
 
+/// How the camera sees a recipe's classes, class id k at index k: a
+/// square or a triangle as such, any other outline as a disc of its reach.
+fn recipe_looks(recipe: &upm_recipe::Recipe, levels: &[f64]) -> Vec<upm_camera::ClassLook> {
+    let count = recipe.classes.iter().map(|c| c.id as usize + 1).max().unwrap_or(0);
+    (0..count)
+        .map(|k| {
+            let class = recipe.classes.iter().find(|c| c.id as usize == k);
+            let shape = match class.map(|c| (&c.outline, c.outline.symmetry_order())) {
+                Some((upm_recipe::Outline::Polygon(v), 4)) if v.len() == 4 => ClassOutline::Square,
+                Some((upm_recipe::Outline::Polygon(v), 3)) if v.len() == 3 => ClassOutline::Triangle,
+                _ => ClassOutline::Disc,
+            };
+            let radius = class.map_or(0.015, |c| c.outline.reach());
+            upm_camera::ClassLook { level: levels[k % levels.len()], radius, shape }
+        })
+        .collect()
+}
+
+/// A recipe path as a scenario writes it (`recipes/default.toml`): from
+/// here if it is here, else from the repository's root, like [`resolve`].
+pub fn resolve_recipe(path: &str) -> String {
+    let p = Path::new(path);
+    if p.is_absolute() || p.is_file() {
+        return path.to_owned();
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(p).display().to_string()
+}
+
 impl Scenario {
     pub fn load(path: &Path) -> anyhow::Result<Self> {
         let s: Scenario = rig_config::load_toml(path)?;
@@ -132,8 +160,12 @@ impl Scenario {
         c.camera.half_extent = c.plate.half_extent;
         c.camera.frame_hz = c.vision.frame_hz;
         c.camera.seed = seed;
-        let classes = c.sim.parts.iter().map(|p| p.class as usize + 1).max().unwrap_or(0);
         let levels = [0.1, 0.4, 0.25, 0.55];
+        if !c.feed.recipe.is_empty() {
+            c.feed.recipe = resolve_recipe(&c.feed.recipe);
+        }
+        let recipe = c.feed_recipe("scenario")?;
+        let classes = c.sim.parts.iter().map(|p| p.class as usize + 1).max().unwrap_or(0);
         c.camera.classes = (0..classes)
             .map(|k| {
                 let part = c.sim.parts.iter().find(|p| p.class as usize == k);
@@ -149,12 +181,22 @@ impl Scenario {
                 }
             })
             .collect();
+        if let Some(recipe) = &recipe {
+            c.camera.classes = recipe_looks(recipe, &levels);
+        }
         c.vision.classes = c.camera.vision_classes();
         // The planner's model of the parts: the rig's μmg, the parts' mass.
         c.planner = self.planner.clone();
         let drive = c.planner.drive_mut();
         drive.mu_m_g = c.plate.mu_m_g;
         drive.part_mass = mass;
+        // The presenting planner works on the rig's plate and its cell's recipe.
+        if let PlannerConfig::Present(p) = &mut c.planner {
+            p.plate_half_extent = c.plate.half_extent;
+            if !c.feed.recipe.is_empty() {
+                p.recipe = c.feed.recipe.clone();
+            }
+        }
         Ok(c)
     }
 
@@ -206,6 +248,8 @@ impl Scenario {
                 PlannerConfig::Local(p) if *id == p.part => {
                     (last[1] - p.goal[0]).hypot(last[2] - p.goal[1]) <= 0.02
                 }
+                // A fed part has no goal of its own: the cell counts picks.
+                PlannerConfig::Present(_) => false,
                 _ => true,
             };
             parts.push(json!({
@@ -256,6 +300,11 @@ impl Scenario {
                     })
                     .fold(0.0, f64::max);
                 v["others_max_drift_m"] = json!(drift);
+            }
+            PlannerConfig::Present(_) => {
+                // The picks happen in the core's simulator; a multi-process
+                // run does not see them yet (`upm bench feed` does).
+                v["feed"] = Value::Null;
             }
         }
         v

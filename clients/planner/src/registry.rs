@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Planner;
 use crate::local::{LocalParams, LocalPlanner};
+use crate::present::{PresentParams, PresentPlanner};
 use crate::sort::{SortParams, SortPlanner};
 use crate::sort_paper::{PaperSortParams, PaperSortPlanner};
 use crate::spin::{SpinParams, SpinPlanner};
@@ -20,6 +21,7 @@ pub enum PlannerConfig {
     SortPaper(PaperSortParams),
     Spin(SpinParams),
     Local(LocalParams),
+    Present(PresentParams),
 }
 
 impl Default for PlannerConfig {
@@ -30,7 +32,7 @@ impl Default for PlannerConfig {
 
 impl PlannerConfig {
     /// The names `name` may take.
-    pub const NAMES: [&str; 5] = ["track", "sort", "sort_paper", "spin", "local"];
+    pub const NAMES: [&str; 6] = ["track", "sort", "sort_paper", "spin", "local", "present"];
 
     /// `name`'s planner with its default parameters.
     pub fn by_name(name: &str) -> Result<Self, String> {
@@ -40,6 +42,7 @@ impl PlannerConfig {
             "sort_paper" => Ok(Self::SortPaper(PaperSortParams::default())),
             "spin" => Ok(Self::Spin(SpinParams::default())),
             "local" => Ok(Self::Local(LocalParams::default())),
+            "present" => Ok(Self::Present(PresentParams::default())),
             other => Err(format!("planner.name {other:?}: expected one of {:?}", Self::NAMES)),
         }
     }
@@ -51,6 +54,7 @@ impl PlannerConfig {
             Self::SortPaper(_) => "sort_paper",
             Self::Spin(_) => "spin",
             Self::Local(_) => "local",
+            Self::Present(_) => "present",
         }
     }
 
@@ -62,6 +66,7 @@ impl PlannerConfig {
             Self::SortPaper(p) => &mut p.drive,
             Self::Spin(p) => &mut p.drive,
             Self::Local(p) => &mut p.drive,
+            Self::Present(p) => &mut p.drive,
         }
     }
 
@@ -73,6 +78,7 @@ impl PlannerConfig {
             Self::SortPaper(p) => Box::new(PaperSortPlanner::new(p)?),
             Self::Spin(p) => Box::new(SpinPlanner::new(p)?),
             Self::Local(p) => Box::new(LocalPlanner::new(p)?),
+            Self::Present(p) => Box::new(PresentPlanner::new(p)?),
         })
     }
 }
@@ -84,7 +90,11 @@ mod tests {
     #[test]
     fn every_name_round_trips_and_builds_with_its_defaults() {
         for name in PlannerConfig::NAMES {
-            let c = PlannerConfig::by_name(name).expect("known");
+            let mut c = PlannerConfig::by_name(name).expect("known");
+            // Its default recipe path is relative to the repository's root.
+            if let PlannerConfig::Present(p) = &mut c {
+                p.recipe = format!("{}/../../{}", env!("CARGO_MANIFEST_DIR"), p.recipe);
+            }
             assert_eq!(c.name(), name);
             assert_eq!(c.build().expect("defaults are valid").name(), name);
             let text = toml::to_string(&c).expect("serialises");

@@ -182,6 +182,12 @@ pub enum Command {
         /// `random:SEED`), instead of the scenarios' `[sim] truth`.
         #[arg(long)]
         truth: Option<String>,
+        /// feed: the recipe instead of `scenarios/feed.toml`'s.
+        #[arg(long)]
+        recipe: Option<PathBuf>,
+        /// feed: simulated minutes per seed.
+        #[arg(long, default_value_t = 10.0)]
+        minutes: f64,
         /// fidelity: how many random geometries.
         #[arg(long, default_value_t = 50)]
         cases: usize,
@@ -321,6 +327,9 @@ pub enum BenchTarget {
     /// The flight recorder and live view: the core's p99 without and with
     /// them, bytes per minute, replay speed.
     Record,
+    /// A feed cell, lock-step: the `present` planner beside the feeders'
+    /// shake-and-pick on the same seeds and recipe.
+    Feed,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -472,6 +481,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             camera,
             driver,
             truth,
+            recipe,
+            minutes,
             cases,
             seed,
         } => {
@@ -525,6 +536,16 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         truth,
                     };
                     (upm_bench::bench_sort::run(&b)?, upm_bench::bench_sort::to_text)
+                }
+                (BenchTarget::Feed, None) => {
+                    // --quick: 2 simulated minutes per seed.
+                    let b = upm_bench::bench_feed::FeedBench {
+                        recipe,
+                        seeds,
+                        first_seed,
+                        minutes: if quick { 2.0 } else { minutes },
+                    };
+                    (upm_bench::bench_feed::run(&b)?, upm_bench::bench_feed::to_text)
                 }
                 (BenchTarget::Vision, None) => {
                     (upm_bench::bench_vision::run(quick)?, upm_bench::bench_vision::to_text)

@@ -12,6 +12,7 @@
 
 pub mod core;
 pub mod driver;
+pub mod feed;
 pub mod rig;
 pub mod sim;
 pub mod truth;
@@ -25,6 +26,7 @@ use serde::{Deserialize, Serialize};
 use upm_motion::{MotionParams, RigParams};
 
 pub use driver::{DriverChoice, DriverSection};
+pub use feed::FeedSection;
 pub use sim::{SimPartSection, SimParts, SimSection};
 
 /// The rig file. `V`, `P` and `C` are the clients' sections (`[vision]`,
@@ -41,6 +43,8 @@ pub struct CoreConfig<V = toml::Table, P = toml::Table, C = toml::Table> {
     pub telemetry: TelemetryParams,
     pub sim: SimSection,
     pub driver: DriverSection,
+    /// The feed cell the simulator plays, if any.
+    pub feed: FeedSection,
     pub vision: V,
     pub planner: P,
     pub camera: C,
@@ -151,6 +155,21 @@ impl<V, P, C> CoreConfig<V, P, C> {
         self.driver.ethercat_params(self.motion.tick_hz, count).map_err(|m| ConfigError::invalid(path, m))
     }
 
+    /// `[feed]`'s recipe, checked against `[plate]`; None without one.
+    pub fn feed_recipe(&self, path: &str) -> Result<Option<upm_recipe::Recipe>, ConfigError> {
+        let recipe = self.feed.recipe(self.plate.half_extent).map_err(|m| ConfigError::invalid(path, m))?;
+        if recipe.is_some() && !self.sim.parts.is_empty() {
+            let m = "sim.parts: a feed cell brings its own parts; leave [[sim.parts]] out";
+            return Err(ConfigError::invalid(path, m));
+        }
+        Ok(recipe)
+    }
+
+    /// The mass of each simulated part (kg): μ·m·g over the simulator's μ·g.
+    pub fn part_mass(&self) -> f64 {
+        self.plate.mu_m_g / (self.sim.config.mu_kinetic * self.sim.config.gravity)
+    }
+
     /// `[[sim.parts]]` as simulator part specs; ids must be unique.
     pub fn sim_parts(&self, path: &str) -> Result<SimParts, ConfigError> {
         self.sim.parts(self.plate.half_extent).map_err(|m| ConfigError::invalid(path, m))
@@ -162,6 +181,7 @@ impl<V, P, C> CoreConfig<V, P, C> {
         self.core_params(path)?;
         self.sim_parts(path)?;
         self.sim_config(path)?;
+        self.feed_recipe(path)?;
         if self.driver.kind != DriverChoice::Sim {
             self.ethercat_params(path)?;
         }

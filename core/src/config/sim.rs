@@ -49,6 +49,27 @@ pub struct SimParts {
     pub friction: Vec<f64>,
 }
 
+impl SimParts {
+    /// A feed cell's pool as the ground truth describes it: each part's
+    /// class and outline (its id is the cell's, given as it arrives).
+    pub fn of_pool(sim: &drivers::Simulator) -> Self {
+        let mut out = Self::default();
+        let Some(feed) = sim.feed() else { return out };
+        for i in 0..sim.part_count() {
+            out.specs.push(drivers::PartSpec {
+                shape: feed.shape_of(i).unwrap_or(drivers::BodyShape::Point { radius: 0.0 }),
+                mass: 0.0,
+                position: [0.0; 2],
+                angle: 0.0,
+            });
+            out.ids.push(0);
+            out.classes.push(feed.class_of(i).unwrap_or(0));
+            out.friction.push(1.0);
+        }
+        out
+    }
+}
+
 impl<'de> Deserialize<'de> for SimSection {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct V;

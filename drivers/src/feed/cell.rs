@@ -49,6 +49,7 @@ pub struct FeedCell {
     pub(super) cumulative_share: Vec<f64>,
     /// The cell steps every this many simulator ticks (1 ms).
     every: u64,
+    pub(super) mode: super::robot::RobotMode,
     pub(super) next_id: u32,
     pub(super) next_arrival: f64,
     pub(super) busy_until: f64,
@@ -63,8 +64,14 @@ pub struct FeedCell {
 impl FeedCell {
     /// A simulator with the cell around it: `recipe.infeed.max_on_plate`
     /// parts of each class, each of `part_mass` (kg), all parked until
-    /// they arrive. The recipe is checked against `cfg`'s plate.
-    pub fn simulator(cfg: SimConfig, recipe: &Recipe, part_mass: f64) -> Result<Simulator, FeedError> {
+    /// they arrive; the robot takes what `mode` says. The recipe is
+    /// checked against `cfg`'s plate.
+    pub fn simulator(
+        cfg: SimConfig,
+        recipe: &Recipe,
+        part_mass: f64,
+        mode: super::robot::RobotMode,
+    ) -> Result<Simulator, FeedError> {
         recipe.validate(cfg.plate_half_extent).map_err(FeedError::Recipe)?;
         let per_class = recipe.infeed.max_on_plate as usize;
         let mut specs = Vec::with_capacity(per_class * recipe.classes.len());
@@ -109,6 +116,7 @@ impl FeedCell {
             within_since: vec![f64::NAN; n],
             within_pose: vec![0; n],
             every: (cfg.tick_hz / 1000.0).round().max(1.0) as u64,
+            mode,
             next_id: 1,
             next_arrival: first,
             busy_until: 0.0,
@@ -152,9 +160,20 @@ impl FeedCell {
         self.slot_class.get(i).map(|&ci| self.recipe.classes[ci].id)
     }
 
+    /// Part `i`'s body, as its class's outline gives it.
+    pub fn shape_of(&self, i: usize) -> Option<BodyShape> {
+        self.slot_class.get(i).map(|&ci| body_shape(&self.recipe.classes[ci].outline))
+    }
+
     /// When part `i` arrived (s; meaningful while it is on the plate).
     pub fn arrived_at(&self, i: usize) -> Option<f64> {
         (self.id_of(i) != 0).then(|| self.arrived_t[i])
+    }
+
+    /// Parts on the plate that arrived more than `seconds` before `now`.
+    pub fn on_plate_longer_than(&self, now: f64, seconds: f64) -> u32 {
+        (0..self.slot_id.len()).filter(|&i| self.slot_id[i] != 0 && now - self.arrived_t[i] > seconds).count()
+            as u32
     }
 
     /// The picks kept, oldest first (allocates: not for the motor thread).

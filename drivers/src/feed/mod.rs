@@ -13,3 +13,4 @@ mod robot;
 
 pub use cell::{FeedCell, FeedError};
 pub use counts::{FeedCounts, PickRecord};
+pub use robot::{RobotMode, ZONE_MARGIN_M};

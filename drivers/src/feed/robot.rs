@@ -1,15 +1,79 @@
 //! The robot: a part is taken when it lies at a pick pose of its class
 //! within tolerance, has lain there for the settle time, and no other part
-//! reaches into the gripper's clearance. One pick takes `pick_s`.
+//! reaches into the gripper's clearance. One pick takes `pick_s`. The
+//! feeders' way ([`RobotMode::AnyInZone`]) takes instead any part lying
+//! still and isolated in the pick zone, at whatever pose.
+
+use serde::{Deserialize, Serialize};
 
 use super::cell::FeedCell;
 use super::counts::PickRecord;
 use crate::sim::Simulator;
 use upm_recipe::angle_error;
 
+/// What the robot takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RobotMode {
+    /// A part presented at a pick pose of its class (UPM's way).
+    #[default]
+    AtPose,
+    /// Any part lying still and isolated in the pick zone (the pick poses'
+    /// bounding box grown by [`ZONE_MARGIN_M`]), at whatever angle: the
+    /// flexible feeders' shake-and-pick.
+    AnyInZone,
+}
+
+/// How far the pick zone reaches beyond the pick poses.
+pub const ZONE_MARGIN_M: f64 = 0.1;
+/// Slower than this a part lies still, for [`RobotMode::AnyInZone`].
+const STILL_M_S: f64 = 5e-3;
+
 impl FeedCell {
-    /// Note since when each part has lain within tolerance of a pose.
+    /// Note since when each part has been ready: within tolerance of a
+    /// pose ([`RobotMode::AtPose`]), or still in the zone.
     pub(super) fn track_settling(&mut self, sim: &Simulator, t: f64) {
+        match self.mode {
+            RobotMode::AtPose => self.track_at_pose(sim, t),
+            RobotMode::AnyInZone => self.track_in_zone(sim, t),
+        }
+    }
+
+    fn track_in_zone(&mut self, sim: &Simulator, t: f64) {
+        let picks = &self.recipe.picks;
+        let (mut x0, mut y0, mut x1, mut y1) =
+            (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for q in picks {
+            (x0, y0) = (x0.min(q.position[0]), y0.min(q.position[1]));
+            (x1, y1) = (x1.max(q.position[0]), y1.max(q.position[1]));
+        }
+        let m = ZONE_MARGIN_M;
+        for i in 0..self.slot_id.len() {
+            if self.slot_id[i] == 0 {
+                continue;
+            }
+            let Some(p) = sim.part(i) else { continue };
+            let [x, y] = p.position;
+            let inside = x >= x0 - m && x <= x1 + m && y >= y0 - m && y <= y1 + m;
+            let still = p.velocity[0].hypot(p.velocity[1]) < STILL_M_S;
+            if !(inside && still) {
+                self.within_since[i] = f64::NAN;
+                continue;
+            }
+            // The record's pose: the nearest of the part's class.
+            let class = self.recipe.classes[self.slot_class[i]].id;
+            let d = |j: usize| (picks[j].position[0] - x).hypot(picks[j].position[1] - y);
+            let nearest =
+                (0..picks.len()).filter(|&j| picks[j].class == class).min_by(|&a, &b| d(a).total_cmp(&d(b)));
+            self.within_pose[i] = nearest.unwrap_or(0);
+            if self.within_since[i].is_nan() {
+                self.within_since[i] = t;
+            }
+        }
+    }
+
+    /// Note since when each part has lain within tolerance of a pose.
+    fn track_at_pose(&mut self, sim: &Simulator, t: f64) {
         let robot = self.recipe.robot;
         for i in 0..self.slot_id.len() {
             if self.slot_id[i] == 0 {
@@ -43,11 +107,14 @@ impl FeedCell {
             let j = (self.next_pose + step) % poses;
             let ready = (0..self.slot_id.len()).find(|&i| {
                 self.slot_id[i] != 0
-                    && self.within_pose[i] == j
+                    && (self.within_pose[i] == j || self.mode == RobotMode::AnyInZone)
                     && t - self.within_since[i] >= robot.settle_s - 1e-9
                     && !self.crowded(sim, i)
             });
             let Some(i) = ready else { continue };
+            // The feeders' robot takes a part where it lies: its record is
+            // against the nearest pose of its class.
+            let j = if self.mode == RobotMode::AnyInZone { self.within_pose[i] } else { j };
             let (Some(p), pose) = (sim.part(i), self.recipe.picks[j]) else { continue };
             let order = self.order[self.slot_class[i]];
             self.log_pick(PickRecord {

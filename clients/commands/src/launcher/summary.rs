@@ -45,6 +45,12 @@ fn outcome(m: &Value) -> String {
             None => format!("sorted {met} of {} after {seconds:.1} s", parts.len()),
         };
     }
+    if m.get("feed").is_some() {
+        return format!(
+            "{} parts seen after {seconds:.1} s; picks are counted in lock-step only (upm bench feed)",
+            parts.len()
+        );
+    }
     let mut text = format!("goal met by {met} of {} parts after {seconds:.1} s", parts.len());
     if let Some(rms) = m["tracking_rms_m"].as_f64() {
         let path = m["path_length_m"].as_f64().unwrap_or(0.0);
