@@ -55,7 +55,7 @@ fn parts_arrive_at_the_rate_never_overfill_and_never_land_on_a_part() {
         }
         seen = on.len();
     }
-    let counts = sim.feed().expect("feed").counts();
+    let counts = FeedCell::of(&sim).expect("feed").counts();
     // 40 a minute for a minute: Poisson, so within a few sd of 40.
     assert!((25..=55).contains(&counts.arrived), "{counts:?}");
     assert_eq!((counts.on_plate as usize, seen), (counts.arrived as usize, counts.arrived as usize));
@@ -67,13 +67,17 @@ fn parts_arrive_at_the_rate_never_overfill_and_never_land_on_a_part() {
         run(&mut full, 0.5);
         assert!(on_plate(&full).len() <= 5, "more than max_on_plate");
     }
-    assert_eq!(full.feed().expect("feed").counts().arrived, 5, "the hopper waits while the plate is full");
+    assert_eq!(
+        FeedCell::of(&full).expect("feed").counts().arrived,
+        5,
+        "the hopper waits while the plate is full"
+    );
 }
 
 /// The first part on the plate of class `class`, once one has arrived.
 fn first_of(sim: &mut Simulator, class: u32) -> usize {
     for _ in 0..6000 {
-        let feed = sim.feed().expect("feed");
+        let feed = FeedCell::of(sim).expect("feed");
         if let Some(i) = on_plate(sim).into_iter().find(|&i| feed.class_of(i) == Some(class)) {
             return i;
         }
@@ -91,25 +95,28 @@ fn the_robot_takes_a_settled_part_at_its_pose_and_nothing_else() {
     // The infeed slowed to a trickle, so the poses stay clear.
     let mut sim = cell(&[("rate_per_min = 40", "rate_per_min = 2")], 5);
     let square = first_of(&mut sim, 1);
-    let id = sim.feed().expect("feed").id_of(square);
+    let id = FeedCell::of(&sim).expect("feed").id_of(square);
     // Pose 3: class 1 at (0.85, −0.25), θ = π/4. Turned a quarter more is
     // the same square; 3° off is out of tolerance (2°).
     put(&mut sim, square, [0.85, -0.25], core::f64::consts::FRAC_PI_4 + 3f64.to_radians());
     run(&mut sim, 1.0);
-    assert_eq!(sim.feed().expect("feed").counts().picked, 0, "3° off was taken");
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 0, "3° off was taken");
     let turned = core::f64::consts::FRAC_PI_4 + core::f64::consts::FRAC_PI_2 + 1f64.to_radians();
     put(&mut sim, square, [0.8505, -0.25], turned);
     run(&mut sim, 0.1);
-    assert_eq!(sim.feed().expect("feed").counts().picked, 0, "taken before it settled (0.2 s)");
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 0, "taken before it settled (0.2 s)");
     run(&mut sim, 0.2);
-    let feed = sim.feed().expect("feed");
+    let feed = FeedCell::of(&sim).expect("feed");
     assert_eq!(feed.counts().picked, 1);
     let pick = feed.picks()[0];
     assert_eq!((pick.part_id, pick.class, pick.pose), (id, 1, 3));
     assert!(
         (pick.position_error - 0.0005).abs() < 1e-9 && (pick.angle_error - 1f64.to_radians()).abs() < 1e-9
     );
-    assert!(sim.is_parked(square) && sim.feed().expect("feed").id_of(square) == 0, "a picked part leaves");
+    assert!(
+        sim.is_parked(square) && FeedCell::of(&sim).expect("feed").id_of(square) == 0,
+        "a picked part leaves"
+    );
 
     // A disc at pose 0 with another part in the gripper's clearance waits.
     let disc = first_of(&mut sim, 0);
@@ -118,10 +125,10 @@ fn the_robot_takes_a_settled_part_at_its_pose_and_nothing_else() {
     put(&mut sim, disc, [0.7, 0.25], 2.0);
     put(&mut sim, other, [0.7, 0.25 + 0.015 + 0.005 + 0.015 + 0.004], 0.0);
     run(&mut sim, 1.5);
-    assert_eq!(sim.feed().expect("feed").counts().picked, 1, "taken with a part in the clearance");
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 1, "taken with a part in the clearance");
     put(&mut sim, other, [0.0, 0.0], 0.0);
     run(&mut sim, 0.5);
-    assert_eq!(sim.feed().expect("feed").counts().picked, 2, "the disc, at any angle, once clear");
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 2, "the disc, at any angle, once clear");
 }
 
 fn first_other(sim: &mut Simulator, not: usize) -> usize {
@@ -143,7 +150,7 @@ fn a_part_off_the_plate_is_lost_and_the_truth_shows_only_the_parts_on_it() {
     let templates = vec![ipc_types::PartState::new(0, 0, 0, [0.0; 3], [0.0; 3]); sim.part_count()];
     let mut truth = ipc_types::PartStates::new();
     sim.write_ground_truth(&templates, &mut truth);
-    let feed = sim.feed().expect("feed");
+    let feed = FeedCell::of(&sim).expect("feed");
     let mut ids: Vec<u32> = truth.parts().iter().map(|p| p.id).collect();
     let mut want: Vec<u32> = on.iter().map(|&i| feed.id_of(i)).collect();
     ids.sort_unstable();
@@ -159,7 +166,7 @@ fn a_part_off_the_plate_is_lost_and_the_truth_shows_only_the_parts_on_it() {
     let i = first_of(&mut open, 0);
     put(&mut open, i, [1.2, 0.0], 0.0);
     run(&mut open, 0.01);
-    assert_eq!(open.feed().expect("feed").counts().lost, 1);
+    assert_eq!(FeedCell::of(&open).expect("feed").counts().lost, 1);
     assert!(open.is_parked(i));
 }
 
@@ -170,7 +177,7 @@ fn the_same_seed_is_the_same_cell_and_its_step_allocates_nothing() {
     run(&mut b, 30.0);
     let poses = |s: &mut Simulator| s.parts().to_vec();
     assert_eq!(poses(&mut a), poses(&mut b));
-    assert_eq!(a.feed().expect("a").counts(), b.feed().expect("b").counts());
+    assert_eq!(FeedCell::of(&a).expect("a").counts(), FeedCell::of(&b).expect("b").counts());
     let mut c = cell(&[], 12);
     run(&mut c, 30.0);
     assert_ne!(poses(&mut a), poses(&mut c), "another seed, other arrivals");
@@ -191,11 +198,11 @@ fn the_feeders_robot_takes_any_still_isolated_part_in_the_zone() {
     // Outside the zone (the poses' box, x ≥ 0.7 − 0.1): never taken.
     put(&mut sim, part, [0.55, 0.0], 1.0);
     run(&mut sim, 2.0);
-    assert_eq!(sim.feed().expect("feed").counts().picked, 0);
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 0);
     // In the zone, at any angle, between the poses: taken once settled.
     put(&mut sim, part, [0.78, 0.05], 1.0);
     run(&mut sim, 0.5);
-    let feed = sim.feed().expect("feed");
+    let feed = FeedCell::of(&sim).expect("feed");
     assert_eq!(feed.counts().picked, 1);
     // Its error is against the nearest pose of its class, (0.85, 0.25).
     let pick = feed.picks()[0];

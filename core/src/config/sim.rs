@@ -54,7 +54,7 @@ impl SimParts {
     /// class and outline (its id is the cell's, given as it arrives).
     pub fn of_pool(sim: &drivers::Simulator) -> Self {
         let mut out = Self::default();
-        let Some(feed) = sim.feed() else { return out };
+        let Some(feed) = drivers::feed::FeedCell::of(sim) else { return out };
         for i in 0..sim.part_count() {
             out.specs.push(drivers::PartSpec {
                 shape: feed.shape_of(i).unwrap_or(drivers::BodyShape::Point { radius: 0.0 }),

@@ -6,8 +6,9 @@ use core::fmt;
 use upm_recipe::{Outline, Recipe};
 
 use super::counts::{FeedCounts, PickRecord};
+use super::robot_mode::RobotMode;
 use crate::rng::SplitMix64;
-use crate::sim::{BodyShape, MAX_POLYGON_VERTICES, PartSpec, SimConfig, SimError, Simulator};
+use crate::sim::{BodyShape, Cell, MAX_POLYGON_VERTICES, PartSpec, SimConfig, SimError, Simulator};
 
 /// Picks kept for the report (the oldest are dropped beyond this).
 const PICK_LOG: usize = 1 << 16;
@@ -49,7 +50,7 @@ pub struct FeedCell {
     pub(super) cumulative_share: Vec<f64>,
     /// The cell steps every this many simulator ticks (1 ms).
     every: u64,
-    pub(super) mode: super::robot::RobotMode,
+    pub(super) mode: RobotMode,
     pub(super) next_id: u32,
     pub(super) next_arrival: f64,
     pub(super) busy_until: f64,
@@ -70,7 +71,7 @@ impl FeedCell {
         cfg: SimConfig,
         recipe: &Recipe,
         part_mass: f64,
-        mode: super::robot::RobotMode,
+        mode: RobotMode,
     ) -> Result<Simulator, FeedError> {
         recipe.validate(cfg.plate_half_extent).map_err(FeedError::Recipe)?;
         let per_class = recipe.infeed.max_on_plate as usize;
@@ -103,8 +104,7 @@ impl FeedCell {
             })
             .collect();
         let n = slot_class.len();
-        let mut rng = SplitMix64::new(cfg.seed ^ 0xFEED_CE11_0000_0001);
-        let first = super::infeed::interval(&mut rng, recipe.infeed.rate_per_min);
+        let rng = SplitMix64::new(cfg.seed ^ 0xFEED_CE11_0000_0001);
         let cell = Self {
             reach: recipe.classes.iter().map(|c| c.outline.reach()).collect(),
             order: recipe.classes.iter().map(|c| c.outline.symmetry_order()).collect(),
@@ -118,7 +118,7 @@ impl FeedCell {
             every: (cfg.tick_hz / 1000.0).round().max(1.0) as u64,
             mode,
             next_id: 1,
-            next_arrival: first,
+            next_arrival: 0.0,
             busy_until: 0.0,
             next_pose: 0,
             rng,
@@ -126,12 +126,19 @@ impl FeedCell {
             picks: Vec::with_capacity(PICK_LOG),
             pick_head: 0,
         };
-        sim.attach_feed(cell);
+        let mut cell = cell;
+        cell.schedule_first_arrival();
+        sim.attach_cell(Box::new(cell));
         Ok(sim)
     }
 
+    /// The cell around `sim`, if it has one.
+    pub fn of(sim: &Simulator) -> Option<&Self> {
+        sim.cell().and_then(|c| c.as_any().downcast_ref::<Self>())
+    }
+
     /// One step of the cell, after the simulator's tick. Allocation-free.
-    pub(crate) fn step(&mut self, sim: &mut Simulator) {
+    fn step_cell(&mut self, sim: &mut Simulator) {
         if !sim.counters().ticks.is_multiple_of(self.every) {
             return;
         }
@@ -214,6 +221,24 @@ impl FeedCell {
         self.slot_id[i] = 0;
         self.within_since[i] = f64::NAN;
         self.counts.on_plate = self.counts.on_plate.saturating_sub(1);
+    }
+}
+
+impl Cell for FeedCell {
+    fn step(&mut self, sim: &mut Simulator) {
+        self.step_cell(sim);
+    }
+
+    fn id_of(&self, i: usize) -> u32 {
+        FeedCell::id_of(self, i)
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Cell> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn core::any::Any {
+        self
     }
 }
 

@@ -13,11 +13,16 @@ const TRIES: usize = 16;
 const ARRIVAL_GAP_M: f64 = 2e-3;
 
 /// Seconds to the next arrival at `rate_per_min`.
-pub(super) fn interval(rng: &mut SplitMix64, rate_per_min: f64) -> f64 {
+fn interval(rng: &mut SplitMix64, rate_per_min: f64) -> f64 {
     -(1.0 - rng.uniform()).ln() * 60.0 / rate_per_min
 }
 
 impl FeedCell {
+    /// The first arrival, at build.
+    pub(super) fn schedule_first_arrival(&mut self) {
+        self.next_arrival = interval(&mut self.rng, self.recipe.infeed.rate_per_min);
+    }
+
     /// Land the next part if it is due and there is room; one a step.
     pub(super) fn infeed_step(&mut self, sim: &mut Simulator, t: f64) {
         let infeed = self.recipe.infeed;

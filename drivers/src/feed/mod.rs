@@ -10,7 +10,8 @@ mod cell;
 mod counts;
 mod infeed;
 mod robot;
+mod robot_mode;
 
 pub use cell::{FeedCell, FeedError};
 pub use counts::{FeedCounts, PickRecord};
-pub use robot::{RobotMode, ZONE_MARGIN_M};
+pub use robot_mode::{RobotMode, ZONE_MARGIN_M};

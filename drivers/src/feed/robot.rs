@@ -4,28 +4,12 @@
 //! feeders' way ([`RobotMode::AnyInZone`]) takes instead any part lying
 //! still and isolated in the pick zone, at whatever pose.
 
-use serde::{Deserialize, Serialize};
-
 use super::cell::FeedCell;
 use super::counts::PickRecord;
+use super::robot_mode::{RobotMode, ZONE_MARGIN_M};
 use crate::sim::Simulator;
 use upm_recipe::angle_error;
 
-/// What the robot takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RobotMode {
-    /// A part presented at a pick pose of its class (UPM's way).
-    #[default]
-    AtPose,
-    /// Any part lying still and isolated in the pick zone (the pick poses'
-    /// bounding box grown by [`ZONE_MARGIN_M`]), at whatever angle: the
-    /// flexible feeders' shake-and-pick.
-    AnyInZone,
-}
-
-/// How far the pick zone reaches beyond the pick poses.
-pub const ZONE_MARGIN_M: f64 = 0.1;
 /// Slower than this a part lies still, for [`RobotMode::AnyInZone`].
 const STILL_M_S: f64 = 5e-3;
 

@@ -50,8 +50,8 @@ impl Simulator {
             let Some(p) = self.part(i) else { continue };
             let fallback = WirePart::new(i as u32 + 1, 0, 0, [0.0; 3], [0.0; 3]);
             let mut s = templates.get(i).copied().unwrap_or(fallback);
-            if let Some(feed) = self.feed() {
-                s.id = feed.id_of(i);
+            if let Some(cell) = self.cell() {
+                s.id = cell.id_of(i);
             }
             [s.x, s.y, s.theta] = [p.position[0], p.position[1], p.angle];
             [s.vx, s.vy, s.omega] = [p.velocity[0], p.velocity[1], p.angular_velocity];

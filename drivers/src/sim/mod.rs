@@ -71,6 +71,23 @@ impl fmt::Display for SimError {
 
 impl core::error::Error for SimError {}
 
+/// Something that runs around the simulator and steps with it, on its
+/// parts (a feed cell, `crate::feed`): called after every tick, where the
+/// simulator steps, so it must not allocate.
+pub trait Cell: fmt::Debug + Send + Sync {
+    fn step(&mut self, sim: &mut Simulator);
+    /// The id part `i` carries on the wire (its ground truth).
+    fn id_of(&self, i: usize) -> u32;
+    fn boxed_clone(&self) -> Box<dyn Cell>;
+    fn as_any(&self) -> &dyn core::any::Any;
+}
+
+impl Clone for Box<dyn Cell> {
+    fn clone(&self) -> Self {
+        self.boxed_clone()
+    }
+}
+
 /// Most parts one simulator holds (pair indices are u16).
 pub const MAX_PARTS: usize = 1024;
 
@@ -119,8 +136,8 @@ pub struct Simulator {
     patches: Vec<usize>,
     /// Each part: off the plate ([`Simulator::park`]).
     parked: Vec<bool>,
-    /// The feed cell around this simulator, if any ([`crate::feed`]).
-    feed: Option<Box<crate::feed::FeedCell>>,
+    /// What runs around this simulator, if anything (a feed cell).
+    cell: Option<Box<dyn Cell>>,
     broadphase: Broadphase,
     rng: SplitMix64,
     counters: SimCounters,
@@ -165,7 +182,7 @@ impl Simulator {
             lanes: Lanes::new(&states, &kind, &fence_limits, &radius),
             patches,
             parked: vec![false; parts.len()],
-            feed: None,
+            cell: None,
             mu: Coulomb { kinetic: cfg.mu_kinetic * cfg.gravity, stat: cfg.mu_static * cfg.gravity },
             h: 1.0 / cfg.tick_hz,
             plate: Plate::default(),
@@ -286,21 +303,21 @@ impl Simulator {
     /// plate and parts integrate), then contacts and fence.
     pub fn step(&mut self) {
         step_tick(self);
-        if let Some(mut feed) = self.feed.take() {
-            feed.step(self);
-            self.feed = Some(feed);
+        if let Some(mut cell) = self.cell.take() {
+            cell.step(self);
+            self.cell = Some(cell);
         }
         self.publish_ground_truth_if_due();
     }
 
-    /// The feed cell around this simulator, if it has one.
-    pub fn feed(&self) -> Option<&crate::feed::FeedCell> {
-        self.feed.as_deref()
+    /// What runs around this simulator, if anything.
+    pub fn cell(&self) -> Option<&dyn Cell> {
+        self.cell.as_deref()
     }
 
     /// Build-time only (it allocates).
-    pub(crate) fn attach_feed(&mut self, cell: crate::feed::FeedCell) {
-        self.feed = Some(Box::new(cell));
+    pub fn attach_cell(&mut self, cell: Box<dyn Cell>) {
+        self.cell = Some(cell);
     }
 
     #[inline(always)]
