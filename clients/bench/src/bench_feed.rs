@@ -123,21 +123,7 @@ fn one_seed(sc: &Scenario, b: &FeedBench, seed: u64, baseline: bool) -> anyhow::
 /// Every seed one way, two at a time, summarised.
 fn run_way(sc: &Scenario, b: &FeedBench, baseline: bool) -> anyhow::Result<Value> {
     let seeds: Vec<u64> = (0..b.seeds).map(|i| b.first_seed.wrapping_add(i)).collect();
-    let mut runs: Vec<Option<FeedOutcome>> = vec![None; seeds.len()];
-    let (first, second) = runs.split_at_mut(seeds.len().div_ceil(2));
-    let (first_seeds, second_seeds) = seeds.split_at(first.len());
-    let fill = |slots: &mut [Option<FeedOutcome>], seeds: &[u64]| -> anyhow::Result<()> {
-        for (slot, &seed) in slots.iter_mut().zip(seeds) {
-            *slot = Some(one_seed(sc, b, seed, baseline)?);
-        }
-        Ok(())
-    };
-    std::thread::scope(|s| {
-        let other = s.spawn(|| fill(second, second_seeds));
-        let mine = fill(first, first_seeds);
-        other.join().map_err(|_| anyhow::anyhow!("a bench thread panicked"))?.and(mine)
-    })?;
-    let runs: Vec<FeedOutcome> = runs.into_iter().flatten().collect();
+    let runs = crate::two_at_a_time::two_at_a_time(&seeds, |seed| one_seed(sc, b, seed, baseline))?;
     let mut rates: Vec<f64> = runs.iter().filter_map(FeedOutcome::parts_per_minute).collect();
     rates.sort_by(f64::total_cmp);
     let pooled = FeedOutcome {

@@ -89,19 +89,8 @@ fn run_one(b: &SortBench, scenario: &str) -> anyhow::Result<Value> {
     }
     let seconds = b.seconds.unwrap_or(sc.duration_s);
     let seeds: Vec<u64> = (0..b.seeds).map(|i| b.first_seed.wrapping_add(i)).collect();
-    let mut runs = vec![Value::Null; seeds.len()];
-    let (first, second) = runs.split_at_mut(seeds.len().div_ceil(2));
-    let (first_seeds, second_seeds) = seeds.split_at(first.len());
-    let fill = |slots: &mut [Value], seeds: &[u64]| -> anyhow::Result<()> {
-        for (slot, &seed) in slots.iter_mut().zip(seeds) {
-            *slot = one_seed(&sc, seed, seconds, b.camera, b.driver, b.truth.as_deref())?;
-        }
-        Ok(())
-    };
-    std::thread::scope(|s| {
-        let other = s.spawn(|| fill(second, second_seeds));
-        let mine = fill(first, first_seeds);
-        other.join().map_err(|_| anyhow::anyhow!("a bench thread panicked"))?.and(mine)
+    let runs = crate::two_at_a_time::two_at_a_time(&seeds, |seed| {
+        one_seed(&sc, seed, seconds, b.camera, b.driver, b.truth.as_deref())
     })?;
     let mut times: Vec<f64> =
         runs.iter().map(|r| r["time_to_sort_s"].as_f64().unwrap_or(f64::INFINITY)).collect();

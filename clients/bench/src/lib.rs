@@ -23,3 +23,4 @@ pub mod feeder;
 pub mod host_facts;
 pub mod ipc_probe;
 pub mod solver_case;
+pub mod two_at_a_time;
