@@ -111,6 +111,17 @@ impl Recipe {
         Ok(recipe)
     }
 
+    /// The box the pick poses span: lowest and highest x and y (m).
+    pub fn pick_box(&self) -> ([f64; 2], [f64; 2]) {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for q in &self.picks {
+            for k in 0..2 {
+                (lo[k], hi[k]) = (lo[k].min(q.position[k]), hi[k].max(q.position[k]));
+            }
+        }
+        (lo, hi)
+    }
+
     /// The class `id`.
     pub fn class(&self, id: u32) -> Option<&PartClass> {
         self.classes.iter().find(|c| c.id == id)

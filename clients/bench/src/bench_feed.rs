@@ -48,12 +48,7 @@ const SPREAD_FRACTION: f64 = 0.3;
 
 impl Shake {
     fn new(seed: u64, mu_m_g: f64, recipe: &upm_recipe::Recipe) -> Self {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for q in &recipe.picks {
-            for k in 0..2 {
-                (lo[k], hi[k]) = (lo[k].min(q.position[k]), hi[k].max(q.position[k]));
-            }
-        }
+        let (lo, hi) = recipe.pick_box();
         let m = drivers::feed::ZONE_MARGIN_M;
         let zone = (
             [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],

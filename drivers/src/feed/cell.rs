@@ -51,6 +51,8 @@ pub struct FeedCell {
     /// The cell steps every this many simulator ticks (1 ms).
     every: u64,
     pub(super) mode: RobotMode,
+    /// The box the pick poses span (the zone, before its margin).
+    pub(super) pick_box: ([f64; 2], [f64; 2]),
     pub(super) next_id: u32,
     pub(super) next_arrival: f64,
     pub(super) busy_until: f64,
@@ -117,6 +119,7 @@ impl FeedCell {
             within_pose: vec![0; n],
             every: (cfg.tick_hz / 1000.0).round().max(1.0) as u64,
             mode,
+            pick_box: recipe.pick_box(),
             next_id: 1,
             next_arrival: 0.0,
             busy_until: 0.0,

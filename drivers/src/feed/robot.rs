@@ -25,12 +25,7 @@ impl FeedCell {
 
     fn track_in_zone(&mut self, sim: &Simulator, t: f64) {
         let picks = &self.recipe.picks;
-        let (mut x0, mut y0, mut x1, mut y1) =
-            (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
-        for q in picks {
-            (x0, y0) = (x0.min(q.position[0]), y0.min(q.position[1]));
-            (x1, y1) = (x1.max(q.position[0]), y1.max(q.position[1]));
-        }
+        let ([x0, y0], [x1, y1]) = self.pick_box;
         let m = ZONE_MARGIN_M;
         for i in 0..self.slot_id.len() {
             if self.slot_id[i] == 0 {
