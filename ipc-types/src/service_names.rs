@@ -33,13 +33,17 @@ pub const PART_STATES_EVENT: &str = PART_STATES;
 /// simulated camera. Only published when the driver is a simulator.
 pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 
+/// [`crate::FeedStatus`], core → all: a feed cell's counters, pick poses
+/// and latest picks. Only published when the core runs a cell.
+pub const FEED: &str = "upm/feed";
+
 /// Camera frames ([`crate::FrameHeader`] user header, `[u8]` pixels), frame
 /// source → vision.
 pub const CAMERA_FRAME: &str = "upm/camera/frame";
 
 /// Every publish-subscribe service above, e.g. for tools that list or clean
 /// up a rig.
-pub const ALL: [&str; 10] = [
+pub const ALL: [&str; 11] = [
     PART_STATES,
     FORCE_REQUEST,
     EXPLICIT_SCHEDULE,
@@ -49,5 +53,6 @@ pub const ALL: [&str; 10] = [
     REJECTION,
     RIG_INFO,
     SIM_GROUND_TRUTH,
+    FEED,
     CAMERA_FRAME,
 ];

@@ -11,7 +11,7 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{
-    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo, Schedule,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo, Schedule,
     Telemetry, service_names,
 };
 
@@ -88,6 +88,7 @@ wire_message!(
     Telemetry => service_names::TELEMETRY,
     Rejection => service_names::REJECTION,
     RigInfo => service_names::RIG_INFO,
+    FeedStatus => service_names::FEED,
     FrameHeader => service_names::CAMERA_FRAME,
 );
 
