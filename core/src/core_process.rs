@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Parser;
-use rt_core::{CoreParams, RunOptions, RunReport, run_core_with_truth};
+use rt_core::{CoreParams, RunOptions, RunReport, SimulatorOutputs, run_core_with_truth};
 
 use crate::config::{CoreConfig, DriverChoice};
 use crate::plate_driver::SimulatedPlant;
@@ -54,7 +54,8 @@ fn with_outline(state: ipc_types::PartState, shape: &drivers::sim::BodyShape) ->
 }
 
 /// Run on a simulated plate that publishes its parts' ground truth
-/// `truth_hz` times a second (0: not at all).
+/// `truth_hz` times a second (0: not at all), and its feed cell's status
+/// at the camera's rate (10 Hz if the core was not told it).
 fn run_simulated<D: SimulatedPlant>(
     params: &CoreParams,
     mut driver: D,
@@ -69,7 +70,9 @@ fn run_simulated<D: SimulatedPlant>(
     } else {
         None
     };
-    run_core_with_truth(params, driver, truth, options).context("upm-core")
+    let status_hz = if options.vision_frame_hz > 0.0 { options.vision_frame_hz } else { 10.0 };
+    let feed = driver.publish_feed_status((1000.0 / status_hz).round() as u64);
+    run_core_with_truth(params, driver, SimulatorOutputs { truth, feed }, options).context("upm-core")
 }
 
 /// Print the one-line summary of a finished run; a run whose thread died
@@ -171,7 +174,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
         },
         DriverChoice::Ethercat => {
             let driver = crate::plate_driver::ethercat(&config, &shown)?;
-            run_core_with_truth(&params, driver, None, &options).context("upm-core")?
+            run_core_with_truth(&params, driver, SimulatorOutputs::default(), &options).context("upm-core")?
         }
     };
     let rt = report.realtime;

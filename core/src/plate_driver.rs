@@ -5,6 +5,7 @@
 
 use anyhow::Context;
 use drivers::Simulator;
+use drivers::feed::FeedCell;
 use ethercat_sim::serve::{ChainServer, ServerPlacement};
 use ethercat_sim::veth::VethPair;
 use ethercat_sim::{ChainTime, SimulatedRig};
@@ -26,6 +27,9 @@ pub trait SimulatedPlant: PlateDriver + Send + 'static {
         every: u64,
         templates: Vec<ipc_types::PartState>,
     ) -> Option<triple_buffer::Output<ipc_types::PartStates>>;
+    /// Have the feed cell write its status every `every_ms` (see
+    /// [`FeedCell::publish_status`]); None without a cell.
+    fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>>;
 }
 
 impl SimulatedPlant for Simulator {
@@ -38,6 +42,9 @@ impl SimulatedPlant for Simulator {
         templates: Vec<ipc_types::PartState>,
     ) -> Option<triple_buffer::Output<ipc_types::PartStates>> {
         Some(Simulator::publish_ground_truth(self, every, templates))
+    }
+    fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>> {
+        FeedCell::publish_status(self, every_ms)
     }
 }
 
@@ -53,6 +60,9 @@ impl SimulatedPlant for EthercatDriver<SimulatedRig> {
     ) -> Option<triple_buffer::Output<ipc_types::PartStates>> {
         // Start-up: no exchange is under way, so the wire is free.
         self.with_wire(|w| w.sim.publish_ground_truth(every, templates))
+    }
+    fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>> {
+        self.with_wire(|w| FeedCell::publish_status(&mut w.sim, every_ms)).flatten()
     }
 }
 
@@ -207,6 +217,10 @@ impl SimulatedPlant for EthercatOverVeth {
         // The chain's thread steps the simulator and so writes the truth.
         let mut rig = self.chain.wire.lock().ok()?;
         Some(rig.sim.publish_ground_truth(every, templates))
+    }
+    fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>> {
+        let mut rig = self.chain.wire.lock().ok()?;
+        FeedCell::publish_status(&mut rig.sim, every_ms)
     }
 }
 

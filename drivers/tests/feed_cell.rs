@@ -208,3 +208,38 @@ fn the_feeders_robot_takes_any_still_isolated_part_in_the_zone() {
     let pick = feed.picks()[0];
     assert!((pick.position_error - (0.07f64).hypot(0.2)).abs() < 1e-9, "{pick:?}");
 }
+
+#[test]
+fn the_status_names_the_part_at_each_pose_and_every_pick_by_number() {
+    let mut sim = cell(&[("rate_per_min = 40", "rate_per_min = 2")], 5);
+    let mut status = FeedCell::publish_status(&mut sim, 100).expect("a feed cell");
+    let disc = first_of(&mut sim, 0);
+    let other = first_other(&mut sim, disc);
+    let id = FeedCell::of(&sim).expect("feed").id_of(disc);
+    // Pose 0 (class 0 at (0.7, 0.25)) holds the disc, a part in its clearance.
+    put(&mut sim, disc, [0.7, 0.25], 0.0);
+    put(&mut sim, other, [0.7, 0.25 + 0.015 + 0.005 + 0.015 + 0.004], 0.0);
+    run(&mut sim, 1.0);
+    let s = *status.read();
+    assert_eq!(s.len(), 4, "the recipe's four poses");
+    assert_eq!((s.poses()[0].part_id, s.poses()[0].ready, s.poses()[0].class), (id, 0, 0));
+    assert!(s.poses()[1..].iter().all(|p| p.part_id == 0 && p.ready == 0));
+    assert_eq!((s.poses()[3].x, s.poses()[3].y), (0.85, -0.25));
+    assert_eq!(s.picked, 0);
+    assert!((s.time_s - sim.time()).abs() < 0.1 + 1e-9, "{} against {}", s.time_s, sim.time());
+    put(&mut sim, other, [0.0, 0.0], 0.0);
+    run(&mut sim, 1.0);
+    let s = *status.read();
+    assert_eq!(s.picked, 1);
+    let pick = s.recent().last().copied().expect("one pick");
+    assert_eq!((pick.number, pick.part_id, pick.pose), (1, id, 0));
+    assert!(s.poses()[0].part_id == 0 && s.robot_busy_s > 0.0);
+
+    // Picked by number for as long as the log keeps them; nothing allocates.
+    let feed = FeedCell::of(&sim).expect("feed");
+    assert_eq!(feed.pick_numbered(1), Some(pick));
+    assert_eq!(feed.pick_numbered(2), None);
+    assert_eq!(feed.pick_numbered(0), None);
+    let ((), allocated) = allocations_in(|| run(&mut sim, 5.0));
+    assert_eq!(allocated, 0, "the status port allocated");
+}

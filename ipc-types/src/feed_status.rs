@@ -106,8 +106,9 @@ pub struct FeedStatus {
     pub stuck: u32,
     /// Used entries of `recent`.
     pub recent_count: u32,
-    /// Unused, keep 0.
-    pub reserved: u32,
+    /// Part–part impacts since the cell started (where the cell can see
+    /// them: the simulator counts them; 0 otherwise).
+    pub collisions: u32,
     /// The cell's clock, s since it started; of it, the robot's time spent
     /// picking, s.
     pub time_s: f64,
@@ -134,7 +135,7 @@ crate::counted_message::counted_message!(
     poses / poses_mut: [PickPoseState; MAX_PICK_POSES],
     new {
         arrived: 0, picked: 0, lost: 0, arrivals_blocked: 0, on_plate: 0, stuck: 0, recent_count: 0,
-        reserved: 0, time_s: 0.0, robot_busy_s: 0.0, stuck_after_s: 0.0,
+        collisions: 0, time_s: 0.0, robot_busy_s: 0.0, stuck_after_s: 0.0,
         recent: [PickEvent::ZERO; FEED_RECENT_PICKS]
     }
 );

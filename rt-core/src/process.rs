@@ -143,12 +143,28 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
     driver: D,
     options: &RunOptions,
 ) -> Result<RunReport, StartError> {
-    run_core_with_truth(params, driver, None, options)
+    run_core_with_truth(params, driver, SimulatorOutputs::default(), options)
 }
 
-/// [`run_core`] that also publishes on `upm/sim/ground_truth` what a
-/// simulated driver writes into `truth` (its parts' ground truth, for the
-/// simulated camera), from the io thread.
+/// What a simulated driver writes where it steps, for the io thread to
+/// publish: its parts' ground truth (for the simulated camera) and its
+/// feed cell's status.
+#[derive(Default)]
+pub struct SimulatorOutputs {
+    /// Published on `upm/sim/ground_truth`.
+    pub truth: Option<triple_buffer::Output<PartStates>>,
+    /// Published on `upm/feed`.
+    pub feed: Option<triple_buffer::Output<ipc_types::FeedStatus>>,
+}
+
+impl core::fmt::Debug for SimulatorOutputs {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "SimulatorOutputs(truth: {}, feed: {})", self.truth.is_some(), self.feed.is_some())
+    }
+}
+
+/// [`run_core`] that also publishes, from the io thread, what a simulated
+/// driver writes into `outputs`.
 ///
 /// If a core thread dies (panic, or its body returns), the motor holds the
 /// plate at once, telemetry names the thread for `params.fault_exit_ns`,
@@ -156,7 +172,7 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
 pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
     params: &CoreParams,
     driver: D,
-    truth: Option<triple_buffer::Output<PartStates>>,
+    outputs: SimulatorOutputs,
     options: &RunOptions,
 ) -> Result<RunReport, StartError> {
     params.validate().map_err(StartError::Params)?;
@@ -201,10 +217,17 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         );
     }
     let StageGraph { motor, stage, shared, motor_samples: mut motor_rx, outputs: mut stage_rx, .. } = graph;
-    let mut truth_rx = truth;
+    let SimulatorOutputs { truth: mut truth_rx, feed: mut feed_rx } = outputs;
     let truth_pub = match truth_rx {
         Some(_) => Some(
             ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
+                .map_err(StartError::Port)?,
+        ),
+        None => None,
+    };
+    let feed_pub = match feed_rx {
+        Some(_) => Some(
+            ipc_types::ports::publisher::<ipc_types::FeedStatus>(&node, service_names::FEED)
                 .map_err(StartError::Port)?,
         ),
         None => None,
@@ -274,6 +297,11 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             rejection_log.note(&r, r.stamp_ns);
         }
         if let (Some(rx), Some(p)) = (truth_rx.as_mut(), truth_pub.as_ref())
+            && rx.update()
+        {
+            let _ = p.send_copy(*rx.peek_output_buffer());
+        }
+        if let (Some(rx), Some(p)) = (feed_rx.as_mut(), feed_pub.as_ref())
             && rx.update()
         {
             let _ = p.send_copy(*rx.peek_output_buffer());

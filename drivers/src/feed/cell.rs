@@ -7,6 +7,7 @@ use upm_recipe::{Outline, Recipe};
 
 use super::counts::{FeedCounts, PickRecord};
 use super::robot_mode::RobotMode;
+use super::status::StatusSlot;
 use crate::rng::SplitMix64;
 use crate::sim::{BodyShape, Cell, MAX_POLYGON_VERTICES, PartSpec, SimConfig, SimError, Simulator};
 
@@ -62,6 +63,7 @@ pub struct FeedCell {
     picks: Vec<PickRecord>,
     /// Where the next pick goes once `picks` is full.
     pick_head: usize,
+    pub(super) status: StatusSlot,
 }
 
 impl FeedCell {
@@ -128,6 +130,7 @@ impl FeedCell {
             counts: FeedCounts::default(),
             picks: Vec::with_capacity(PICK_LOG),
             pick_head: 0,
+            status: StatusSlot::default(),
         };
         let mut cell = cell;
         cell.schedule_first_arrival();
@@ -150,6 +153,7 @@ impl FeedCell {
         self.track_settling(sim, t);
         self.robot_step(sim, t);
         self.infeed_step(sim, t);
+        self.publish_status_if_due(sim);
     }
 
     pub fn counts(&self) -> FeedCounts {
@@ -190,6 +194,17 @@ impl FeedCell {
     pub fn picks(&self) -> Vec<PickRecord> {
         let (newer, older) = self.picks.split_at(self.pick_head.min(self.picks.len()));
         older.iter().chain(newer).copied().collect()
+    }
+
+    /// Picks kept in the log.
+    pub(super) fn picks_kept(&self) -> usize {
+        self.picks.len()
+    }
+
+    /// The `k`-th kept pick, oldest first.
+    pub(super) fn pick_record(&self, k: usize) -> Option<PickRecord> {
+        let n = self.picks.len();
+        (k < n).then(|| self.picks[(self.pick_head + k) % n])
     }
 
     pub(super) fn log_pick(&mut self, record: PickRecord) {
@@ -241,6 +256,10 @@ impl Cell for FeedCell {
     }
 
     fn as_any(&self) -> &dyn core::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn core::any::Any {
         self
     }
 }

@@ -11,7 +11,9 @@ mod counts;
 mod infeed;
 mod robot;
 mod robot_mode;
+mod status;
 
 pub use cell::{FeedCell, FeedError};
 pub use counts::{FeedCounts, PickRecord};
 pub use robot_mode::{RobotMode, ZONE_MARGIN_M};
+pub use status::STUCK_AFTER_S;

@@ -85,10 +85,7 @@ impl FeedCell {
         for step in 0..poses {
             let j = (self.next_pose + step) % poses;
             let ready = (0..self.slot_id.len()).find(|&i| {
-                self.slot_id[i] != 0
-                    && (self.within_pose[i] == j || self.mode == RobotMode::AnyInZone)
-                    && t - self.within_since[i] >= robot.settle_s - 1e-9
-                    && !self.crowded(sim, i)
+                (self.within_pose[i] == j || self.mode == RobotMode::AnyInZone) && self.is_ready(sim, i, t)
             });
             let Some(i) = ready else { continue };
             // The feeders' robot takes a part where it lies: its record is
@@ -111,6 +108,14 @@ impl FeedCell {
             self.next_pose = j + 1;
             return;
         }
+    }
+
+    /// Whether part `i` is on the plate, has lain ready for the settle
+    /// time, and has a clear gripper.
+    pub(super) fn is_ready(&self, sim: &Simulator, i: usize, t: f64) -> bool {
+        self.slot_id[i] != 0
+            && t - self.within_since[i] >= self.recipe.robot.settle_s - 1e-9
+            && !self.crowded(sim, i)
     }
 
     /// Whether another part reaches into part `i`'s gripper clearance.

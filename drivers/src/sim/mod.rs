@@ -80,6 +80,7 @@ pub trait Cell: fmt::Debug + Send + Sync {
     fn id_of(&self, i: usize) -> u32;
     fn boxed_clone(&self) -> Box<dyn Cell>;
     fn as_any(&self) -> &dyn core::any::Any;
+    fn as_any_mut(&mut self) -> &mut dyn core::any::Any;
 }
 
 impl Clone for Box<dyn Cell> {
@@ -313,6 +314,10 @@ impl Simulator {
     /// What runs around this simulator, if anything.
     pub fn cell(&self) -> Option<&dyn Cell> {
         self.cell.as_deref()
+    }
+
+    pub fn cell_mut(&mut self) -> Option<&mut (dyn Cell + 'static)> {
+        self.cell.as_deref_mut()
     }
 
     /// Build-time only (it allocates).
