@@ -13,7 +13,6 @@ use ipc_types::{ForceEntry, ForceRequest, PartStates};
 use serde_json::{Value, json};
 use upm_commands::feed_metrics::FeedOutcome;
 use upm_commands::scenario::{Scenario, resolve};
-use upm_core::config::feed::FeedSection;
 use upm_planner::Planner;
 use upm_stats::percentile;
 
@@ -90,12 +89,6 @@ impl Planner for Shake {
 /// One seed, one way: the cell's outcome.
 fn one_seed(sc: &Scenario, b: &FeedBench, seed: u64, baseline: bool) -> anyhow::Result<FeedOutcome> {
     let mut config = sc.config(seed, "unused_")?;
-    if let Some(r) = &b.recipe {
-        config.feed = FeedSection { recipe: r.display().to_string(), ..config.feed };
-        if let upm_planner::PlannerConfig::Present(p) = &mut config.planner {
-            p.recipe = config.feed.recipe.clone();
-        }
-    }
     let seconds = b.minutes * 60.0;
     let r = if baseline {
         config.feed.robot = drivers::feed::RobotMode::AnyInZone;
@@ -132,7 +125,7 @@ fn run_way(sc: &Scenario, b: &FeedBench, baseline: bool) -> anyhow::Result<Value
         "parts_per_minute_median": percentile(&rates, 0.5),
         "pose_error_p99_mm": pose_mm,
         "angle_error_p99_deg": angle_deg,
-        "lost": runs.iter().map(|r| r.counts.lost).sum::<u64>(),
+        "lost": runs.iter().map(|r| r.last.lost).sum::<u64>(),
         "runs": per_seed,
     }))
 }
@@ -145,7 +138,10 @@ pub fn run(b: &FeedBench) -> anyhow::Result<Value> {
     if !(b.minutes.is_finite() && b.minutes > 1.0) {
         anyhow::bail!("--minutes must be more than 1 (the rate counts picks after the first minute)");
     }
-    let sc = Scenario::load(&resolve("feed"))?;
+    let mut sc = Scenario::load(&resolve("feed"))?;
+    if let Some(r) = &b.recipe {
+        sc.use_recipe(r)?;
+    }
     let upm = run_way(&sc, b, false)?;
     let baseline = run_way(&sc, b, true)?;
     let ratio = match (upm["parts_per_minute_median"].as_f64(), baseline["parts_per_minute_median"].as_f64())

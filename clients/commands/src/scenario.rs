@@ -93,6 +93,18 @@ pub fn resolve_recipe(path: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(p).display().to_string()
 }
 
+/// A recipe named on the command line: a file, or NAME for
+/// `recipes/NAME.toml`.
+pub fn resolve_recipe_file(arg: &Path) -> std::path::PathBuf {
+    if arg.is_file() {
+        return arg.to_path_buf();
+    }
+    let text = arg.to_string_lossy();
+    let bare_name = arg.extension().is_none() && arg.components().count() == 1;
+    let relative = if bare_name { format!("recipes/{text}.toml") } else { text.into_owned() };
+    resolve_recipe(&relative).into()
+}
+
 impl Scenario {
     pub fn load(path: &Path) -> anyhow::Result<Self> {
         let s: Scenario = rig_config::load_toml(path)?;
@@ -110,6 +122,17 @@ impl Scenario {
     /// The rig config every process gets: the scenario's parts (random ones
     /// placed with `seed`), part mass consistent with μmg, the planner with
     /// that mass and μmg, and `prefix`.
+    /// Run the feed cell on `recipe` (a file) instead of the scenario's;
+    /// refused for a scenario without a feed cell.
+    pub fn use_recipe(&mut self, recipe: &Path) -> anyhow::Result<()> {
+        if self.rig.feed.recipe.is_empty() {
+            anyhow::bail!("--recipe: scenario {} runs no feed cell (its [rig.feed] recipe is empty)", self.name);
+        }
+        // Absolute: the processes start in other directories.
+        self.rig.feed.recipe = std::path::absolute(recipe)?.display().to_string();
+        Ok(())
+    }
+
     pub fn config(&self, seed: u64, prefix: &str) -> anyhow::Result<Config> {
         let mut c = self.rig.clone();
         c.service.prefix = prefix.to_owned();
@@ -301,11 +324,8 @@ impl Scenario {
                     .fold(0.0, f64::max);
                 v["others_max_drift_m"] = json!(drift);
             }
-            PlannerConfig::Present(_) => {
-                // The picks happen in the core's simulator; a multi-process
-                // run does not see them yet (`upm bench feed` does).
-                v["feed"] = Value::Null;
-            }
+            // The feed cell's counters and picks come off `upm/feed`.
+            PlannerConfig::Present(_) => {}
         }
         v
     }

@@ -8,7 +8,7 @@ use iceoryx2::prelude::*;
 use ipc_types::discovery::{NodePresence, running_rigs};
 use ipc_types::rig_node::rig_node;
 use ipc_types::{
-    CoreCommand, LatencyPercentiles, RejectReason, Telemetry, ValidationLimits, monotonic_now_ns,
+    CoreCommand, FeedStatus, LatencyPercentiles, RejectReason, Telemetry, ValidationLimits, monotonic_now_ns,
     service_names,
 };
 use serde_json::{Value, json};
@@ -78,6 +78,75 @@ pub fn driver_json(t: &Telemetry) -> Value {
 }
 
 /// The `upm status --json` document.
+/// A feed cell's newest valid status on `prefix`, waiting up to `timeout`
+/// (None: the core runs no cell).
+pub fn read_feed(prefix: &str, timeout: Duration) -> anyhow::Result<Option<FeedStatus>> {
+    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
+    let sub = ipc_types::ports::subscriber::<FeedStatus>(&node, service_names::FEED)?;
+    let start = Instant::now();
+    let mut newest: Option<FeedStatus> = None;
+    while start.elapsed() < timeout && newest.is_none() {
+        while let Some(s) = sub.receive().map_err(|e| anyhow::anyhow!("receiving feed status: {e:?}"))? {
+            newest = Some(*s.payload());
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let Some(f) = newest else { return Ok(None) };
+    let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
+    f.validate(&limits).map_err(|e| anyhow::anyhow!("invalid feed status from the core: {e}"))?;
+    Ok(Some(f))
+}
+
+/// `status.feed`: the cell's counters and each pick pose.
+pub fn feed_json(f: &FeedStatus) -> Value {
+    let poses: Vec<Value> = f
+        .poses()
+        .iter()
+        .map(|p| {
+            json!({"class": p.class, "part_id": p.part_id, "ready": p.ready == 1, "x": p.x, "y": p.y, "theta": p.theta})
+        })
+        .collect();
+    json!({
+        "time_s": f.time_s,
+        "arrived": f.arrived,
+        "picked": f.picked,
+        "lost": f.lost,
+        "on_plate": f.on_plate,
+        "stuck": f.stuck,
+        "stuck_after_s": f.stuck_after_s,
+        "arrivals_blocked": f.arrivals_blocked,
+        "collisions": f.collisions,
+        "robot_busy_s": f.robot_busy_s,
+        "poses": poses,
+    })
+}
+
+/// One line: the cell's counters and which poses hold a part.
+pub fn feed_text(f: &FeedStatus) -> String {
+    let poses: Vec<String> = f
+        .poses()
+        .iter()
+        .enumerate()
+        .map(|(n, p)| match (p.part_id, p.ready) {
+            (0, _) => format!("{n} free"),
+            (id, 1) => format!("{n} part {id} ready"),
+            (id, _) => format!("{n} part {id}"),
+        })
+        .collect();
+    format!(
+        "feed: {:.0} s, arrived {}, picked {}, lost {}, on plate {}, stuck (> {:.0} s) {}, arrivals blocked {}; poses: {}",
+        f.time_s,
+        f.arrived,
+        f.picked,
+        f.lost,
+        f.on_plate,
+        f.stuck_after_s,
+        f.stuck,
+        f.arrivals_blocked,
+        poses.join(", ")
+    )
+}
+
 pub fn to_json(t: &Telemetry) -> Value {
     let flag = |b: u32| t.realtime_flags & b != 0;
     let c = &t.counters;

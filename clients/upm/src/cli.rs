@@ -92,6 +92,10 @@ pub enum Command {
         /// Service prefix (default: one per run).
         #[arg(long)]
         prefix: Option<String>,
+        /// A feed cell's recipe (recipes/NAME.toml or a path) instead of
+        /// the scenario's.
+        #[arg(long)]
+        recipe: Option<PathBuf>,
         /// Load every CPU but the motor's during the run (stress-ng if
         /// installed, else a built-in burner); metrics.json names it.
         #[arg(long)]
@@ -375,6 +379,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             calibration,
             adapt,
             prefix,
+            recipe,
             quiet,
             stress,
             planner_cmd,
@@ -386,7 +391,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             json,
         } => {
             let path = upm_commands::scenario::resolve(&scenario);
-            let sc = upm_commands::scenario::Scenario::load(&path)?;
+            let mut sc = upm_commands::scenario::Scenario::load(&path)?;
+            if let Some(r) = &recipe {
+                sc.use_recipe(&upm_commands::scenario::resolve_recipe_file(r))?;
+            }
             let seed = seed.unwrap_or(sc.seed);
             let duration_s = match duration {
                 Some(d) if d.is_finite() && d > 0.0 => d,
@@ -540,7 +548,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Feed, None) => {
                     // --quick: 2 simulated minutes per seed.
                     let b = upm_bench::bench_feed::FeedBench {
-                        recipe,
+                        recipe: recipe.as_deref().map(upm_commands::scenario::resolve_recipe_file),
                         seeds,
                         first_seed,
                         minutes: if quick { 2.0 } else { minutes },
@@ -679,12 +687,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let t =
                 upm_commands::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
+            // Published at the camera's rate when the core runs a cell.
+            let feed = upm_commands::status::read_feed(&prefix, std::time::Duration::from_millis(300))?;
             if json {
                 let mut v = upm_commands::status::to_json(&t);
                 v["prefix"] = serde_json::json!(prefix);
+                v["feed"] = feed.as_ref().map_or(serde_json::Value::Null, upm_commands::status::feed_json);
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
                 println!("rig {prefix}\n{}", upm_commands::status::to_text(&t));
+                if let Some(f) = &feed {
+                    println!("{}", upm_commands::status::feed_text(f));
+                }
             }
             Ok(())
         }

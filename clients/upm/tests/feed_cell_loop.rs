@@ -13,13 +13,13 @@ fn the_present_planner_feeds_the_robot_in_lock_step() {
     let started = std::time::Instant::now();
     let r = upm_commands::closed_loop::run(&config, planner.as_mut(), seconds).expect("run");
     let feed = r.feed.expect("a feed cell");
-    let (counts, picks) = (feed.counts, &feed.picks);
-    let worst = |f: fn(&drivers::feed::PickRecord) -> f64| picks.iter().map(f).fold(0.0, f64::max);
+    let picks = &feed.picks;
+    let worst = |f: fn(&ipc_types::PickEvent) -> f64| picks.iter().map(f).fold(0.0, f64::max);
     eprintln!(
-        "feed {seconds} s in {:.1} s: {counts:?}; worst pick {:.2} mm {:.2}°; holds {}, rejected {}",
+        "feed {seconds} s in {:.1} s: worst pick {:.2} mm {:.2}°; holds {}, rejected {}",
         started.elapsed().as_secs_f64(),
-        worst(|p| p.position_error) * 1e3,
-        worst(|p| p.angle_error.abs()).to_degrees(),
+        worst(|p| p.position_error_m) * 1e3,
+        worst(|p| p.angle_error_rad.abs()).to_degrees(),
         r.hold_events,
         r.rejected_requests
     );
@@ -38,8 +38,10 @@ fn the_present_planner_feeds_the_robot_in_lock_step() {
         );
     }
     eprintln!("schedules {}, k_max {}; {}", r.schedules, r.k_max, feed.to_json());
+    let counts = feed.last;
     assert!(counts.arrived > 0, "nothing arrived");
     assert_eq!(counts.lost, 0);
     assert_eq!(r.hold_events, 0);
-    assert!(counts.picked > 0, "the robot took nothing: {counts:?}");
+    assert!(counts.picked > 0, "the robot took nothing");
+    assert_eq!((feed.picks_unseen, feed.picks.len() as u64), (0, counts.picked), "every pick is kept");
 }

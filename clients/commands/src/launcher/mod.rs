@@ -262,10 +262,14 @@ pub fn run_plan(
     let stress = load.as_ref().map(|l| l.description().to_owned());
     drop(load);
     let _ = observer.poll();
+    // Every process this run started, by its last pid (a restart changes it).
     let pids = json!({
+        "launcher": std::process::id(),
         "core": core.pid(),
         "vision": vision.pid(),
         "planner": planner.pid(),
+        "camera": camera.as_ref().and_then(Supervised::pid),
+        "recorder": recorder.as_ref().and_then(Supervised::pid),
         "vision_cmd": plan.vision_cmd,
         "planner_cmd": plan.planner_cmd,
         "planner_exit": planner_exit.map(|s| s.to_string()),
@@ -341,6 +345,11 @@ pub fn run_plan(
     });
     if let (Value::Object(m), Value::Object(goals)) = (&mut metrics, evaluate(&observer.trails)) {
         m.extend(goals);
+    }
+    if let Some(feed) = observer.feed.outcome() {
+        let mut v = feed.to_json();
+        v["invalid_messages"] = json!(observer.feed.invalid);
+        metrics["feed"] = v;
     }
     std::fs::write(out.join("metrics.json"), serde_json::to_string_pretty(&metrics)?)?;
     plot::draw_trails(

@@ -1,14 +1,15 @@
 //! What `upm run` watches while the loop runs (the flight recording is
 //! upm-recorder's): part trails from the simulator's ground truth, the
-//! core's newest telemetry, how many parts vision sees, and how many
-//! schedules took longer to solve than a camera frame lasts.
+//! core's newest telemetry, a feed cell's status and picks, how many parts
+//! vision sees, and how many schedules took longer to solve than a camera
+//! frame lasts.
 
 use std::collections::BTreeMap;
 
 use iceoryx2::prelude::*;
 use ipc_types::ports::Sub;
 use ipc_types::rig_node::rig_node;
-use ipc_types::{PartStates, Schedule, Telemetry, service_names};
+use ipc_types::{FeedStatus, PartStates, Schedule, Telemetry, service_names};
 use serde::Serialize;
 
 /// Positions of one part over the run.
@@ -39,6 +40,9 @@ pub struct Observer {
     schedules: Sub<Schedule>,
     /// Vision's part states, for how many parts it sees.
     parts: Sub<PartStates>,
+    feed_status: Sub<FeedStatus>,
+    /// A feed cell's newest status and every pick (empty without a cell).
+    pub feed: crate::feed_metrics::FeedLog,
     /// Parts in vision's newest PartStates (None before the first).
     pub parts_seen: Option<usize>,
     pub trails: Trails,
@@ -61,12 +65,15 @@ impl Observer {
         let telemetry = ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY)?;
         let schedules = ipc_types::ports::subscriber::<Schedule>(&node, service_names::SCHEDULE)?;
         let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)?;
+        let feed_status = ipc_types::ports::subscriber::<FeedStatus>(&node, service_names::FEED)?;
         Ok(Self {
             _node: node,
             truth,
             telemetry,
             schedules,
             parts,
+            feed_status,
+            feed: crate::feed_metrics::FeedLog::default(),
             parts_seen: None,
             trails: Trails::default(),
             schedules_seen: 0,
@@ -90,6 +97,9 @@ impl Observer {
         }
         while let Some(s) = self.parts.receive().map_err(|e| anyhow::anyhow!("part states: {e:?}"))? {
             self.parts_seen = Some(s.payload().parts().len());
+        }
+        while let Some(s) = self.feed_status.receive().map_err(|e| anyhow::anyhow!("feed: {e:?}"))? {
+            self.feed.take(s.payload());
         }
         while let Some(s) = self.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
             let m = s.payload();

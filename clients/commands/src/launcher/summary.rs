@@ -34,8 +34,9 @@ pub fn summary(m: &Value, out: &Path, recorded: bool) -> String {
     )
 }
 
-/// What the scenario's goal came to: sorted, tracked, turned, or met.
+/// What the scenario's goal came to: sorted, tracked, turned, picked, or met.
 fn outcome(m: &Value) -> String {
+    let num = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
     let parts = m["parts"].as_array().map_or(&[][..], Vec::as_slice);
     let met = parts.iter().filter(|p| p["goal_met"] == true).count();
     let seconds = m["sim_seconds"].as_f64().unwrap_or(0.0);
@@ -45,10 +46,17 @@ fn outcome(m: &Value) -> String {
             None => format!("sorted {met} of {} after {seconds:.1} s", parts.len()),
         };
     }
-    if m.get("feed").is_some() {
+    if let Some(f) = m.get("feed") {
+        let rate = f["parts_per_minute"].as_f64().map_or("n/a (a minute or less)".into(), |r| format!("{r:.1}"));
         return format!(
-            "{} parts seen after {seconds:.1} s; picks are counted in lock-step only (upm bench feed)",
-            parts.len()
+            "picked {} of {} arrived in {seconds:.1} s, {rate} parts/min after the first minute, pick p99 {:.2} mm \
+             {:.2}°, lost {}, stuck {}",
+            f["picked"],
+            f["arrived"],
+            num(&f["pose_error_p99_mm"]),
+            num(&f["angle_error_p99_deg"]),
+            f["lost"],
+            f["stuck"]
         );
     }
     let mut text = format!("goal met by {met} of {} parts after {seconds:.1} s", parts.len());
@@ -83,6 +91,21 @@ mod tests {
              holds 0, overruns 0.24 %, rejected: requests 0, part states 2; restarts: vision 0, planner 1; \
              motor wake-up p99 40 µs, solve p99 0.81 ms\n\
              files in out/run: metrics.json, trails.svg, latency/, logs/, run.mcap"
+        );
+    }
+
+    #[test]
+    fn a_feed_run_names_its_picks_rate_errors_and_losses() {
+        let m = json!({"scenario": "feed", "seed": 1, "sim_seconds": 600.0, "parts": [],
+                       "feed": {"picked": 80, "arrived": 96, "parts_per_minute": 8.4, "pose_error_p99_mm": 0.91,
+                                "angle_error_p99_deg": 1.5, "lost": 0, "stuck": 2}});
+        let text = summary(&m, Path::new("o"), false);
+        assert!(
+            text.starts_with(
+                "feed seed 1: picked 80 of 96 arrived in 600.0 s, 8.4 parts/min after the first minute, \
+                 pick p99 0.91 mm 1.50°, lost 0, stuck 2\n"
+            ),
+            "{text}"
         );
     }
 
