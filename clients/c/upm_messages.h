@@ -22,6 +22,8 @@
 #define UPM_MAX_SHAPE_VERTICES 8
 #define UPM_MAX_CENTERS 192
 #define UPM_RIG_PREFIX_BYTES 64
+#define UPM_MAX_PICK_POSES 16
+#define UPM_FEED_RECENT_PICKS 16
 #define UPM_SHAPE_POINT 0u
 #define UPM_SHAPE_DISC 1u
 #define UPM_SHAPE_POLYGON 2u
@@ -34,6 +36,7 @@
 #define UPM_SERVICE_REJECTION "upm/rejection"
 #define UPM_SERVICE_RIG_INFO "upm/rig_info"
 #define UPM_SERVICE_SIM_GROUND_TRUTH "upm/sim/ground_truth"
+#define UPM_SERVICE_FEED "upm/feed"
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
@@ -488,5 +491,92 @@ UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_source) == 616, "upm_Telemetry.
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_cause) == 620, "upm_Telemetry.health_cause offset");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, health_detail) == 624, "upm_Telemetry.health_detail offset");
 UPM_STATIC_ASSERT(offsetof(upm_Telemetry, driver) == 744, "upm_Telemetry.driver offset");
+
+/* iceoryx2 type name "upm::PickEvent.v6", 56 bytes, align 8 */
+#define UPM_PICKEVENT_TYPE_NAME "upm::PickEvent.v6"
+typedef struct {
+    uint64_t number;
+    uint32_t part_id;
+    uint32_t class_;
+    uint32_t pose;
+    uint32_t reserved;
+    double time_s;
+    double position_error_m;
+    double angle_error_rad;
+    double on_plate_s;
+} upm_PickEvent;
+UPM_STATIC_ASSERT(sizeof(upm_PickEvent) == 56, "upm_PickEvent size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PickEvent) == 8, "upm_PickEvent align");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, number) == 0, "upm_PickEvent.number offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, part_id) == 8, "upm_PickEvent.part_id offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, class_) == 12, "upm_PickEvent.class_ offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, pose) == 16, "upm_PickEvent.pose offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, reserved) == 20, "upm_PickEvent.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, time_s) == 24, "upm_PickEvent.time_s offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, position_error_m) == 32, "upm_PickEvent.position_error_m offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, angle_error_rad) == 40, "upm_PickEvent.angle_error_rad offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickEvent, on_plate_s) == 48, "upm_PickEvent.on_plate_s offset");
+
+/* iceoryx2 type name "upm::PickPoseState.v6", 40 bytes, align 8 */
+#define UPM_PICKPOSESTATE_TYPE_NAME "upm::PickPoseState.v6"
+typedef struct {
+    uint32_t class_;
+    uint32_t part_id;
+    uint32_t ready;
+    uint32_t reserved;
+    double x;
+    double y;
+    double theta;
+} upm_PickPoseState;
+UPM_STATIC_ASSERT(sizeof(upm_PickPoseState) == 40, "upm_PickPoseState size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PickPoseState) == 8, "upm_PickPoseState align");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, class_) == 0, "upm_PickPoseState.class_ offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, part_id) == 4, "upm_PickPoseState.part_id offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, ready) == 8, "upm_PickPoseState.ready offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, reserved) == 12, "upm_PickPoseState.reserved offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, x) == 16, "upm_PickPoseState.x offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, y) == 24, "upm_PickPoseState.y offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickPoseState, theta) == 32, "upm_PickPoseState.theta offset");
+
+/* iceoryx2 type name "upm::FeedStatus.v6", 1632 bytes, align 8 */
+#define UPM_FEEDSTATUS_TYPE_NAME "upm::FeedStatus.v6"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t count;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint64_t arrived;
+    uint64_t picked;
+    uint64_t lost;
+    uint64_t arrivals_blocked;
+    uint32_t on_plate;
+    uint32_t stuck;
+    uint32_t recent_count;
+    uint32_t collisions;
+    double time_s;
+    double robot_busy_s;
+    double stuck_after_s;
+    upm_PickEvent recent[16];
+    upm_PickPoseState poses[16];
+} upm_FeedStatus;
+UPM_STATIC_ASSERT(sizeof(upm_FeedStatus) == 1632, "upm_FeedStatus size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_FeedStatus) == 8, "upm_FeedStatus align");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, protocol_version) == 0, "upm_FeedStatus.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, count) == 4, "upm_FeedStatus.count offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, seq) == 8, "upm_FeedStatus.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, stamp_ns) == 16, "upm_FeedStatus.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, arrived) == 24, "upm_FeedStatus.arrived offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, picked) == 32, "upm_FeedStatus.picked offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, lost) == 40, "upm_FeedStatus.lost offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, arrivals_blocked) == 48, "upm_FeedStatus.arrivals_blocked offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, on_plate) == 56, "upm_FeedStatus.on_plate offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, stuck) == 60, "upm_FeedStatus.stuck offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, recent_count) == 64, "upm_FeedStatus.recent_count offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, collisions) == 68, "upm_FeedStatus.collisions offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, time_s) == 72, "upm_FeedStatus.time_s offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, robot_busy_s) == 80, "upm_FeedStatus.robot_busy_s offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, stuck_after_s) == 88, "upm_FeedStatus.stuck_after_s offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, recent) == 96, "upm_FeedStatus.recent offset");
+UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, poses) == 992, "upm_FeedStatus.poses offset");
 
 #endif /* UPM_MESSAGES_H */

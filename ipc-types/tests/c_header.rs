@@ -63,6 +63,11 @@ fn render() -> String {
         ipc_types::MAX_CENTERS,
         ipc_types::RIG_PREFIX_BYTES
     );
+    out += &format!(
+        "#define UPM_MAX_PICK_POSES {}\n#define UPM_FEED_RECENT_PICKS {}\n",
+        ipc_types::MAX_PICK_POSES,
+        ipc_types::FEED_RECENT_PICKS
+    );
     // PartState.shape codes.
     for (name, code) in [("POINT", SHAPE_POINT), ("DISC", SHAPE_DISC), ("POLYGON", SHAPE_POLYGON)] {
         out += &format!("#define UPM_SHAPE_{name} {code}u\n");

@@ -1,15 +1,16 @@
 //! docs/protocol.md against the code: every payload table (type name, size,
 //! alignment, each field's offset, size and type), the services and their
-//! payloads, the service and inbox settings, the protocol version and the
-//! reject codes. Edit the doc with the code, or this fails.
+//! payloads, the service and inbox settings, the protocol version, the
+//! reject codes and FeedStatus's capacities. Edit the doc with the code,
+//! or this fails.
 
 mod wire_layout;
 
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::wake_event::WakeEvent;
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PROTOCOL_VERSION, PartStates, RejectReason,
-    RejectedKind, Rejection, RigInfo, Schedule, Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PROTOCOL_VERSION, PartStates,
+    RejectReason, RejectedKind, Rejection, RigInfo, Schedule, Telemetry, service_names,
 };
 
 fn doc() -> String {
@@ -79,6 +80,7 @@ fn services_settings_version_and_reject_codes_match() {
         (service_names::REJECTION, type_name::<Rejection>()),
         (service_names::RIG_INFO, type_name::<RigInfo>()),
         (service_names::SIM_GROUND_TRUTH, type_name::<PartStates>()),
+        (service_names::FEED, type_name::<FeedStatus>()),
     ]
     .iter()
     .map(|(s, t)| (s.to_string(), t.to_string()))
@@ -167,6 +169,18 @@ fn services_settings_version_and_reject_codes_match() {
     let expected: Vec<(String, String)> =
         RejectReason::ALL.iter().map(|r| (r.index().to_string(), r.as_str().to_owned())).collect();
     assert_eq!(codes, expected, "the reject codes table");
+}
+
+/// FeedStatus's capacities, as its table and section name them.
+#[test]
+fn feed_status_capacities_match() {
+    let doc = doc();
+    for (name, value) in
+        [("MAX_PICK_POSES", ipc_types::MAX_PICK_POSES), ("FEED_RECENT_PICKS", ipc_types::FEED_RECENT_PICKS)]
+    {
+        let named = format!("0 … {value} (`{name}`");
+        assert!(doc.contains(&named), "docs/protocol.md lacks {named:?}");
+    }
 }
 
 /// Prints the layout tables docs/protocol.md starts from (a helper, not a

@@ -56,6 +56,22 @@ fn validate_never_allocates() {
     for j in 0..ipc_types::MAX_CENTERS {
         rig.push(ipc_types::RigCenter { x: j as f64, y: 2.0, k_bound: 0.5 }).expect("within capacity");
     }
+    // Full, so validate() walks every pose and pick.
+    let mut feed = ipc_types::FeedStatus::new();
+    (feed.time_s, feed.robot_busy_s, feed.stuck_after_s) = (60.0, 20.0, 120.0);
+    for j in 0..ipc_types::MAX_PICK_POSES as u32 {
+        let pose = ipc_types::PickPoseState {
+            class: j,
+            x: 0.1,
+            y: 0.2,
+            theta: 0.3,
+            ..ipc_types::PickPoseState::ZERO
+        };
+        feed.push(pose).expect("within capacity");
+    }
+    for n in 1..=ipc_types::FEED_RECENT_PICKS as u64 + 1 {
+        feed.push_pick(ipc_types::PickEvent { number: n, time_s: n as f64, ..ipc_types::PickEvent::ZERO });
+    }
     let mut bad_outline = parts;
     bad_outline.parts[PartStates::CAPACITY - 1].vertices.swap(1, 5); // a polygon, now not convex
     assert!(matches!(bad_outline.validate(&limits), Err(ipc_types::PartStatesError::Shape { .. })));
@@ -67,6 +83,7 @@ fn validate_never_allocates() {
             && black_box(schedule.validate(&limits)).is_ok()
             && black_box(telemetry.validate(&limits)).is_ok()
             && black_box(rig.validate(&limits)).is_ok()
+            && black_box(feed.validate(&limits)).is_ok()
     });
     assert!(ok, "full-capacity messages must be valid");
     assert_eq!(n, 0, "validate() of valid messages allocated");
@@ -77,6 +94,7 @@ fn validate_never_allocates() {
     explicit.slots[ExplicitSchedule::CAPACITY - 1].k = 2.0;
     schedule.saturated = 7;
     rig.centers[ipc_types::MAX_CENTERS - 1].k_bound = 2.0;
+    feed.poses[ipc_types::MAX_PICK_POSES - 1].theta = f64::NAN;
     let mut bad_telemetry = telemetry;
     bad_telemetry.latency.solver.p50_ns = 1;
     let (all_rejected, n) = count(|| {
@@ -87,6 +105,7 @@ fn validate_never_allocates() {
             && black_box(schedule.validate(&limits)).is_err()
             && black_box(bad_telemetry.validate(&limits)).is_err()
             && black_box(rig.validate(&limits)).is_err()
+            && black_box(feed.validate(&limits)).is_err()
     });
     assert!(all_rejected, "corrupted messages must be rejected");
     assert_eq!(n, 0, "validate() of rejected messages allocated");

@@ -2,11 +2,12 @@
 //! with the error naming the right field and index.
 
 use ipc_types::{
-    CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, ForceEntry,
-    ForceRequest, ForceRequestError, HeaderError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SHAPE_VERTICES,
-    MAX_SLOTS, PROTOCOL_VERSION, PartState, PartStates, PartStatesError, RejectReason, RejectedKind,
-    Rejection, RigCenter, RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule,
-    ScheduleError, ScheduleSlot, ShapeError, Telemetry, TelemetryError, ValidationLimits,
+    CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, FEED_RECENT_PICKS,
+    FeedStatus, FeedStatusError, ForceEntry, ForceRequest, ForceRequestError, HeaderError, MAX_CENTERS,
+    MAX_CURLS, MAX_PARTS, MAX_PICK_POSES, MAX_SHAPE_VERTICES, MAX_SLOTS, PROTOCOL_VERSION, PartState,
+    PartStates, PartStatesError, PickEvent, PickPoseState, RejectReason, RejectedKind, Rejection, RigCenter,
+    RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ScheduleError, ScheduleSlot,
+    ShapeError, Telemetry, TelemetryError, ValidationLimits,
 };
 
 const NOW: u64 = 5_000_000_000;
@@ -481,6 +482,116 @@ fn rig_info_is_checked_field_by_field_and_old_stamps_are_fine() {
     m.count = u32::MAX;
     assert!(matches!(m.validate(&l), Err(RigInfoError::Header(HeaderError::CountExceedsCapacity { .. }))));
     assert_eq!(m.centers().len(), MAX_CENTERS, "a corrupt count is clamped");
+}
+
+fn good_feed_status() -> FeedStatus {
+    let mut m = FeedStatus::new();
+    m.seq = 12;
+    m.stamp_ns = NOW;
+    (m.arrived, m.picked, m.lost, m.arrivals_blocked) = (40, 30, 2, 5);
+    (m.on_plate, m.stuck) = (8, 1);
+    (m.time_s, m.robot_busy_s, m.stuck_after_s) = (600.0, 250.0, 120.0);
+    for j in 0..3u32 {
+        let pose = PickPoseState { class: j, part_id: 0, ready: 0, reserved: 0, x: 0.1, y: -0.1, theta: 0.5 };
+        m.push(pose).expect("within capacity");
+    }
+    m.poses_mut()[1].part_id = 17;
+    m.poses_mut()[1].ready = 1;
+    for n in 1..=3u64 {
+        let pick = PickEvent {
+            number: n,
+            part_id: 10 + n as u32,
+            class: 1,
+            pose: 2,
+            time_s: 100.0 * n as f64,
+            position_error_m: 1e-3,
+            angle_error_rad: -0.01,
+            on_plate_s: 30.0,
+            ..PickEvent::ZERO
+        };
+        m.push_pick(pick);
+    }
+    m
+}
+
+#[test]
+fn feed_status_is_checked_field_by_field_and_old_stamps_are_fine() {
+    let l = limits();
+    assert_eq!(good_feed_status().validate(&l), Ok(()));
+    assert_eq!(FeedStatus::new().validate(&l), Ok(()), "nothing yet is a valid status");
+    let mut old = good_feed_status();
+    old.stamp_ns = 1;
+    assert_eq!(old.validate(&l), Ok(()), "a core output: any age");
+    // How to break a good one, what validate() says, and its line.
+    type Case = (fn(&mut FeedStatus), FeedStatusError, &'static str);
+    let cases: [Case; 8] = [
+        (
+            |m| m.protocol_version = 5,
+            FeedStatusError::Header(HeaderError::WrongProtocolVersion { found: 5 }),
+            "feed_status.protocol_version is 5, expected 6",
+        ),
+        (
+            |m| m.count = MAX_PICK_POSES as u32 + 1,
+            FeedStatusError::Header(HeaderError::CountExceedsCapacity {
+                count: 17,
+                capacity: MAX_PICK_POSES,
+            }),
+            "feed_status.count 17 exceeds the capacity 16",
+        ),
+        (
+            |m| m.stamp_ns = NOW + 1_000_000_000,
+            FeedStatusError::Header(HeaderError::StampFromFuture {
+                stamp_ns: NOW + 1_000_000_000,
+                now_ns: NOW,
+            }),
+            "feed_status.stamp_ns 6000000000 is in the future (now 5000000000)",
+        ),
+        (
+            |m| m.recent_count = FEED_RECENT_PICKS as u32 + 1,
+            FeedStatusError::RecentCount { count: 17 },
+            "feed_status.recent_count 17 exceeds the capacity 16",
+        ),
+        (
+            |m| m.robot_busy_s = f64::INFINITY,
+            FeedStatusError::NonFinite { field: "robot_busy_s" },
+            "feed_status.robot_busy_s is not finite",
+        ),
+        (
+            |m| m.stuck_after_s = f64::NAN,
+            FeedStatusError::NonFinite { field: "stuck_after_s" },
+            "feed_status.stuck_after_s is not finite",
+        ),
+        (
+            |m| m.recent[2].position_error_m = f64::NEG_INFINITY,
+            FeedStatusError::NonFinite { field: "recent.position_error_m" },
+            "feed_status.recent.position_error_m is not finite",
+        ),
+        (
+            |m| m.poses[1].theta = f64::NAN,
+            FeedStatusError::NonFinite { field: "poses.theta" },
+            "feed_status.poses.theta is not finite",
+        ),
+    ];
+    for (break_it, want, text) in cases {
+        let mut m = good_feed_status();
+        break_it(&mut m);
+        assert_eq!(m.validate(&l), Err(want));
+        assert_eq!(want.to_string(), text);
+    }
+    // Entries past either count are not read.
+    let mut m = good_feed_status();
+    m.recent[3].time_s = f64::NAN;
+    m.poses[3].x = f64::NAN;
+    assert_eq!(m.validate(&l), Ok(()));
+    // A corrupt count is clamped by the accessors.
+    (m.count, m.recent_count) = (u32::MAX, u32::MAX);
+    assert_eq!((m.poses().len(), m.recent().len()), (MAX_PICK_POSES, FEED_RECENT_PICKS));
+    assert!(matches!(m.validate(&l), Err(FeedStatusError::Header(HeaderError::CountExceedsCapacity { .. }))));
+    m.count = 0;
+    assert_eq!(m.validate(&l), Err(FeedStatusError::RecentCount { count: u32::MAX }));
+    m.push_pick(PickEvent { number: 99, ..PickEvent::ZERO });
+    assert_eq!(m.recent().len(), FEED_RECENT_PICKS, "a full ring keeps its size");
+    assert_eq!(m.recent().last().map(|p| p.number), Some(99));
 }
 
 #[test]

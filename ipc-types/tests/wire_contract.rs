@@ -29,6 +29,9 @@ fn payload_type_names_carry_the_protocol_version() {
         type_name::<ipc_types::RigCenter>(),
         type_name::<ipc_types::Rejection>(),
         type_name::<ipc_types::FrameHeader>(),
+        type_name::<ipc_types::FeedStatus>(),
+        type_name::<ipc_types::PickEvent>(),
+        type_name::<ipc_types::PickPoseState>(),
     ];
     for name in names {
         assert!(name.starts_with("upm::") && name.ends_with(&suffix), "{name} lacks upm::…{suffix}");

@@ -3,8 +3,9 @@
 //! breaking an invariant the core relies on.
 
 use ipc_types::{
-    ExplicitSchedule, ForceRequest, MAX_CURLS, MAX_SHAPE_VERTICES, PartState, PartStates, PartStatesError,
-    RejectReason, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ShapeError, Telemetry, ValidationLimits,
+    ExplicitSchedule, FEED_RECENT_PICKS, FeedStatus, ForceRequest, MAX_CURLS, MAX_PICK_POSES,
+    MAX_SHAPE_VERTICES, PartState, PartStates, PartStatesError, PickEvent, PickPoseState, RejectReason,
+    SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ShapeError, Telemetry, ValidationLimits,
 };
 use proptest::prelude::*;
 use upm_tests::{from_bytes, patch_header};
@@ -180,6 +181,43 @@ proptest! {
         } else {
             let _ = verdict.map_err(|e| e.to_string());
         }
+    }
+
+    #[test]
+    fn feed_status_never_panics(
+        mut bytes in body(),
+        counts in (0u32..20, 0u32..20),
+        patch in any::<bool>(),
+        l in limits_strategy(),
+    ) {
+        // Past the header, `recent_count` too, so the picks are walked.
+        let at = core::mem::offset_of!(FeedStatus, recent_count);
+        bytes.resize(bytes.len().max(at + 4), 0);
+        if patch {
+            patch_header(&mut bytes, counts.0);
+            bytes[at..at + 4].copy_from_slice(&counts.1.to_ne_bytes());
+        }
+        let mut m: FeedStatus = from_bytes(&bytes);
+        let verdict = m.validate(&l);
+        prop_assert!(m.poses().len() <= MAX_PICK_POSES && m.poses_mut().len() <= MAX_PICK_POSES);
+        prop_assert!(m.recent().len() <= FEED_RECENT_PICKS);
+        if verdict.is_ok() {
+            prop_assert!(m.count as usize <= MAX_PICK_POSES && m.recent_count as usize <= FEED_RECENT_PICKS);
+            prop_assert!([m.time_s, m.robot_busy_s, m.stuck_after_s].iter().all(|v| v.is_finite()));
+            for p in m.recent() {
+                let floats = [p.time_s, p.position_error_m, p.angle_error_rad, p.on_plate_s];
+                prop_assert!(floats.iter().all(|v| v.is_finite()));
+            }
+            for p in m.poses() {
+                prop_assert!(p.x.is_finite() && p.y.is_finite() && p.theta.is_finite());
+            }
+            prop_assert!(m.stamp_ns <= l.now_ns.saturating_add(l.max_future_skew_ns));
+        } else if let Err(e) = verdict {
+            prop_assert!(e.to_string().starts_with("feed_status."), "{}", e);
+        }
+        let _ = m.push(PickPoseState::ZERO);
+        m.push_pick(PickEvent { number: u64::MAX, ..PickEvent::ZERO });
+        prop_assert!(m.recent().last().is_some_and(|p| p.number == u64::MAX));
     }
 }
 

@@ -13,6 +13,9 @@ MAX_PARTS = 64
 MAX_CURLS = 16
 MAX_SLOTS = 192
 MAX_CENTERS = 192
+# ipc-types/src/feed_status.rs
+MAX_PICK_POSES = 16
+FEED_RECENT_PICKS = 16
 
 # ipc-types/src/part_shape.rs: PartState.shape codes
 SHAPE_POINT = 0  # the paper's point part (the field at its position)
@@ -31,6 +34,7 @@ SCHEDULE = "upm/schedule"
 TELEMETRY = "upm/telemetry"
 REJECTION = "upm/rejection"  # every refusal, whoever sent the message: filter
 RIG_INFO = "upm/rig_info"  # the rig describing itself, once, history 1
+FEED = "upm/feed"  # FeedStatus: a feed cell's counters and picks, at the camera's rate
 CAMERA_FRAME = "upm/camera/frame"  # [u8] pixels, FrameHeader user header
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
 FRAME_EVENT = CAMERA_FRAME  # event service: a frame source notifies vision
@@ -392,6 +396,81 @@ class FrameHeader(ctypes.Structure):
         return "upm::FrameHeader.v6"
 
 
+class PickPoseState(ctypes.Structure):
+    """One pick pose of the recipe (m, m, rad, plate axes), and whether a
+    part waits there: `part_id` (0: none), `ready` 1 when the robot may take it."""
+    _fields_ = [
+        ("class_", ctypes.c_uint32),  # `class` in Rust (a Python keyword)
+        ("part_id", ctypes.c_uint32),
+        ("ready", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+        ("x", ctypes.c_double), ("y", ctypes.c_double), ("theta", ctypes.c_double),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::PickPoseState.v6"
+
+
+class PickEvent(ctypes.Structure):
+    """One pick, at the instant the robot closed on the part; `number` is 1
+    for the cell's first pick, then one more for each."""
+    _fields_ = [
+        ("number", ctypes.c_uint64),
+        ("part_id", ctypes.c_uint32),
+        ("class_", ctypes.c_uint32),  # `class` in Rust (a Python keyword)
+        ("pose", ctypes.c_uint32),  # index into FeedStatus.poses
+        ("reserved", ctypes.c_uint32),
+        ("time_s", ctypes.c_double),  # s since the cell started
+        ("position_error_m", ctypes.c_double),
+        ("angle_error_rad", ctypes.c_double),
+        ("on_plate_s", ctypes.c_double),  # from the part's arrival to its pick
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::PickEvent.v6"
+
+
+class FeedStatus(ctypes.Structure):
+    """Core -> all on FEED, at the camera's rate while it runs a feed cell:
+    its counters, its pick poses (`count` used) and its latest picks
+    (`recent_count` used, oldest first)."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("count", ctypes.c_uint32),  # used entries of poses
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),
+        ("arrived", ctypes.c_uint64),  # since the cell started
+        ("picked", ctypes.c_uint64),
+        ("lost", ctypes.c_uint64),
+        ("arrivals_blocked", ctypes.c_uint64),
+        ("on_plate", ctypes.c_uint32),  # parts on the plate now
+        ("stuck", ctypes.c_uint32),  # of them, there longer than stuck_after_s
+        ("recent_count", ctypes.c_uint32),
+        ("collisions", ctypes.c_uint32),  # part-part impacts (the simulator counts them; else 0)
+        ("time_s", ctypes.c_double),  # the cell's clock
+        ("robot_busy_s", ctypes.c_double),
+        ("stuck_after_s", ctypes.c_double),
+        ("recent", PickEvent * FEED_RECENT_PICKS),
+        ("poses", PickPoseState * MAX_PICK_POSES),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::FeedStatus.v6"
+
+    def used(self):
+        """The used pick poses (count clamped to the capacity, as in Rust)."""
+        return self.poses[: min(self.count, MAX_PICK_POSES)]
+
+    def picks(self, after=0):
+        """The latest picks, oldest first (recent_count clamped, as in Rust),
+        those numbered above `after`: pass the last number seen to keep every
+        pick, as long as fewer than FEED_RECENT_PICKS happen between two reads."""
+        return [p for p in self.recent[: min(self.recent_count, FEED_RECENT_PICKS)] if p.number > after]
+
+
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
 assert ctypes.sizeof(PartState) == 4 * 4 + 7 * 8 + 2 * 4 + MAX_SHAPE_VERTICES * 16
 assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(PartState)
@@ -402,3 +481,9 @@ assert ctypes.sizeof(Schedule) == 4 + 4 + 7 * 8 + 2 * 8 + 4 * 4 + MAX_SLOTS * ct
 assert ctypes.sizeof(RigCenter) == 3 * 8
 assert ctypes.sizeof(RigInfo) == 24 + 6 * 4 + 8 + 15 * 8 + RIG_PREFIX_BYTES + MAX_CENTERS * 24
 assert ctypes.sizeof(Rejection) == 4 + 4 + 5 * 8 + 4 + 4 + DETAIL_BYTES
+assert ctypes.sizeof(PickPoseState) == 4 * 4 + 3 * 8
+assert ctypes.sizeof(PickEvent) == 8 + 4 * 4 + 4 * 8
+assert ctypes.sizeof(FeedStatus) == (
+    4 + 4 + 2 * 8 + 4 * 8 + 4 * 4 + 3 * 8
+    + FEED_RECENT_PICKS * ctypes.sizeof(PickEvent) + MAX_PICK_POSES * ctypes.sizeof(PickPoseState)
+)

@@ -5,9 +5,9 @@
 //! shown as names where the protocol has one.
 
 use ipc_types::{
-    CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, ForceEntry, ForceRequest, FrameHeader,
-    LatencyPercentiles, PartState, PartStates, REJECT_REASONS, RejectReason, Rejection, RigCenter, RigInfo,
-    Schedule, ScheduleSlot, Telemetry,
+    CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, FeedStatus, ForceEntry, ForceRequest,
+    FrameHeader, LatencyPercentiles, PartState, PartStates, PickEvent, PickPoseState, REJECT_REASONS,
+    RejectReason, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
 };
 use serde_json::{Map, Value, json};
 
@@ -138,6 +138,40 @@ impl Decoded for RigInfo {
     }
 }
 
+impl Decoded for FeedStatus {
+    fn decoded(&self) -> Value {
+        let poses: Vec<Value> = self
+            .poses()
+            .iter()
+            .map(|p| {
+                json!({"class": p.class, "part_id": p.part_id, "ready": p.ready, "x": p.x, "y": p.y,
+                       "theta": p.theta})
+            })
+            .collect();
+        let recent: Vec<Value> = self
+            .recent()
+            .iter()
+            .map(|p| {
+                json!({"number": p.number, "part_id": p.part_id, "class": p.class, "pose": p.pose,
+                       "time_s": p.time_s, "position_error_m": p.position_error_m,
+                       "angle_error_rad": p.angle_error_rad, "on_plate_s": p.on_plate_s})
+            })
+            .collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "arrived": self.arrived, "picked": self.picked, "lost": self.lost,
+               "arrivals_blocked": self.arrivals_blocked, "on_plate": self.on_plate, "stuck": self.stuck,
+               "collisions": self.collisions, "time_s": self.time_s, "robot_busy_s": self.robot_busy_s,
+               "stuck_after_s": self.stuck_after_s, "recent_count": self.recent_count, "recent": recent,
+               "count": self.count, "poses": poses})
+    }
+    fn sample() -> Self {
+        let mut m = Self::new();
+        let _ = m.push(PickPoseState::ZERO);
+        m.push_pick(PickEvent::ZERO);
+        m
+    }
+}
+
 /// JSON has no ∞ or NaN: shown as null.
 fn finite_or_null(v: f64) -> Value {
     if v.is_finite() { json!(v) } else { Value::Null }
@@ -254,5 +288,23 @@ mod tests {
         let s = schema::<Schedule>();
         assert_eq!(s["properties"]["slots"]["items"]["properties"]["k"]["type"], json!(["number", "null"]));
         assert_eq!(s["properties"]["seq"]["type"], json!("integer"));
+    }
+
+    #[test]
+    fn a_feed_status_shows_its_used_poses_and_picks() {
+        let mut m = FeedStatus::sample();
+        m.picked = 3;
+        m.recent[0].number = 3;
+        m.poses[0].theta = f64::NAN;
+        let v = m.decoded();
+        assert_eq!((v["picked"].clone(), v["recent"][0]["number"].clone()), (json!(3), json!(3)));
+        assert_eq!(v["poses"][0]["theta"], Value::Null, "JSON has no NaN");
+        (m.count, m.recent_count) = (u32::MAX, 0);
+        let v = m.decoded();
+        assert_eq!(v["poses"].as_array().map(Vec::len), Some(ipc_types::MAX_PICK_POSES));
+        assert_eq!(v["recent"].as_array().map(Vec::len), Some(0));
+        let s = schema::<FeedStatus>();
+        assert_eq!(s["properties"]["recent"]["items"]["properties"]["number"]["type"], json!("integer"));
+        assert_eq!(s["properties"]["poses"]["items"]["properties"]["x"]["type"], json!(["number", "null"]));
     }
 }

@@ -9,8 +9,8 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{FrameSub, Sub, subscriber};
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, PartStates, Rejection, RigInfo, Schedule, Telemetry,
-    monotonic_now_ns, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, PartStates, Rejection, RigInfo, Schedule,
+    Telemetry, monotonic_now_ns, service_names,
 };
 
 use crate::rig_log::{LogOptions, RigLog};
@@ -40,6 +40,7 @@ struct Subscriptions {
     telemetry: Sub<Telemetry>,
     rejection: Sub<Rejection>,
     rig_info: Sub<RigInfo>,
+    feed: Sub<FeedStatus>,
     truth: Sub<PartStates>,
     frames: Option<FrameSub>,
 }
@@ -66,13 +67,15 @@ pub struct Recorder {
 /// Services whose publishers number their messages one by one, so a gap
 /// in `seq` is a loss. Not: a schedule's `seq` is its request's, a
 /// rejection's the refused message's, the ground truth's the tick (the io
-/// thread publishes the newest pose).
-const COUNTED_BY_SEQ: [&str; 6] = [
+/// thread publishes the newest pose). A feed status is numbered by each
+/// write of the cell, which the io thread publishes well within its period.
+const COUNTED_BY_SEQ: [&str; 7] = [
     service_names::PART_STATES,
     service_names::FORCE_REQUEST,
     service_names::EXPLICIT_SCHEDULE,
     service_names::CORE_COMMAND,
     service_names::TELEMETRY,
+    service_names::FEED,
     service_names::CAMERA_FRAME,
 ];
 
@@ -92,6 +95,8 @@ impl Recorder {
             telemetry: subscriber(&node, service_names::TELEMETRY)?,
             rejection: subscriber(&node, service_names::REJECTION)?,
             rig_info: subscriber(&node, service_names::RIG_INFO)?,
+            // Only a core that runs a feed cell publishes here.
+            feed: subscriber(&node, service_names::FEED)?,
             // Only a rig with a camera has the frame service.
             frames: ipc_types::ports::frame_subscriber(&node).ok(),
         };
@@ -152,6 +157,7 @@ impl Recorder {
         drain!(schedule, service_names::SCHEDULE);
         drain!(rejection, service_names::REJECTION);
         drain!(rig_info, service_names::RIG_INFO);
+        drain!(feed, service_names::FEED);
         while let Some(s) = self.subs.truth.receive().map_err(|e| anyhow::anyhow!("ground truth: {e:?}"))? {
             let at = self.log_ns();
             if at >= self.last_truth_ns.saturating_add(self.truth_period_ns) {
@@ -208,5 +214,40 @@ impl Recorder {
         let thinned = self.truth_thinned.to_string();
         self.log.note(&format!("thinned {}", service_names::SIM_GROUND_TRUTH), thinned);
         self.log.finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A feed status crosses shared memory into the log, and a gap in its
+    /// `seq` is counted as lost.
+    #[test]
+    fn feed_status_is_recorded_and_its_gaps_counted() -> anyhow::Result<()> {
+        let prefix = format!("upm_rec_feed_{}_", std::process::id());
+        let mut rec = Recorder::start(&RecorderOptions { prefix: prefix.clone(), ..Default::default() })?;
+        let node = ipc_types::rig_node::rig_node(&prefix, None, SignalHandlingMode::Disabled)?;
+        let feed = ipc_types::ports::publisher::<FeedStatus>(&node, service_names::FEED)?;
+        let mut m = FeedStatus::new();
+        for seq in [1, 2, 4] {
+            m.seq = seq;
+            m.stamp_ns = monotonic_now_ns();
+            feed.send_copy(m).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        }
+        let mut received = 0;
+        for _ in 0..1000 {
+            received += rec.poll()?;
+            if received >= 3 {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let counts = rec.finish()?;
+        drop(feed);
+        drop(node);
+        ipc_types::rig_node::remove_prefix_segment(&prefix);
+        assert_eq!(counts.get(service_names::FEED), Some(&(3, Some(1))), "{counts:?}");
+        Ok(())
     }
 }

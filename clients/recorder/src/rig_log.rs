@@ -19,8 +19,8 @@ use foxglove::{
     PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
 };
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo, Schedule,
-    Telemetry, WireMessage, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo,
+    Schedule, Telemetry, WireMessage, service_names,
 };
 
 use crate::decoded::{Decoded, latencies, schema, schema_of};
@@ -130,6 +130,7 @@ impl RigLog {
         topics.insert(Telemetry::SERVICE, Topic::new::<Telemetry>(&ctx, Telemetry::SERVICE)?);
         topics.insert(Rejection::SERVICE, Topic::new::<Rejection>(&ctx, Rejection::SERVICE)?);
         topics.insert(RigInfo::SERVICE, Topic::new::<RigInfo>(&ctx, RigInfo::SERVICE)?);
+        topics.insert(FeedStatus::SERVICE, Topic::new::<FeedStatus>(&ctx, FeedStatus::SERVICE)?);
         topics.insert(FrameHeader::SERVICE, Topic::new::<FrameHeader>(&ctx, FrameHeader::SERVICE)?);
         // The simulator's ground truth is PartStates on a service of its own.
         let truth = service_names::SIM_GROUND_TRUTH;

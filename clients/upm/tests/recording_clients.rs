@@ -284,8 +284,8 @@ fn foxglove_client_receives_part_states_live() {
 /// The JSON schema of a `/json` topic or `upm/latency`, as the recorder makes it.
 fn schema_of_topic(topic: &str) -> Option<Value> {
     use ipc_types::{
-        CoreCommand, ExplicitSchedule, ForceRequest, FrameHeader, PartStates, Rejection, Schedule, Telemetry,
-        service_names as s,
+        CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo,
+        Schedule, Telemetry, service_names as s,
     };
     use upm_recorder::decoded::{latencies, schema, schema_of};
     if topic == upm_recorder::LATENCY_TOPIC {
@@ -299,6 +299,8 @@ fn schema_of_topic(topic: &str) -> Option<Value> {
         s::SCHEDULE => schema::<Schedule>(),
         s::TELEMETRY => schema::<Telemetry>(),
         s::REJECTION => schema::<Rejection>(),
+        s::RIG_INFO => schema::<RigInfo>(),
+        s::FEED => schema::<FeedStatus>(),
         s::CAMERA_FRAME => schema::<FrameHeader>(),
         _ => return None,
     })

@@ -5,9 +5,9 @@ use core::mem::{align_of, offset_of, size_of};
 
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
-    CoreCommand, CoreCounters, CoreLatencies, DriverTelemetry, ExplicitSchedule, ExplicitSlot, ForceEntry,
-    ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, Rejection, RigCenter, RigInfo,
-    Schedule, ScheduleSlot, Telemetry,
+    CoreCommand, CoreCounters, CoreLatencies, DriverTelemetry, ExplicitSchedule, ExplicitSlot, FeedStatus,
+    ForceEntry, ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, PickEvent,
+    PickPoseState, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
 };
 
 /// One field: where it is, how wide, and its Rust type (paths dropped).
@@ -205,6 +205,37 @@ pub fn all() -> Vec<Layout> {
         }),
         layout!(CoreLatencies { motor_wakeup, solver, ipc_vision_to_core, frame_to_schedule }),
         layout!(LatencyPercentiles { samples, p50_ns, p99_ns, p999_ns, max_ns }),
+        layout!(FeedStatus {
+            protocol_version,
+            count,
+            seq,
+            stamp_ns,
+            arrived,
+            picked,
+            lost,
+            arrivals_blocked,
+            on_plate,
+            stuck,
+            recent_count,
+            collisions,
+            time_s,
+            robot_busy_s,
+            stuck_after_s,
+            recent,
+            poses
+        }),
+        layout!(PickEvent {
+            number,
+            part_id,
+            class,
+            pose,
+            reserved,
+            time_s,
+            position_error_m,
+            angle_error_rad,
+            on_plate_s
+        }),
+        layout!(PickPoseState { class, part_id, ready, reserved, x, y, theta }),
     ];
     for l in &all {
         let covered: usize = l.fields.iter().map(|f| f.size).sum();
