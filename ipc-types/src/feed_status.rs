@@ -1,6 +1,6 @@
 //! FeedStatus: core → all, on `upm/feed`: what a feed cell is doing — its
-//! counters, each pick pose's state and the latest picks. Published a few
-//! times a second while the core runs a cell (today: the simulator's); a
+//! counters, each pick pose's state and the latest picks. Published at the
+//! camera's rate while the core runs a cell (today: the simulator's); a
 //! subscriber that keeps every pick reads `recent` by `number`, so a missed
 //! message loses no pick as long as fewer than [`FEED_RECENT_PICKS`] picks
 //! happen between two it reads.

@@ -62,7 +62,9 @@ pub use core_command::{CoreCommand, CoreCommandError};
 pub use core_state::CoreState;
 pub use driver_telemetry::{DRIVER_AXES, DriverTelemetry, NO_SYNC0, bus_state, driver_kind};
 pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};
-pub use feed_status::{FEED_RECENT_PICKS, FeedStatus, FeedStatusError, MAX_PICK_POSES, PickEvent, PickPoseState};
+pub use feed_status::{
+    FEED_RECENT_PICKS, FeedStatus, FeedStatusError, MAX_PICK_POSES, PickEvent, PickPoseState,
+};
 pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
 pub use header::HeaderError;
 pub use health::{DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};

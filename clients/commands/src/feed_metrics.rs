@@ -98,7 +98,12 @@ impl FeedLog {
     pub fn outcome(&self) -> Option<FeedOutcome> {
         let last = self.last?;
         let picks: Vec<PickEvent> = self.picks.values().copied().collect();
-        Some(FeedOutcome { picks_unseen: last.picked.saturating_sub(picks.len() as u64), last, picks, seconds: last.time_s })
+        Some(FeedOutcome {
+            picks_unseen: last.picked.saturating_sub(picks.len() as u64),
+            last,
+            picks,
+            seconds: last.time_s,
+        })
     }
 }
 

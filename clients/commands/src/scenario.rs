@@ -126,7 +126,10 @@ impl Scenario {
     /// refused for a scenario without a feed cell.
     pub fn use_recipe(&mut self, recipe: &Path) -> anyhow::Result<()> {
         if self.rig.feed.recipe.is_empty() {
-            anyhow::bail!("--recipe: scenario {} runs no feed cell (its [rig.feed] recipe is empty)", self.name);
+            anyhow::bail!(
+                "--recipe: scenario {} runs no feed cell (its [rig.feed] recipe is empty)",
+                self.name
+            );
         }
         // Absolute: the processes start in other directories.
         self.rig.feed.recipe = std::path::absolute(recipe)?.display().to_string();

@@ -69,7 +69,8 @@ fn a_feed_run_reports_its_cell_live_and_in_metrics() {
 
 #[test]
 fn a_missing_recipe_or_a_scenario_without_a_cell_is_refused_in_one_line() {
-    let o = upm().args(["run", "feed", "--duration", "1", "--recipe", "no_such_recipe"]).output().expect("upm");
+    let o =
+        upm().args(["run", "feed", "--duration", "1", "--recipe", "no_such_recipe"]).output().expect("upm");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());
     assert!(err.contains("no_such_recipe"), "{err}");

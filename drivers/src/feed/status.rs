@@ -57,7 +57,8 @@ impl FeedCell {
     pub fn write_status(&self, sim: &Simulator, out: &mut FeedStatus) {
         let t = sim.time();
         let c = self.counts;
-        [out.arrived, out.picked, out.lost, out.arrivals_blocked] = [c.arrived, c.picked, c.lost, c.arrivals_blocked];
+        [out.arrived, out.picked, out.lost, out.arrivals_blocked] =
+            [c.arrived, c.picked, c.lost, c.arrivals_blocked];
         out.on_plate = c.on_plate;
         out.stuck = self.on_plate_longer_than(t, STUCK_AFTER_S);
         out.stuck_after_s = STUCK_AFTER_S;

@@ -357,6 +357,7 @@ pub fn run_plan(
         &format!("{} (seed {})", plan.scenario, plan.seed),
         plan.config.plate.half_extent,
         &plan.config.plate.centers,
+        &pick_marks(observer.feed.last.as_ref()),
         &observer.trails,
     )?;
     // What was recorded is written first: a dead core loses nothing.
@@ -384,6 +385,11 @@ fn rejected_reasons(t: &ipc_types::Telemetry) -> String {
     let reasons = crate::status::rejected_by_reason(t);
     let each: Vec<String> = reasons.iter().map(|(r, n)| format!("{r} {n}")).collect();
     if each.is_empty() { String::new() } else { format!(": {}", each.join(", ")) }
+}
+
+/// A feed cell's pick poses as its last status gave them.
+fn pick_marks(feed: Option<&ipc_types::FeedStatus>) -> Vec<plot::PickMark> {
+    feed.map_or_else(Vec::new, |f| f.poses().iter().map(|p| (p.class, [p.x, p.y, p.theta])).collect())
 }
 
 /// What metrics.json keeps of a client.

@@ -1,5 +1,7 @@
-//! `trails.svg`: the plate, rotation centers, and every part's trail from
-//! start (open circle) to end (filled), coloured by class (paper Fig. 8/9).
+//! `trails.svg`: the plate, rotation centers, a feed cell's pick poses
+//! (a square turned to the pose's θ, in its class's colour), and every
+//! part's trail from start (open circle) to end (filled), coloured by class
+//! (paper Fig. 8/9).
 
 use std::path::Path;
 
@@ -8,11 +10,18 @@ use plotters::prelude::*;
 
 use super::observer::Trails;
 
+/// A pick pose to draw: class, x, y, θ.
+pub type PickMark = (u32, [f64; 3]);
+
+/// Half the side of a pick pose's mark (m).
+const POSE_MARK_M: f64 = 0.02;
+
 pub fn draw_trails(
     path: &Path,
     title: &str,
     half: [f64; 2],
     centers: &[[f64; 2]],
+    poses: &[PickMark],
     trails: &Trails,
 ) -> anyhow::Result<()> {
     let e = |e: &dyn std::fmt::Display| anyhow!("{e}");
@@ -40,6 +49,18 @@ pub fn draw_trails(
         .draw_series(centers.iter().map(|c| Cross::new((c[0], c[1]), 6, RED.stroke_width(2))))
         .map_err(|x| e(&x))?;
     let palette = [BLACK, RGBColor(120, 120, 120), BLUE, GREEN, MAGENTA, CYAN];
+    for (class, [x, y, theta]) in poses {
+        let color = palette[*class as usize % palette.len()];
+        let (c, s) = (theta.cos() * POSE_MARK_M, theta.sin() * POSE_MARK_M);
+        let corner = |u: f64, v: f64| (x + u * c - v * s, y + u * s + v * c);
+        let square =
+            [corner(1.0, 1.0), corner(-1.0, 1.0), corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)];
+        chart.draw_series(LineSeries::new(square, color.stroke_width(2))).map_err(|x| e(&x))?;
+        // The pose's x axis, so its angle shows.
+        chart
+            .draw_series(LineSeries::new([(*x, *y), corner(1.6, 0.0)], color.stroke_width(2)))
+            .map_err(|x| e(&x))?;
+    }
     for (id, trail) in &trails.parts {
         let color = palette[trail.class as usize % palette.len()];
         let pts = thinned(trail.points.iter().map(|p| (p[1], p[2])), 0.001 * xs);

@@ -47,7 +47,8 @@ fn outcome(m: &Value) -> String {
         };
     }
     if let Some(f) = m.get("feed") {
-        let rate = f["parts_per_minute"].as_f64().map_or("n/a (a minute or less)".into(), |r| format!("{r:.1}"));
+        let rate =
+            f["parts_per_minute"].as_f64().map_or("n/a (a minute or less)".into(), |r| format!("{r:.1}"));
         return format!(
             "picked {} of {} arrived in {seconds:.1} s, {rate} parts/min after the first minute, pick p99 {:.2} mm \
              {:.2}°, lost {}, stuck {}",
