@@ -5,7 +5,7 @@
 //! or a finite answer that prints as JSON, and never panic.
 
 use proptest::prelude::*;
-use upm_commands::solve_json::{InputError, parse, solve};
+use upm_paper::solve_json::{InputError, parse, solve};
 
 const EXAMPLES: [&str; 2] =
     [include_str!("../../examples/paper-3-1.json"), include_str!("../../examples/paper-3-3.json")];

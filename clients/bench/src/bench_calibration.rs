@@ -23,8 +23,8 @@ use serde_json::{Value, json};
 use upm_commands::config::Config;
 use upm_commands::config::truth::TruthSection;
 use upm_commands::scenario::{Scenario, resolve};
-use upm_commands::solve_json::{PartInput, ShapeInput, SolveInput, solve};
-use upm_commands::validate::{ValidateSetup, measure};
+use upm_paper::solve_json::{PartInput, ShapeInput, SolveInput, solve};
+use upm_paper::validate::{ValidateSetup, measure};
 
 /// Random geometries per case, and cycles each is played for.
 const GEOMETRIES: usize = 6;
@@ -115,11 +115,7 @@ fn force_errors(
     let friction: Vec<f64> = classes.iter().map(|&c| truth.class_friction(c)).collect();
     let setup = ValidateSetup {
         motion: core.motion,
-        sim: drivers::SimConfig {
-            collisions: false,
-            substeps: upm_commands::validate::MEASURE_SUBSTEPS,
-            ..sim
-        },
+        sim: drivers::SimConfig { collisions: false, substeps: upm_paper::validate::MEASURE_SUBSTEPS, ..sim },
         twist_correction: None,
         inertia_warmup: core.inertia_adaptation.is_some().then_some(INERTIA_WARMUP),
     };
@@ -153,9 +149,7 @@ fn force_errors(
                 .parts
                 .iter()
                 .zip(&m.forces)
-                .filter_map(|(p, s)| {
-                    p.force.map(|f| upm_commands::solve_json::relative_force_error(f, *s, mu))
-                })
+                .filter_map(|(p, s)| p.force.map(|f| upm_paper::solve_json::relative_force_error(f, *s, mu)))
                 .collect::<Vec<f64>>(),
         );
     }
@@ -284,7 +278,7 @@ pub fn run(cases: usize, seed: u64, quick: bool) -> anyhow::Result<Value> {
         let mut cal_config = calibrate.config(seed.wrapping_add(case as u64), "unused_")?;
         cal_config.sim.truth = truth.clone();
         // Calibrated on the physics it is judged by.
-        cal_config.sim.config.substeps = upm_commands::validate::MEASURE_SUBSTEPS;
+        cal_config.sim.config.substeps = upm_paper::validate::MEASURE_SUBSTEPS;
         let cal = match upm_commands::calibrate_plate::lockstep(
             &cal_config,
             upm_calibrate::ExciteParams::default(),

@@ -14,8 +14,8 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-use upm_commands::solve_json::{PartInput, ShapeInput, SolveInput, solve};
-use upm_commands::validate::{ValidateSetup, measure};
+use upm_paper::solve_json::{PartInput, ShapeInput, SolveInput, solve};
+use upm_paper::validate::{ValidateSetup, measure};
 
 /// Cycles each solution is played for.
 const CYCLES: usize = 2;
@@ -76,7 +76,7 @@ fn errors(input: &SolveInput, model: &SolveInput, seed: u64) -> anyhow::Result<O
         .parts
         .iter()
         .zip(&m.forces)
-        .filter_map(|(p, s)| p.force.map(|f| upm_commands::solve_json::relative_force_error(f, *s, mu)))
+        .filter_map(|(p, s)| p.force.map(|f| upm_paper::solve_json::relative_force_error(f, *s, mu)))
         .collect();
     let asked = input.parts.iter().filter_map(|p| p.curl);
     let curl = asked.zip(&m.curls).map(|(c, s)| ((s - c) / c).abs()).collect();

@@ -346,7 +346,7 @@ pub fn load_problems(path: &Path) -> anyhow::Result<(Vec<BoundedCase>, usize)> {
         if line.trim().is_empty() {
             continue;
         }
-        let parsed = upm_commands::solve_json::parse(line)
+        let parsed = upm_paper::solve_json::parse(line)
             .and_then(|input| Ok((input.force_constraints()?, input.curl_constraints()?, input)));
         match parsed {
             Ok((parts, curls, input)) => cases.push(BoundedCase {

@@ -1,7 +1,7 @@
 //! What `upm`'s commands do: the rig's configuration and scenarios, the
-//! launcher of the closed loop, recording and replay, status, soak, the
-//! calibrate commands, `solve` and `validate`. The command tree itself is
-//! `upm-cli`; the benches are `upm-bench`.
+//! launcher of the closed loop, recording and replay, status, soak and the
+//! calibrate commands. The command tree itself is `upm-cli`; the benches
+//! are `upm-bench`; `solve` and `validate` are `upm-paper`.
 
 pub mod calibrate_camera;
 pub mod calibrate_plate;
@@ -18,7 +18,5 @@ pub mod rendered_sight;
 pub mod replay;
 pub mod scenario;
 pub mod soak;
-pub mod solve_json;
 pub mod status;
 pub mod truth_sight;
-pub mod validate;

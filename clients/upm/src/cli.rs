@@ -350,8 +350,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Solve { file } => {
             let text = upm_commands::input::read_input(&file)?;
-            let input = upm_commands::solve_json::parse(&text)?;
-            let out = upm_commands::solve_json::solve(&input)?;
+            let input = upm_paper::solve_json::parse(&text)?;
+            let out = upm_paper::solve_json::solve(&input)?;
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }
@@ -704,8 +704,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Validate { file, cycles, seed, plot } => {
             let text = upm_commands::input::read_input(&file)?;
-            let input = upm_commands::solve_json::parse(&text)?;
-            let out = upm_commands::validate::run(&input, cycles as usize, seed, plot.as_deref())?;
+            let input = upm_paper::solve_json::parse(&text)?;
+            let out = upm_paper::validate::run(&input, cycles as usize, seed, plot.as_deref())?;
             println!("{}", serde_json::to_string_pretty(&out)?);
             Ok(())
         }

@@ -70,7 +70,7 @@ fn a_plate_built_off_its_model_turns_closer_to_it_after_calibration() {
     config.sim.truth = TruthSection::Preset("random:2011".into());
     // On the physics the bench judges by: at the scenario's 16 substeps the
     // simulator's own error turns this plate's fit (1.36° corrected).
-    config.sim.config.substeps = upm_commands::validate::MEASURE_SUBSTEPS;
+    config.sim.config.substeps = upm_paper::validate::MEASURE_SUBSTEPS;
     let cal = upm_commands::calibrate_plate::lockstep(&config, ExciteParams::default()).expect("calibration");
     let [nominal, corrected] = upm_bench::bench_calibration::turning_err_deg(&config, &cal).expect("turning");
     eprintln!("random:2011 turning off the truth's: {nominal:.3}° uncorrected, {corrected:.3}° corrected");

@@ -2,8 +2,8 @@
 //! geometries: simulated average force within 5 % of the request
 //! (+ 0.01·μmg), simulated curl of the right sign and within 15 %.
 
-use upm_commands::solve_json::{CurlInput, PartInput, ShapeInput, SolveInput, parse};
-use upm_commands::{solve_json, validate};
+use upm_paper::solve_json::{CurlInput, PartInput, ShapeInput, SolveInput, parse};
+use upm_paper::{solve_json, validate};
 
 fn paper_31() -> SolveInput {
     parse(

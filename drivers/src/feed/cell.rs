@@ -7,7 +7,7 @@ use upm_recipe::{Outline, Recipe};
 
 use super::counts::{FeedCounts, PickRecord};
 use super::robot_mode::RobotMode;
-use super::status::StatusSlot;
+use super::status_port::StatusSlot;
 use crate::rng::SplitMix64;
 use crate::sim::{BodyShape, Cell, MAX_POLYGON_VERTICES, PartSpec, SimConfig, SimError, Simulator};
 

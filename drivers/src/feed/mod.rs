@@ -12,6 +12,7 @@ mod infeed;
 mod robot;
 mod robot_mode;
 mod status;
+mod status_port;
 
 pub use cell::{FeedCell, FeedError};
 pub use counts::{FeedCounts, PickRecord};

@@ -4,42 +4,15 @@
 //! thread publishes it on `upm/feed`). Written where the cell steps, so it
 //! never allocates.
 
-use core::fmt;
-
 use ipc_types::{FeedStatus, PickEvent, PickPoseState, monotonic_now_ns};
 
 use super::cell::FeedCell;
 use super::robot_mode::RobotMode;
+use super::status_port::StatusPort;
 use crate::sim::Simulator;
 
 /// A part on the plate longer than this is stuck (s).
 pub const STUCK_AFTER_S: f64 = 120.0;
-
-/// Where the cell writes its status, every `every` steps.
-pub(super) struct StatusPort {
-    every: u64,
-    steps: u64,
-    out: triple_buffer::Input<FeedStatus>,
-}
-
-/// A cell's port, if one was asked for; a clone does not publish.
-#[derive(Default)]
-pub(super) struct StatusSlot(pub(super) Option<StatusPort>);
-
-impl Clone for StatusSlot {
-    fn clone(&self) -> Self {
-        Self(None)
-    }
-}
-
-impl fmt::Debug for StatusSlot {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.0 {
-            Some(p) => write!(f, "StatusSlot(every {} steps)", p.every),
-            None => f.write_str("StatusSlot(none)"),
-        }
-    }
-}
 
 impl FeedCell {
     /// From now on, every `every_ms` of the cell's clock (at least 1),
