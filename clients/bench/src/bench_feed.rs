@@ -19,7 +19,11 @@ use upm_stats::percentile;
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct FeedBench {
-    /// The recipe instead of the `feed` scenario's.
+    /// The scenario (a feed cell's: its planner is `present`).
+    pub scenario: String,
+    /// Run the shake-and-pick baseline too.
+    pub baseline: bool,
+    /// The recipe instead of the scenario's.
     pub recipe: Option<PathBuf>,
     pub seeds: u64,
     pub first_seed: u64,
@@ -138,18 +142,19 @@ pub fn run(b: &FeedBench) -> anyhow::Result<Value> {
     if !(b.minutes.is_finite() && b.minutes > 1.0) {
         anyhow::bail!("--minutes must be more than 1 (the rate counts picks after the first minute)");
     }
-    let mut sc = Scenario::load(&resolve("feed"))?;
+    let mut sc = Scenario::load(&resolve(&b.scenario))?;
     if let Some(r) = &b.recipe {
         sc.use_recipe(r)?;
     }
     let upm = run_way(&sc, b, false)?;
-    let baseline = run_way(&sc, b, true)?;
+    let baseline = if b.baseline { run_way(&sc, b, true)? } else { Value::Null };
     let ratio = match (upm["parts_per_minute_median"].as_f64(), baseline["parts_per_minute_median"].as_f64())
     {
         (Some(u), Some(f)) if f > 0.0 => Some(u / f),
         _ => None,
     };
     Ok(json!({
+        "scenario": b.scenario,
         "recipe": b.recipe.as_ref().map_or_else(|| sc.rig.feed.recipe.clone(), |r| r.display().to_string()),
         "seeds": b.seeds,
         "first_seed": b.first_seed,

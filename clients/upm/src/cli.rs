@@ -167,11 +167,12 @@ pub enum Command {
         /// sort: the first seed.
         #[arg(long, default_value_t = 1)]
         first_seed: u64,
-        /// sort: the scenario (its planner must be sort or sort_paper).
-        #[arg(long, default_value = "sort")]
-        scenario: String,
+        /// sort, feed: the scenario (default `sort`, `feed`; sort's
+        /// planner must be sort or sort_paper, feed's present).
+        #[arg(long)]
+        scenario: Option<String>,
         /// sort: the reference scenario run on the same seeds ("none":
-        /// none).
+        /// none); feed: "none" skips the shake-and-pick baseline.
         #[arg(long, default_value = "sort_paper")]
         baseline: String,
         /// sort: what the planner sees (`rendered`: rendered frames through
@@ -534,7 +535,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Sort, None) => {
                     // --quick: 30 simulated seconds per seed.
                     let b = upm_bench::bench_sort::SortBench {
-                        scenario,
+                        scenario: scenario.unwrap_or_else(|| "sort".into()),
                         baseline: (baseline != "none").then_some(baseline),
                         seeds,
                         first_seed,
@@ -548,6 +549,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Feed, None) => {
                     // --quick: 2 simulated minutes per seed.
                     let b = upm_bench::bench_feed::FeedBench {
+                        scenario: scenario.unwrap_or_else(|| "feed".into()),
+                        baseline: baseline != "none",
                         recipe: recipe.as_deref().map(upm_commands::scenario::resolve_recipe_file),
                         seeds,
                         first_seed,
