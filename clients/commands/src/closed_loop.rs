@@ -11,7 +11,7 @@ use rt_core::QueueInbox;
 use rt_core::lockstep::Lockstep;
 
 use crate::config::{Config, DriverChoice, SimParts};
-use crate::launcher::{CameraChoice, PartTrail, Trails};
+use crate::launcher::{CameraChoice, Trails};
 use crate::rendered_sight::RenderedSight;
 use crate::truth_sight::TruthSight;
 use upm_core::plate_driver::SimulatedPlant;
@@ -142,11 +142,7 @@ fn run_on<D: SimulatedPlant>(
             states.stamp_ns = now;
             let time = (now - start_ns) as f64 / 1e9;
             for p in states.parts() {
-                let trail = trails
-                    .parts
-                    .entry(p.id)
-                    .or_insert_with(|| PartTrail { class: p.class, points: Vec::new() });
-                trail.points.push([time, p.x, p.y, p.theta]);
+                trails.push(p.id, p.class, [time, p.x, p.y, p.theta]);
             }
             match &mut sight {
                 Sight::Truth(s) => s.capture(&states),

@@ -26,9 +26,34 @@ pub struct Trails {
     pub parts: BTreeMap<u32, PartTrail>,
 }
 
+/// Trails kept: a run of hours on a feed cell sees thousands of parts, and
+/// the oldest-ended trail makes room for a new one, so memory stays flat.
+pub const MAX_TRAILS: usize = 64;
+
 impl Trails {
     pub fn duration(&self) -> f64 {
         self.parts.values().filter_map(|p| p.points.last()).map(|p| p[0]).fold(0.0, f64::max)
+    }
+
+    /// Part `id` (of `class`) at `point` = (t, x, y, θ). A new part beyond
+    /// [`MAX_TRAILS`] takes the place of the trail that ended first.
+    pub fn push(&mut self, id: u32, class: u32, point: [f64; 4]) {
+        if !self.parts.contains_key(&id) && self.parts.len() >= MAX_TRAILS {
+            let ended_first = self
+                .parts
+                .iter()
+                .min_by(|a, b| {
+                    let end = |t: &PartTrail| t.points.last().map_or(f64::NEG_INFINITY, |q| q[0]);
+                    end(a.1).total_cmp(&end(b.1))
+                })
+                .map(|(&k, _)| k);
+            if let Some(k) = ended_first {
+                self.parts.remove(&k);
+            }
+        }
+        let trail = self.parts.entry(id).or_default();
+        trail.class = class;
+        trail.points.push(point);
     }
 }
 
@@ -110,11 +135,28 @@ impl Observer {
             self.last_sample = m.stamp_ns;
             let t = m.stamp_ns.saturating_sub(first) as f64 / 1e9;
             for p in m.parts() {
-                let trail = self.trails.parts.entry(p.id).or_default();
-                trail.class = p.class;
-                trail.points.push([t, p.x, p.y, p.theta]);
+                self.trails.push(p.id, p.class, [t, p.x, p.y, p.theta]);
             }
         }
         Ok(self.trails.duration())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_new_part_beyond_the_cap_replaces_the_trail_that_ended_first() {
+        let mut t = Trails::default();
+        for id in 0..MAX_TRAILS as u32 {
+            t.push(id, 0, [f64::from(id), 0.0, 0.0, 0.0]);
+        }
+        // Part 0's trail goes on; part 1's ended first.
+        t.push(0, 0, [1000.0, 0.0, 0.0, 0.0]);
+        t.push(9999, 1, [1001.0, 0.0, 0.0, 0.0]);
+        assert_eq!(t.parts.len(), MAX_TRAILS);
+        assert!(t.parts.contains_key(&0) && t.parts.contains_key(&9999) && !t.parts.contains_key(&1));
+        assert_eq!(t.parts[&0].points.len(), 2);
     }
 }
