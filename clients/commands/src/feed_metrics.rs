@@ -47,6 +47,12 @@ impl FeedOutcome {
         (sorted(|p| p.position_error_m * 1e3), sorted(|p| p.angle_error_rad.abs().to_degrees()))
     }
 
+    /// The median time from a part's arrival to its pick (s).
+    pub fn on_plate_median_s(&self) -> Option<f64> {
+        let mut v: Vec<f64> = self.picks.iter().map(|p| p.on_plate_s).collect();
+        upm_stats::median(&mut v)
+    }
+
     pub fn to_json(&self) -> Value {
         let (pose_mm, angle_deg) = self.error_p99();
         let s = &self.last;
@@ -65,6 +71,7 @@ impl FeedOutcome {
             "on_plate": s.on_plate,
             "arrivals_blocked": s.arrivals_blocked,
             "picks_unseen": self.picks_unseen,
+            "on_plate_median_s": self.on_plate_median_s(),
         })
     }
 }

@@ -62,7 +62,7 @@ pub fn resolve(name_or_path: &str) -> PathBuf {
     if here.is_file() {
         return here;
     }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios").join(format!("{name_or_path}.toml"))
+    repository().join("scenarios").join(format!("{name_or_path}.toml"))
 }
 
 /// How the camera sees a recipe's classes, class id k at index k: a
@@ -90,7 +90,14 @@ pub fn resolve_recipe(path: &str) -> String {
     if p.is_absolute() || p.is_file() {
         return path.to_owned();
     }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(p).display().to_string()
+    repository().join(p).display().to_string()
+}
+
+/// The repository's root (this crate is `clients/commands`), so a path in
+/// a message reads `…/recipes/x.toml`, not `…/clients/commands/../../…`.
+fn repository() -> &'static Path {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    here.parent().and_then(Path::parent).unwrap_or(here)
 }
 
 /// A recipe named on the command line: a file, or NAME for
