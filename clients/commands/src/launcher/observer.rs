@@ -29,6 +29,10 @@ pub struct Trails {
 /// Trails kept: a run of hours on a feed cell sees thousands of parts, and
 /// the oldest-ended trail makes room for a new one, so memory stays flat.
 pub const MAX_TRAILS: usize = 64;
+/// Points kept per trail: a part that stays for hours (one stuck at the
+/// fence) has its trail thinned to every other point when it reaches this
+/// (beyond any scenario's duration at the camera's rate).
+pub const MAX_TRAIL_POINTS: usize = 1 << 15;
 
 impl Trails {
     pub fn duration(&self) -> f64 {
@@ -53,6 +57,13 @@ impl Trails {
         }
         let trail = self.parts.entry(id).or_default();
         trail.class = class;
+        if trail.points.len() >= MAX_TRAIL_POINTS {
+            let mut k = 0;
+            trail.points.retain(|_| {
+                k += 1;
+                k % 2 == 1
+            });
+        }
         trail.points.push(point);
     }
 }
@@ -158,5 +169,17 @@ mod tests {
         assert_eq!(t.parts.len(), MAX_TRAILS);
         assert!(t.parts.contains_key(&0) && t.parts.contains_key(&9999) && !t.parts.contains_key(&1));
         assert_eq!(t.parts[&0].points.len(), 2);
+    }
+
+    #[test]
+    fn a_trail_at_its_cap_is_thinned_and_keeps_its_start_and_newest_point() {
+        let mut t = Trails::default();
+        for i in 0..=MAX_TRAIL_POINTS {
+            t.push(7, 0, [i as f64, 0.0, 0.0, 0.0]);
+        }
+        let points = &t.parts[&7].points;
+        assert_eq!(points.len(), MAX_TRAIL_POINTS / 2 + 1);
+        assert_eq!((points[0][0], points[1][0]), (0.0, 2.0));
+        assert_eq!(points.last().map(|p| p[0]), Some(MAX_TRAIL_POINTS as f64));
     }
 }
