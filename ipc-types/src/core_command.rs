@@ -16,7 +16,7 @@ use crate::validation::ValidationLimits;
 #[cfg_attr(feature = "iceoryx2", derive(ZeroCopySend), type_name("upm::CoreCommand.v6"))]
 pub struct CoreCommand {
     pub protocol_version: u32,
-    /// [`CoreCommand::RESUME`].
+    /// [`CoreCommand::RESUME`], [`CoreCommand::STOP`] or [`CoreCommand::START`].
     pub command: u32,
     pub seq: u64,
     /// CLOCK_MONOTONIC ns when it was sent.
@@ -62,6 +62,11 @@ impl CoreCommandError {
 impl CoreCommand {
     /// Leave a driver-fault hold (the plate resumes at the next cycle).
     pub const RESUME: u32 = 1;
+    /// An operator's stop: at the next cycle boundary the plate is home,
+    /// and it stays there (state idle) until [`CoreCommand::START`].
+    pub const STOP: u32 = 2;
+    /// End an operator's stop: the plate plays schedules again.
+    pub const START: u32 = 3;
 
     pub const fn new(command: u32, seq: u64, stamp_ns: u64) -> Self {
         Self { protocol_version: PROTOCOL_VERSION, command, seq, stamp_ns }
@@ -71,7 +76,7 @@ impl CoreCommand {
     pub fn validate(&self, limits: &ValidationLimits) -> Result<(), CoreCommandError> {
         check_header(self.protocol_version, None, self.stamp_ns, OldStamps::Reject, limits)
             .map_err(CoreCommandError::Header)?;
-        if self.command != Self::RESUME {
+        if !matches!(self.command, Self::RESUME | Self::STOP | Self::START) {
             return Err(CoreCommandError::UnknownCommand { command: self.command });
         }
         Ok(())

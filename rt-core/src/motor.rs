@@ -295,7 +295,7 @@ impl<D: PlateDriver> MotorLoop<D> {
             self.frame_to_active_ns = if frame > 0 { now_ns.saturating_sub(frame).max(1) } else { 0 };
         }
         let playable = self.reader.current().motion.cycle_ticks() > 0;
-        let next = if !playable {
+        let next = if !playable || sh.operator_stop.load(Relaxed) {
             CoreState::Idle
         } else if sh.inputs_stale(now_ns, self.policy.parts_max_age_ns, self.policy.request_max_age_ns) {
             CoreState::Hold

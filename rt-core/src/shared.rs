@@ -44,6 +44,9 @@ pub struct CoreShared {
     pub resumes: AtomicU64,
     /// Set by a valid resume command, taken by the motor.
     pub resume_requested: AtomicBool,
+    /// Set by an operator's stop, cleared by a start: the motor idles at
+    /// the next cycle boundary, where the plate is home.
+    pub operator_stop: AtomicBool,
     /// Rung by the receiver when it hands the solver messages (and by the
     /// io thread to stop); the solver thread sleeps on it.
     pub solver_doorbell: super::doorbell::Doorbell,

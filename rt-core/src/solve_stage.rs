@@ -379,8 +379,12 @@ impl SolveStage {
             self.reject(RejectedKind::CoreCommand, msg.seq, msg.stamp_ns, now_ns, e.reason(), &e);
             return Err(e);
         }
-        // RESUME is the only command validate() lets through.
-        self.shared.resume_requested.store(true, Relaxed);
+        match msg.command {
+            CoreCommand::STOP => self.shared.operator_stop.store(true, Relaxed),
+            CoreCommand::START => self.shared.operator_stop.store(false, Relaxed),
+            // RESUME: validate() lets no other command through.
+            _ => self.shared.resume_requested.store(true, Relaxed),
+        }
         Ok(())
     }
 

@@ -296,8 +296,9 @@ pub fn rig_list(rigs: &[NodePresence]) -> String {
         .join(", ")
 }
 
-/// Ask the core on `prefix` to leave a driver-fault hold.
-pub fn send_resume(prefix: &str) -> anyhow::Result<()> {
+/// Send an operator's command (`CoreCommand::RESUME`, `STOP`, `START`) to
+/// the core on `prefix`.
+pub fn send_command(prefix: &str, command: u32) -> anyhow::Result<()> {
     if !ipc_types::discovery::core_running(prefix).map_err(|e| anyhow::anyhow!("{e}"))? {
         bail!("no upm-core is running on service prefix {prefix:?}");
     }
@@ -308,8 +309,8 @@ pub fn send_resume(prefix: &str) -> anyhow::Result<()> {
     // The core's subscriber connects to a new publisher on its next look.
     std::thread::sleep(Duration::from_millis(100));
     publisher
-        .send_copy(CoreCommand::new(CoreCommand::RESUME, 1, monotonic_now_ns()))
-        .map_err(|e| anyhow::anyhow!("sending resume: {e:?}"))?;
+        .send_copy(CoreCommand::new(command, 1, monotonic_now_ns()))
+        .map_err(|e| anyhow::anyhow!("sending command {command}: {e:?}"))?;
     notifier.notify();
     Ok(())
 }

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use ipc_types::CoreCommand;
 pub use upm_commands::exit::Exit;
 
 #[derive(Debug, Parser)]
@@ -271,6 +272,25 @@ pub enum Command {
     },
     /// End a driver-fault hold: the core plays again from its next cycle.
     Resume {
+        /// Service prefix of the rig (default: the running rig's).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config to take the prefix from.
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+    /// Stop the plate: at its next cycle boundary it is home and stays
+    /// there (state idle) until `upm start`.
+    Stop {
+        /// Service prefix of the rig (default: the running rig's).
+        #[arg(long)]
+        prefix: Option<String>,
+        /// Rig config to take the prefix from.
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+    /// End an operator's stop: the plate plays schedules again.
+    Start {
         /// Service prefix of the rig (default: the running rig's).
         #[arg(long)]
         prefix: Option<String>,
@@ -599,14 +619,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             Ok(())
         }
-        Command::Resume { prefix, config } => {
-            let prefix = rig_prefix(prefix, config)?;
-            upm_commands::status::send_resume(&prefix)?;
-            eprintln!(
-                "upm resume: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it"
-            );
-            Ok(())
-        }
+        Command::Resume { prefix, config } => operator_command("resume", CoreCommand::RESUME, prefix, config),
+        Command::Stop { prefix, config } => operator_command("stop", CoreCommand::STOP, prefix, config),
+        Command::Start { prefix, config } => operator_command("start", CoreCommand::START, prefix, config),
         Command::Calibrate {
             what: CalibrateTarget::Plate,
             config,
@@ -713,4 +728,17 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
     }
+}
+
+/// Send the operator's `command` to the core of the rig.
+fn operator_command(
+    name: &str,
+    command: u32,
+    prefix: Option<String>,
+    config: Option<PathBuf>,
+) -> anyhow::Result<()> {
+    let prefix = rig_prefix(prefix, config)?;
+    upm_commands::status::send_command(&prefix, command)?;
+    eprintln!("upm {name}: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it");
+    Ok(())
 }

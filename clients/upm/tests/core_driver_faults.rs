@@ -121,3 +121,23 @@ fn a_write_fault_holds_at_once_and_auto_resume_ends_it() {
     assert_eq!(c.motor().mode(), CoreState::Running);
     assert_eq!(c.telemetry().counters.resumes, 1);
 }
+
+#[test]
+fn an_operator_stop_idles_the_plate_at_home_until_start() {
+    let mut c = core(0);
+    let mut seq = 0;
+    until_running(&mut c, &mut seq);
+    let holds = c.telemetry().counters.hold_events;
+    let now = c.now_ns();
+    c.inbox().push_command(&CoreCommand::new(CoreCommand::STOP, 1, now));
+    // Fresh input keeps arriving: the stop, not staleness, idles the plate.
+    run_fed(&mut c, 5_000, &mut seq);
+    assert_eq!(c.motor().mode(), CoreState::Idle);
+    assert_eq!(c.shared().pose(), [0.0; 3], "the plate is not home");
+    assert!(c.motor().driver().sim.plate_pose().x.abs() < 1e-6, "the plate moved while stopped");
+    assert_eq!(c.telemetry().counters.hold_events, holds, "a stop is no hold");
+    let now = c.now_ns();
+    c.inbox().push_command(&CoreCommand::new(CoreCommand::START, 2, now));
+    run_fed(&mut c, 2_000, &mut seq);
+    assert_eq!(c.motor().mode(), CoreState::Running);
+}

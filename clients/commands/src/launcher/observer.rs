@@ -29,10 +29,11 @@ pub struct Trails {
 /// Trails kept: a run of hours on a feed cell sees thousands of parts, and
 /// the oldest-ended trail makes room for a new one, so memory stays flat.
 pub const MAX_TRAILS: usize = 64;
-/// Points kept per trail: a part that stays for hours (one stuck at the
-/// fence) has its trail thinned to every other point when it reaches this
-/// (beyond any scenario's duration at the camera's rate).
-pub const MAX_TRAIL_POINTS: usize = 1 << 15;
+/// Points kept per trail: a trail that reaches this is thinned to every
+/// other point, so a part that stays for hours (one stuck at the fence)
+/// keeps its whole path at a coarser step. With [`MAX_TRAILS`] this bounds
+/// the trails at 4 MiB; a picture needs no more.
+pub const MAX_TRAIL_POINTS: usize = 1 << 11;
 
 impl Trails {
     pub fn duration(&self) -> f64 {
