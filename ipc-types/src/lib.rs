@@ -23,6 +23,7 @@ mod camera_frame;
 mod capacity;
 mod clock;
 mod core_command;
+mod pick_command;
 mod core_state;
 mod counted_message;
 #[cfg(feature = "iceoryx2")]
@@ -59,6 +60,7 @@ pub use camera_frame::{FrameError, FrameHeader};
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;
 pub use core_command::{CoreCommand, CoreCommandError};
+pub use pick_command::{PickCommand, PickCommandError};
 pub use core_state::CoreState;
 pub use driver_telemetry::{DRIVER_AXES, DriverTelemetry, NO_SYNC0, bus_state, driver_kind};
 pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};

@@ -22,6 +22,7 @@ crate::wire_code::wire_code! {
         ForceRequest = 1 => "force_request",
         ExplicitSchedule = 2 => "explicit_schedule",
         CoreCommand = 3 => "core_command",
+        PickCommand = 4 => "pick",
     }
 }
 
@@ -33,6 +34,7 @@ impl RejectedKind {
             Self::ForceRequest => crate::service_names::FORCE_REQUEST,
             Self::ExplicitSchedule => crate::service_names::EXPLICIT_SCHEDULE,
             Self::CoreCommand => crate::service_names::CORE_COMMAND,
+            Self::PickCommand => crate::service_names::PICK,
         }
     }
 }

@@ -37,13 +37,18 @@ pub const SIM_GROUND_TRUTH: &str = "upm/sim/ground_truth";
 /// and latest picks. Only published when the core runs a cell.
 pub const FEED: &str = "upm/feed";
 
+/// [`crate::PickCommand`], robot (e.g. through `upm line`) → core: a part
+/// taken from a pick pose. Read only when the core runs a feed cell whose
+/// robot is external.
+pub const PICK: &str = "upm/pick";
+
 /// Camera frames ([`crate::FrameHeader`] user header, `[u8]` pixels), frame
 /// source → vision.
 pub const CAMERA_FRAME: &str = "upm/camera/frame";
 
 /// Every publish-subscribe service above, e.g. for tools that list or clean
 /// up a rig.
-pub const ALL: [&str; 11] = [
+pub const ALL: [&str; 12] = [
     PART_STATES,
     FORCE_REQUEST,
     EXPLICIT_SCHEDULE,
@@ -54,5 +59,6 @@ pub const ALL: [&str; 11] = [
     RIG_INFO,
     SIM_GROUND_TRUTH,
     FEED,
+    PICK,
     CAMERA_FRAME,
 ];

@@ -11,7 +11,7 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand, Rejection, RigInfo,
     Schedule, Telemetry, service_names,
 };
 
@@ -89,6 +89,7 @@ wire_message!(
     Rejection => service_names::REJECTION,
     RigInfo => service_names::RIG_INFO,
     FeedStatus => service_names::FEED,
+    PickCommand => service_names::PICK,
     FrameHeader => service_names::CAMERA_FRAME,
 );
 

@@ -45,6 +45,7 @@ fn one_run(
         camera: CameraChoice::Truth,
         record,
         monitor,
+        line: None,
     };
     // On a thread of its own: the launcher moves its thread off the motor's
     // CPU, and the next run checks its CPUs against this process's.

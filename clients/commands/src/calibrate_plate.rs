@@ -180,6 +180,7 @@ fn launched(
         camera: crate::launcher::CameraChoice::Truth,
         record: false,
         monitor: None,
+        line: None,
     };
     let dir = std::path::Path::new("out/calibrate");
     let outcome = crate::launcher::run_plan(&plan, dir, true, &|_| serde_json::Value::Null);

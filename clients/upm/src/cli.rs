@@ -131,6 +131,17 @@ pub enum Command {
         /// Serve the live view (Foxglove WebSocket) on this localhost port.
         #[arg(long, num_args = 0..=1, default_missing_value = "8765")]
         monitor: Option<u16>,
+        /// Serve OPC UA on this address (`upm line`; 127.0.0.1:4840 with
+        /// `--modbus` alone).
+        #[arg(long)]
+        opcua: Option<String>,
+        /// Serve Modbus TCP on this address (`upm line`; 127.0.0.1:5020
+        /// with `--opcua` alone).
+        #[arg(long)]
+        modbus: Option<String>,
+        /// The users file of `upm line` (`upm users add`).
+        #[arg(long)]
+        users: Option<PathBuf>,
         /// Print metrics.json on stdout instead of a short summary.
         #[arg(long)]
         json: bool,
@@ -289,6 +300,18 @@ pub enum Command {
         #[arg(long)]
         config: Option<PathBuf>,
     },
+    /// The line interface on a running rig: OPC UA and Modbus TCP for
+    /// robots and PLCs (runs `upm-line`; `upm line --help` lists its flags).
+    #[command(disable_help_flag = true)]
+    Line {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
+    /// The users file of the line interface.
+    Users {
+        #[command(subcommand)]
+        action: UsersAction,
+    },
     /// End an operator's stop: the plate plays schedules again.
     Start {
         /// Service prefix of the rig (default: the running rig's).
@@ -323,6 +346,20 @@ pub enum CalibrateTarget {
     /// The plate: how it really turns about each center, and its friction
     /// per part class and over the plate, from the parts on it.
     Plate,
+}
+
+/// What `upm users` does.
+#[derive(Debug, Subcommand)]
+pub enum UsersAction {
+    /// Add a user (the file is created if missing; it holds argon2 hashes,
+    /// never a password).
+    Add {
+        file: PathBuf,
+        name: String,
+        /// Read the password from the first line of stdin.
+        #[arg(long)]
+        password_stdin: bool,
+    },
 }
 
 /// What `upm bench` measures.
@@ -409,6 +446,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             driver,
             no_record,
             monitor,
+            opcua,
+            modbus,
+            users,
             json,
         } => {
             let path = upm_commands::scenario::resolve(&scenario);
@@ -464,6 +504,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 camera,
                 record: !no_record,
                 monitor,
+                line: line_args(opcua, modbus, users, &sc.rig.feed.recipe)?,
             };
             if let Some(port) = monitor {
                 eprintln!("upm run: live view on ws://127.0.0.1:{port} (Foxglove: open connection)");
@@ -619,6 +660,22 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             Ok(())
         }
+        Command::Line { args } => {
+            let exe = upm_commands::launcher::programs::own_binary("upm-line")?;
+            let status = std::process::Command::new(&exe).args(&args).status()?;
+            std::process::exit(status.code().unwrap_or(1));
+        }
+        Command::Users { action: UsersAction::Add { file, name, password_stdin } } => {
+            if !password_stdin {
+                anyhow::bail!("upm users add: give the password on stdin with --password-stdin");
+            }
+            let mut password = String::new();
+            std::io::stdin().read_line(&mut password)?;
+            let password = password.trim_end_matches(['\n', '\r']);
+            upm_users::add_user(&file, &name, password)?;
+            eprintln!("upm users: added {name:?} to {}", file.display());
+            Ok(())
+        }
         Command::Resume { prefix, config } => operator_command("resume", CoreCommand::RESUME, prefix, config),
         Command::Stop { prefix, config } => operator_command("stop", CoreCommand::STOP, prefix, config),
         Command::Start { prefix, config } => operator_command("start", CoreCommand::START, prefix, config),
@@ -741,4 +798,34 @@ fn operator_command(
     upm_commands::status::send_command(&prefix, command)?;
     eprintln!("upm {name}: sent to the core on prefix {prefix:?}; `upm status --prefix {prefix}` shows it");
     Ok(())
+}
+
+/// `upm-line`'s arguments for `upm run --opcua/--modbus/--users`; None
+/// when neither server is asked for.
+fn line_args(
+    opcua: Option<String>,
+    modbus: Option<String>,
+    users: Option<PathBuf>,
+    recipe: &str,
+) -> anyhow::Result<Option<Vec<String>>> {
+    if opcua.is_none() && modbus.is_none() {
+        if users.is_some() {
+            anyhow::bail!("--users is the line interface's: give --opcua or --modbus too");
+        }
+        return Ok(None);
+    }
+    let mut args = Vec::new();
+    for (flag, value) in [("--opcua", opcua), ("--modbus", modbus)] {
+        if let Some(v) = value {
+            args.extend([flag.to_owned(), v]);
+        }
+    }
+    if let Some(u) = users {
+        // Absolute: the line starts in another directory.
+        args.extend(["--users".to_owned(), std::path::absolute(&u)?.display().to_string()]);
+    }
+    // The recipe's name, as `recipes/NAME.toml` is named; none without a cell.
+    let name = std::path::Path::new(recipe).file_stem().map(|s| s.to_string_lossy().into_owned());
+    args.extend(["--recipe".to_owned(), name.unwrap_or_default()]);
+    Ok(Some(args))
 }

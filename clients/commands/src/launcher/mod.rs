@@ -50,6 +50,9 @@ pub struct RunPlan {
     pub record: bool,
     /// Serve the live view on this localhost port (upm-recorder).
     pub monitor: Option<u16>,
+    /// Start the line interface (upm-line) with these arguments (its
+    /// `--opcua`, `--modbus`, `--users`, …); None: no line.
+    pub line: Option<Vec<String>>,
 }
 
 /// The recording of a run, in the output directory.
@@ -169,6 +172,16 @@ pub fn run_plan(
         Ok(r)
     });
     let mut recorder = recorder.transpose()?;
+    let mut line = match &plan.line {
+        Some(args) => {
+            let mut l = client("upm-line", &None, "line.log")?;
+            for a in args {
+                l = l.arg(a);
+            }
+            Some(l.arg("--pki").arg(&out.join("pki").display().to_string()))
+        }
+        None => None,
+    };
     if plan.record {
         // The recorder never overwrites a file; this run's output is ours.
         let _ = std::fs::remove_file(&recording);
@@ -198,6 +211,9 @@ pub fn run_plan(
     }
     if let Some(c) = &mut camera {
         c.start()?;
+    }
+    if let Some(l) = &mut line {
+        l.start()?;
     }
     vision.start()?;
     planner.start()?;
@@ -234,7 +250,7 @@ pub fn run_plan(
             break;
         }
         hung.check(observer.last_telemetry.as_ref(), observer.parts_seen, &mut vision, &mut planner, &say);
-        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut()].into_iter().flatten() {
+        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut(), line.as_mut()].into_iter().flatten() {
             if let Some(event) = c.restart_if_dead()? {
                 if c.crash_looping() {
                     fatal = Some(event);
@@ -270,6 +286,7 @@ pub fn run_plan(
         "planner": planner.pid(),
         "camera": camera.as_ref().and_then(Supervised::pid),
         "recorder": recorder.as_ref().and_then(Supervised::pid),
+        "line": line.as_ref().and_then(Supervised::pid),
         "vision_cmd": plan.vision_cmd,
         "planner_cmd": plan.planner_cmd,
         "planner_exit": planner_exit.map(|s| s.to_string()),
@@ -284,6 +301,9 @@ pub fn run_plan(
     if let Some(c) = &mut camera {
         c.stop(Duration::from_secs(3));
     }
+    if let Some(l) = &mut line {
+        l.stop(Duration::from_secs(3));
+    }
     let core_exit = core.stop(Duration::from_secs(5));
     // Last, so it has the core's final telemetry.
     let recorder_exit = recorder.as_mut().and_then(|r| r.stop(Duration::from_secs(10)));
@@ -292,6 +312,7 @@ pub fn run_plan(
         "planner": client_json(&planner),
         "camera": camera.as_ref().map(client_json),
         "recorder": recorder.as_ref().map(client_json),
+        "line": line.as_ref().map(client_json),
     });
     let recording_json = if plan.record {
         crate::recording::summary_json(&recording, recorder_exit.is_some_and(|s| s.success()))

@@ -43,3 +43,13 @@ pub fn client(name: &str) -> anyhow::Result<(PathBuf, Vec<String>)> {
     }
     Ok((upm, vec![name.trim_start_matches("upm-").to_owned()]))
 }
+
+/// A process that has no `upm` subcommand (its crate is not linked into
+/// `upm`): `name` next to `upm`.
+pub fn own_binary(name: &str) -> anyhow::Result<PathBuf> {
+    let exe = upm_exe()?.with_file_name(name);
+    if !exe.is_file() {
+        anyhow::bail!("{} is missing: build every process with `cargo build --release`", exe.display());
+    }
+    Ok(exe)
+}

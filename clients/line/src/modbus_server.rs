@@ -1,0 +1,111 @@
+//! The Modbus TCP server (tokio-modbus) for PLCs: input registers and the
+//! run coil of [`crate::modbus_map`]. Modbus has no users: it binds to
+//! localhost unless an address is given. A malformed frame closes its
+//! connection (tokio-modbus's codec); other connections go on.
+
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+
+use ipc_types::{CoreCommand, CoreState};
+use tokio_modbus::server::Service;
+use tokio_modbus::server::tcp::Server;
+use tokio_modbus::{ExceptionCode, Request, Response};
+
+use crate::counters::LineCounters;
+use crate::modbus_map::{RUN_COIL, input_registers};
+use crate::rig_view::RigView;
+
+/// Connections served at once; more are closed at accept (and counted):
+/// a client that never finishes a frame holds its connection.
+pub const MAX_CONNECTIONS: usize = 64;
+
+/// One connection's service.
+#[derive(Debug)]
+struct PlcService {
+    view: Arc<RigView>,
+    counters: Arc<LineCounters>,
+    open: Arc<AtomicUsize>,
+}
+
+impl Drop for PlcService {
+    fn drop(&mut self) {
+        self.open.fetch_sub(1, Relaxed);
+    }
+}
+
+impl PlcService {
+    fn answer(&self, request: Request<'static>) -> Result<Response, ExceptionCode> {
+        match request {
+            Request::ReadInputRegisters(addr, count) => {
+                input_registers(&self.view.snapshot(), addr, count).map(Response::ReadInputRegisters)
+            }
+            Request::ReadCoils(RUN_COIL, 1) => {
+                Ok(Response::ReadCoils(vec![self.view.snapshot().state == CoreState::Running]))
+            }
+            Request::ReadCoils(_, 0) | Request::ReadCoils(_, 2001..) => Err(ExceptionCode::IllegalDataValue),
+            Request::WriteSingleCoil(RUN_COIL, on) => {
+                let command = if on { CoreCommand::START } else { CoreCommand::STOP };
+                self.view.command(command).map_err(|e| {
+                    tracing::warn!("Modbus run coil: {e}");
+                    ExceptionCode::ServerDeviceFailure
+                })?;
+                Ok(Response::WriteSingleCoil(RUN_COIL, on))
+            }
+            Request::ReadCoils(..) | Request::WriteSingleCoil(..) => Err(ExceptionCode::IllegalDataAddress),
+            Request::ReadHoldingRegisters(..)
+            | Request::WriteSingleRegister(..)
+            | Request::WriteMultipleRegisters(..)
+            | Request::WriteMultipleCoils(..)
+            | Request::ReadDiscreteInputs(..) => Err(ExceptionCode::IllegalDataAddress),
+            _ => Err(ExceptionCode::IllegalFunction),
+        }
+    }
+}
+
+impl Service for PlcService {
+    type Request = Request<'static>;
+    type Response = Response;
+    type Exception = ExceptionCode;
+    type Future = std::future::Ready<Result<Response, ExceptionCode>>;
+
+    fn call(&self, request: Self::Request) -> Self::Future {
+        let answer = self.answer(request);
+        if answer.is_err() {
+            LineCounters::count(&self.counters.modbus_exceptions);
+        }
+        std::future::ready(answer)
+    }
+}
+
+/// Serve on `addr` until `stop` resolves.
+pub async fn serve(
+    addr: SocketAddr,
+    view: Arc<RigView>,
+    counters: Arc<LineCounters>,
+    stop: impl std::future::Future<Output = ()> + Send + Sync + 'static,
+) -> anyhow::Result<()> {
+    let listener = tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|e| anyhow::anyhow!("--modbus {addr}: cannot listen: {e}"))?;
+    let server = Server::new(listener);
+    let open = Arc::new(AtomicUsize::new(0));
+    let (refused, bad_frames) = (counters.clone(), counters.clone());
+    let on_connected = move |stream, peer| {
+        let service = if open.fetch_add(1, Relaxed) < MAX_CONNECTIONS {
+            Some(PlcService { view: view.clone(), counters: counters.clone(), open: open.clone() })
+        } else {
+            open.fetch_sub(1, Relaxed);
+            LineCounters::count(&refused.modbus_refused_connections);
+            None
+        };
+        let _ = peer;
+        async move { std::io::Result::Ok(service.map(|s| (s, stream))) }
+    };
+    let on_process_error = move |e: std::io::Error| {
+        LineCounters::count(&bad_frames.modbus_bad_frames);
+        tracing::debug!("Modbus connection closed: {e}");
+    };
+    server.serve_until(&on_connected, on_process_error, stop).await?;
+    Ok(())
+}
