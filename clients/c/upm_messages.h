@@ -37,6 +37,7 @@
 #define UPM_SERVICE_RIG_INFO "upm/rig_info"
 #define UPM_SERVICE_SIM_GROUND_TRUTH "upm/sim/ground_truth"
 #define UPM_SERVICE_FEED "upm/feed"
+#define UPM_SERVICE_PICK "upm/pick"
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
@@ -578,5 +579,24 @@ UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, robot_busy_s) == 80, "upm_FeedStatus.
 UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, stuck_after_s) == 88, "upm_FeedStatus.stuck_after_s offset");
 UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, recent) == 96, "upm_FeedStatus.recent offset");
 UPM_STATIC_ASSERT(offsetof(upm_FeedStatus, poses) == 992, "upm_FeedStatus.poses offset");
+
+/* iceoryx2 type name "upm::PickCommand.v6", 32 bytes, align 8 */
+#define UPM_PICKCOMMAND_TYPE_NAME "upm::PickCommand.v6"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t pose;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint32_t part_id;
+    uint32_t reserved;
+} upm_PickCommand;
+UPM_STATIC_ASSERT(sizeof(upm_PickCommand) == 32, "upm_PickCommand size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_PickCommand) == 8, "upm_PickCommand align");
+UPM_STATIC_ASSERT(offsetof(upm_PickCommand, protocol_version) == 0, "upm_PickCommand.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickCommand, pose) == 4, "upm_PickCommand.pose offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickCommand, seq) == 8, "upm_PickCommand.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickCommand, stamp_ns) == 16, "upm_PickCommand.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickCommand, part_id) == 24, "upm_PickCommand.part_id offset");
+UPM_STATIC_ASSERT(offsetof(upm_PickCommand, reserved) == 28, "upm_PickCommand.reserved offset");
 
 #endif /* UPM_MESSAGES_H */

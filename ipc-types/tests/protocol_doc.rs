@@ -10,7 +10,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::wake_event::WakeEvent;
 use ipc_types::{
     CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PROTOCOL_VERSION, PartStates,
-    RejectReason, RejectedKind, Rejection, RigInfo, Schedule, Telemetry, service_names,
+    PickCommand, RejectReason, RejectedKind, Rejection, RigInfo, Schedule, Telemetry, service_names,
 };
 
 fn doc() -> String {
@@ -81,6 +81,7 @@ fn services_settings_version_and_reject_codes_match() {
         (service_names::RIG_INFO, type_name::<RigInfo>()),
         (service_names::SIM_GROUND_TRUTH, type_name::<PartStates>()),
         (service_names::FEED, type_name::<FeedStatus>()),
+        (service_names::PICK, type_name::<PickCommand>()),
     ]
     .iter()
     .map(|(s, t)| (s.to_string(), t.to_string()))
@@ -154,12 +155,20 @@ fn services_settings_version_and_reject_codes_match() {
         assert_eq!(row[1..].to_vec(), want, "the event settings table, {name}");
     }
 
+    // Each kind by the Rust name of the message it refuses (`pick` is a
+    // `PickCommand`: the kind is named after the service).
     let kinds: Vec<String> = RejectedKind::ALL
         .iter()
         .map(|k| {
-            let name = k.as_str();
-            let camel: String = name.split('_').map(|w| w[..1].to_uppercase() + &w[1..]).collect();
-            format!("{} `{camel}`", k.code())
+            let name = match k {
+                RejectedKind::PartStates => type_name::<PartStates>(),
+                RejectedKind::ForceRequest => type_name::<ForceRequest>(),
+                RejectedKind::ExplicitSchedule => type_name::<ExplicitSchedule>(),
+                RejectedKind::CoreCommand => type_name::<CoreCommand>(),
+                RejectedKind::PickCommand => type_name::<PickCommand>(),
+            };
+            let rust = name.trim_start_matches("upm::").split('.').next().unwrap_or(name);
+            format!("{} `{rust}`", k.code())
         })
         .collect();
     assert!(doc.contains(&kinds.join(", ")), "Rejection.kind codes: {}", kinds.join(", "));

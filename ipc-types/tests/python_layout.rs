@@ -20,14 +20,14 @@ fn python_layout() -> BTreeMap<String, String> {
 import ctypes, importlib.util, sys
 spec = importlib.util.spec_from_file_location("messages", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
-for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader, m.RigCenter, m.RigInfo, m.PickPoseState, m.PickEvent, m.FeedStatus):
+for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader, m.RigCenter, m.RigInfo, m.PickPoseState, m.PickEvent, m.FeedStatus, m.PickCommand):
     print(f"{s.__name__}.size {ctypes.sizeof(s)}")
     print(f"{s.__name__}.align {ctypes.alignment(s)}")
     print(f"{s.__name__}.type_name {s.type_name()}")
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_CENTERS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "RIG_INFO", "FEED", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT", "PART_STATES_EVENT",
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_CENTERS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "RIG_INFO", "FEED", "PICK", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT", "PART_STATES_EVENT",
           "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "PART_STATES_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER", "RIG_PREFIX_BYTES", "MAX_PICK_POSES", "FEED_RECENT_PICKS"):
     print(f"{c} {getattr(m, c)}")
 print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
@@ -57,6 +57,7 @@ fn python_messages_match_the_rust_types_field_by_field() {
         "PickPoseState",
         "PickEvent",
         "FeedStatus",
+        "PickCommand",
     ];
     let mut rust = BTreeMap::new();
     for l in wire_layout::all().into_iter().filter(|l| mirrored.contains(&l.rust)) {
@@ -77,6 +78,7 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("RIG_PREFIX_BYTES", ipc_types::RIG_PREFIX_BYTES.to_string()),
         ("RIG_INFO", service_names::RIG_INFO.to_owned()),
         ("FEED", service_names::FEED.to_owned()),
+        ("PICK", service_names::PICK.to_owned()),
         ("MAX_PICK_POSES", ipc_types::MAX_PICK_POSES.to_string()),
         ("FEED_RECENT_PICKS", ipc_types::FEED_RECENT_PICKS.to_string()),
         ("PART_STATES_EVENT", ipc_types::wake_event::WakeEvent::PartStates.service().to_owned()),

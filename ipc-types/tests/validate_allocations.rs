@@ -72,6 +72,7 @@ fn validate_never_allocates() {
     for n in 1..=ipc_types::FEED_RECENT_PICKS as u64 + 1 {
         feed.push_pick(ipc_types::PickEvent { number: n, time_s: n as f64, ..ipc_types::PickEvent::ZERO });
     }
+    let mut pick = ipc_types::PickCommand::new(ipc_types::MAX_PICK_POSES as u32 - 1, 7, 1, 1_000);
     let mut bad_outline = parts;
     bad_outline.parts[PartStates::CAPACITY - 1].vertices.swap(1, 5); // a polygon, now not convex
     assert!(matches!(bad_outline.validate(&limits), Err(ipc_types::PartStatesError::Shape { .. })));
@@ -84,6 +85,7 @@ fn validate_never_allocates() {
             && black_box(telemetry.validate(&limits)).is_ok()
             && black_box(rig.validate(&limits)).is_ok()
             && black_box(feed.validate(&limits)).is_ok()
+            && black_box(pick.validate(&limits)).is_ok()
     });
     assert!(ok, "full-capacity messages must be valid");
     assert_eq!(n, 0, "validate() of valid messages allocated");
@@ -95,6 +97,7 @@ fn validate_never_allocates() {
     schedule.saturated = 7;
     rig.centers[ipc_types::MAX_CENTERS - 1].k_bound = 2.0;
     feed.poses[ipc_types::MAX_PICK_POSES - 1].theta = f64::NAN;
+    pick.part_id = 0; // the last check
     let mut bad_telemetry = telemetry;
     bad_telemetry.latency.solver.p50_ns = 1;
     let (all_rejected, n) = count(|| {
@@ -106,6 +109,7 @@ fn validate_never_allocates() {
             && black_box(bad_telemetry.validate(&limits)).is_err()
             && black_box(rig.validate(&limits)).is_err()
             && black_box(feed.validate(&limits)).is_err()
+            && black_box(pick.validate(&limits)).is_err()
     });
     assert!(all_rejected, "corrupted messages must be rejected");
     assert_eq!(n, 0, "validate() of rejected messages allocated");

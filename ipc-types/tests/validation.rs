@@ -5,9 +5,9 @@ use ipc_types::{
     CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, FEED_RECENT_PICKS,
     FeedStatus, FeedStatusError, ForceEntry, ForceRequest, ForceRequestError, HeaderError, MAX_CENTERS,
     MAX_CURLS, MAX_PARTS, MAX_PICK_POSES, MAX_SHAPE_VERTICES, MAX_SLOTS, PROTOCOL_VERSION, PartState,
-    PartStates, PartStatesError, PickEvent, PickPoseState, RejectReason, RejectedKind, Rejection, RigCenter,
-    RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ScheduleError, ScheduleSlot,
-    ShapeError, Telemetry, TelemetryError, ValidationLimits,
+    PartStates, PartStatesError, PickCommand, PickCommandError, PickEvent, PickPoseState, RejectReason,
+    RejectedKind, Rejection, RigCenter, RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON,
+    Schedule, ScheduleError, ScheduleSlot, ShapeError, Telemetry, TelemetryError, ValidationLimits,
 };
 
 const NOW: u64 = 5_000_000_000;
@@ -592,6 +592,89 @@ fn feed_status_is_checked_field_by_field_and_old_stamps_are_fine() {
     m.push_pick(PickEvent { number: 99, ..PickEvent::ZERO });
     assert_eq!(m.recent().len(), FEED_RECENT_PICKS, "a full ring keeps its size");
     assert_eq!(m.recent().last().map(|p| p.number), Some(99));
+}
+
+fn good_pick_command() -> PickCommand {
+    PickCommand::new(MAX_PICK_POSES as u32 - 1, 17, 9, NOW - 1_000_000)
+}
+
+#[test]
+fn pick_command_is_checked_field_by_field_and_answered_as_a_pick() {
+    let mut l = limits();
+    assert_eq!(good_pick_command().validate(&l), Ok(()));
+    assert_eq!(PickCommand::new(0, u32::MAX, 0, NOW).validate(&l), Ok(()), "any part but 0, pose 0");
+    let mut future = good_pick_command();
+    future.stamp_ns = NOW + l.max_future_skew_ns;
+    assert_eq!(future.validate(&l), Ok(()), "within the skew");
+    // Not a core output: an old stamp is refused once the receiver bounds the age.
+    l.max_age_ns = 500_000;
+    assert_eq!(
+        good_pick_command().validate(&l),
+        Err(PickCommandError::Header(HeaderError::Stale { stamp_ns: NOW - 1_000_000, now_ns: NOW }))
+    );
+    let l = limits();
+    // How to break a good one, what validate() says, its reason and its line.
+    type Case = (fn(&mut PickCommand), PickCommandError, RejectReason, &'static str);
+    let cases: [Case; 5] = [
+        (
+            |m| m.protocol_version = 5,
+            PickCommandError::Header(HeaderError::WrongProtocolVersion { found: 5 }),
+            RejectReason::WrongProtocolVersion,
+            "pick_command.protocol_version is 5, expected 6",
+        ),
+        (
+            |m| m.stamp_ns = NOW + 1_000_001,
+            PickCommandError::Header(HeaderError::StampFromFuture { stamp_ns: NOW + 1_000_001, now_ns: NOW }),
+            RejectReason::StampFromFuture,
+            "pick_command.stamp_ns 5001000001 is in the future (now 5000000000)",
+        ),
+        (
+            |m| m.pose = MAX_PICK_POSES as u32,
+            PickCommandError::PoseOutOfRange { pose: 16 },
+            RejectReason::CountExceedsCapacity,
+            "pick_command.pose 16 is not below the capacity 16",
+        ),
+        (
+            |m| m.pose = u32::MAX,
+            PickCommandError::PoseOutOfRange { pose: u32::MAX },
+            RejectReason::CountExceedsCapacity,
+            "pick_command.pose 4294967295 is not below the capacity 16",
+        ),
+        (
+            |m| m.part_id = 0,
+            PickCommandError::NoPart,
+            RejectReason::UnknownPart,
+            "pick_command.part_id is 0: no part",
+        ),
+    ];
+    for (break_it, want, reason, text) in cases {
+        let mut m = good_pick_command();
+        break_it(&mut m);
+        assert_eq!(m.validate(&l), Err(want));
+        assert_eq!(want.reason(), reason, "{want:?}");
+        assert_eq!(want.to_string(), text);
+        // The answer on upm/rejection names the pick and carries the line.
+        let r = Rejection::new(
+            RejectedKind::PickCommand,
+            m.seq,
+            m.stamp_ns,
+            NOW,
+            want.reason(),
+            format_args!("{want}"),
+        );
+        assert_eq!(
+            (r.kind(), r.reason(), r.detail_str()),
+            (Some(RejectedKind::PickCommand), Some(reason), text)
+        );
+        assert_eq!(r.to_string(), format!("pick seq 9 rejected: {} ({text})", reason.as_str()));
+    }
+    // The header is checked first: a wrong version hides the rest.
+    let mut m = PickCommand::new(u32::MAX, 0, 1, NOW);
+    m.protocol_version = 0;
+    assert!(matches!(
+        m.validate(&l),
+        Err(PickCommandError::Header(HeaderError::WrongProtocolVersion { .. }))
+    ));
 }
 
 #[test]

@@ -32,6 +32,7 @@ fn payload_type_names_carry_the_protocol_version() {
         type_name::<ipc_types::FeedStatus>(),
         type_name::<ipc_types::PickEvent>(),
         type_name::<ipc_types::PickPoseState>(),
+        type_name::<ipc_types::PickCommand>(),
     ];
     for name in names {
         assert!(name.starts_with("upm::") && name.ends_with(&suffix), "{name} lacks upm::…{suffix}");
@@ -116,4 +117,39 @@ fn a_new_part_is_a_point_and_the_builders_keep_its_pose() {
     let all = [[0.0; 2]; MAX_SHAPE_VERTICES];
     assert!(p.with_polygon(&all).is_ok(), "8 fit (validate judges them)");
     assert_eq!(p.with_polygon(&[[0.0; 2]; MAX_SHAPE_VERTICES + 1]), Err(ShapeError::VertexCount));
+}
+
+/// Every rejection kind answers the message published on its service:
+/// the kind's service is the `WireMessage::SERVICE` of that message, one
+/// of `service_names::ALL`, and the kind's name is that service's.
+#[test]
+fn each_rejected_kind_names_its_message_and_service() {
+    use ipc_types::{PickCommand, RejectedKind, WireMessage};
+    for k in RejectedKind::ALL {
+        let (service, type_name) = match k {
+            RejectedKind::PartStates => (PartStates::SERVICE, type_name::<PartStates>()),
+            RejectedKind::ForceRequest => (ForceRequest::SERVICE, type_name::<ForceRequest>()),
+            RejectedKind::ExplicitSchedule => (ExplicitSchedule::SERVICE, type_name::<ExplicitSchedule>()),
+            RejectedKind::CoreCommand => (CoreCommand::SERVICE, type_name::<CoreCommand>()),
+            RejectedKind::PickCommand => (PickCommand::SERVICE, type_name::<PickCommand>()),
+        };
+        assert_eq!(k.service(), service, "{k:?}: {type_name}");
+        assert!(service_names::ALL.contains(&service), "{service}");
+        assert_eq!(service.strip_prefix("upm/"), Some(k.as_str()), "{k:?}");
+        assert_eq!(RejectedKind::from_code(k.code()), Some(k));
+    }
+    assert_eq!(RejectedKind::from_code(RejectedKind::ALL.len() as u32), None);
+}
+
+/// A pick's bytes round-trip through the wire form, whatever they hold.
+#[test]
+fn a_pick_crosses_the_wire_as_its_32_bytes() {
+    use ipc_types::{PickCommand, WireMessage};
+    let m = PickCommand::new(5, 77, 3, 123_456);
+    assert_eq!(m.as_bytes().len(), 32);
+    assert_eq!(PickCommand::from_bytes(m.as_bytes()), Ok(m));
+    assert_eq!(&m.as_bytes()[24..28], &77u32.to_ne_bytes(), "part_id at 24");
+    let any = [0xA5u8; 32];
+    assert_eq!(PickCommand::from_bytes(&any).map(|p| p.as_bytes().to_vec()), Ok(any.to_vec()));
+    assert!(PickCommand::from_bytes(&any[..31]).is_err());
 }

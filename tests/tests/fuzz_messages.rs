@@ -4,8 +4,9 @@
 
 use ipc_types::{
     ExplicitSchedule, FEED_RECENT_PICKS, FeedStatus, ForceRequest, MAX_CURLS, MAX_PICK_POSES,
-    MAX_SHAPE_VERTICES, PartState, PartStates, PartStatesError, PickEvent, PickPoseState, RejectReason,
-    SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ShapeError, Telemetry, ValidationLimits,
+    MAX_SHAPE_VERTICES, PROTOCOL_VERSION, PartState, PartStates, PartStatesError, PickCommand,
+    PickCommandError, PickEvent, PickPoseState, RejectReason, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON,
+    Schedule, ShapeError, Telemetry, ValidationLimits,
 };
 use proptest::prelude::*;
 use upm_tests::{from_bytes, patch_header};
@@ -218,6 +219,55 @@ proptest! {
         let _ = m.push(PickPoseState::ZERO);
         m.push_pick(PickEvent { number: u64::MAX, ..PickEvent::ZERO });
         prop_assert!(m.recent().last().is_some_and(|p| p.number == u64::MAX));
+    }
+
+    #[test]
+    fn pick_command_never_panics(
+        mut bytes in body(),
+        pose in 0u32..20,
+        part_id in 0u32..3,
+        age in any::<u64>(),
+        patch in any::<bool>(),
+        mut l in limits_strategy(),
+        max_age in prop::option::of(any::<u64>()),
+    ) {
+        // The whole message is 32 bytes; patched: a valid version, a pose
+        // near the capacity, a stamp at or before now and a part id near
+        // 0, so every check is reached.
+        bytes.resize(bytes.len().max(size_of::<PickCommand>()), 0);
+        if patch {
+            patch_header(&mut bytes, pose);
+            let at = core::mem::offset_of!(PickCommand, stamp_ns);
+            bytes[at..at + 8].copy_from_slice(&l.now_ns.saturating_sub(age % 1_000_000_000).to_ne_bytes());
+            let at = core::mem::offset_of!(PickCommand, part_id);
+            bytes[at..at + 4].copy_from_slice(&part_id.to_ne_bytes());
+        }
+        if let Some(max_age) = max_age {
+            l.max_age_ns = max_age;
+        }
+        let m: PickCommand = from_bytes(&bytes);
+        let verdict = m.validate(&l);
+        // Accepted exactly when every rule holds, checked by other means.
+        let sound = m.protocol_version == PROTOCOL_VERSION
+            && m.stamp_ns <= l.now_ns.saturating_add(l.max_future_skew_ns)
+            && l.now_ns.saturating_sub(m.stamp_ns) <= l.max_age_ns
+            && (m.pose as usize) < MAX_PICK_POSES
+            && m.part_id != 0;
+        prop_assert_eq!(verdict.is_ok(), sound, "{:?}: {:?}", m, verdict);
+        if let Err(e) = verdict {
+            prop_assert!(e.to_string().starts_with("pick_command."), "{}", e);
+            let expected = match e {
+                PickCommandError::Header(h) => h.reason(),
+                PickCommandError::PoseOutOfRange { pose } => {
+                    prop_assert_eq!(pose, m.pose);
+                    RejectReason::CountExceedsCapacity
+                }
+                PickCommandError::NoPart => RejectReason::UnknownPart,
+            };
+            prop_assert_eq!(e.reason(), expected);
+            let no_count = !matches!(e, PickCommandError::Header(ipc_types::HeaderError::CountExceedsCapacity { .. }));
+            prop_assert!(no_count, "a pick has no count: {}", e);
+        }
     }
 }
 

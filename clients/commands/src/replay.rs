@@ -234,15 +234,15 @@ fn by_key<'a, T>(
 }
 
 /// The recorded outputs in the order the core produced them (by the
-/// instant it handled each; ties in recorded order), commands left out:
-/// they only move the motor.
+/// instant it handled each; ties in recorded order), commands and picks
+/// left out: they only move the motor or the feed cell, not the solver.
 fn timeline(inputs: &Inputs) -> Vec<Output<'_>> {
     let mut outputs: Vec<(u64, usize, Output)> = Vec::new();
     let schedules = inputs.schedules.iter().map(|(i, s)| (*i, Output::Schedule(s)));
     let rejections = inputs
         .rejections
         .iter()
-        .filter(|(_, r)| r.kind() != Some(RejectedKind::CoreCommand))
+        .filter(|(_, r)| !matches!(r.kind(), Some(RejectedKind::CoreCommand | RejectedKind::PickCommand)))
         .map(|(i, r)| (*i, Output::Rejection(r)));
     for (index, out) in schedules.chain(rejections) {
         outputs.push((out.handled_ns(), index, out));
@@ -330,7 +330,7 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
             RejectedKind::PartStates => parts.get(&key).map(|m| core.inbox().push_parts(m)),
             RejectedKind::ForceRequest => requests.get(&key).map(|m| core.inbox().push_request(m)),
             RejectedKind::ExplicitSchedule => explicit.get(&key).map(|m| core.inbox().push_explicit(m)),
-            RejectedKind::CoreCommand => continue,
+            RejectedKind::CoreCommand | RejectedKind::PickCommand => continue,
         };
         found.ok_or_else(|| missing(what()))?;
         core.handle_at(now);

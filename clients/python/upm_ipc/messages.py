@@ -35,6 +35,7 @@ TELEMETRY = "upm/telemetry"
 REJECTION = "upm/rejection"  # every refusal, whoever sent the message: filter
 RIG_INFO = "upm/rig_info"  # the rig describing itself, once, history 1
 FEED = "upm/feed"  # FeedStatus: a feed cell's counters and picks, at the camera's rate
+PICK = "upm/pick"  # PickCommand: robot -> core, a part taken from a pick pose
 CAMERA_FRAME = "upm/camera/frame"  # [u8] pixels, FrameHeader user header
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
 FRAME_EVENT = CAMERA_FRAME  # event service: a frame source notifies vision
@@ -235,7 +236,7 @@ class Schedule(ctypes.Structure):
 
 
 # Rejection.kind codes and the reject reasons (docs/protocol.md).
-REJECTED_KINDS = ("part_states", "force_request", "explicit_schedule", "core_command")
+REJECTED_KINDS = ("part_states", "force_request", "explicit_schedule", "core_command", "pick")
 REJECT_REASONS = (
     "wrong_protocol_version", "count_exceeds_capacity", "empty", "stamp_from_future", "stale",
     "out_of_order", "duplicate", "non_finite", "off_plate", "unknown_class", "duplicate_id",
@@ -471,6 +472,29 @@ class FeedStatus(ctypes.Structure):
         return [p for p in self.recent[: min(self.recent_count, FEED_RECENT_PICKS)] if p.number > after]
 
 
+class PickCommand(ctypes.Structure):
+    """Robot -> core on PICK: "I took the part `part_id` from pick pose
+    `pose`" (an index into FeedStatus.poses, below MAX_PICK_POSES; part_id
+    as that pose showed it while ready, not 0). Read by a core whose feed
+    cell's robot is external; refused ones come back on REJECTION, kind "pick"."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("pose", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),  # CLOCK_MONOTONIC ns when sent
+        ("part_id", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::PickCommand.v6"
+
+    def __init__(self, pose=0, part_id=0, seq=0, stamp_ns=0):
+        """As PickCommand::new: the protocol version set, reserved 0."""
+        super().__init__(PROTOCOL_VERSION, pose, seq, stamp_ns, part_id, 0)
+
+
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
 assert ctypes.sizeof(PartState) == 4 * 4 + 7 * 8 + 2 * 4 + MAX_SHAPE_VERTICES * 16
 assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(PartState)
@@ -487,3 +511,4 @@ assert ctypes.sizeof(FeedStatus) == (
     4 + 4 + 2 * 8 + 4 * 8 + 4 * 4 + 3 * 8
     + FEED_RECENT_PICKS * ctypes.sizeof(PickEvent) + MAX_PICK_POSES * ctypes.sizeof(PickPoseState)
 )
+assert ctypes.sizeof(PickCommand) == 4 + 4 + 8 + 8 + 4 + 4

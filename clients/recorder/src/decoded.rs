@@ -6,8 +6,8 @@
 
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, FeedStatus, ForceEntry, ForceRequest,
-    FrameHeader, LatencyPercentiles, PartState, PartStates, PickEvent, PickPoseState, REJECT_REASONS,
-    RejectReason, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
+    FrameHeader, LatencyPercentiles, PartState, PartStates, PickCommand, PickEvent, PickPoseState,
+    REJECT_REASONS, RejectReason, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
 };
 use serde_json::{Map, Value, json};
 
@@ -91,6 +91,16 @@ impl Decoded for CoreCommand {
     }
     fn sample() -> Self {
         Self::new(0, 0, 0)
+    }
+}
+
+impl Decoded for PickCommand {
+    fn decoded(&self) -> Value {
+        json!({"protocol_version": self.protocol_version, "pose": self.pose, "seq": self.seq,
+               "stamp_ns": self.stamp_ns, "part_id": self.part_id})
+    }
+    fn sample() -> Self {
+        Self::new(0, 0, 0, 0)
     }
 }
 
@@ -306,5 +316,19 @@ mod tests {
         let s = schema::<FeedStatus>();
         assert_eq!(s["properties"]["recent"]["items"]["properties"]["number"]["type"], json!("integer"));
         assert_eq!(s["properties"]["poses"]["items"]["properties"]["x"]["type"], json!(["number", "null"]));
+    }
+
+    #[test]
+    fn a_pick_shows_its_pose_and_part() {
+        let v = PickCommand::new(3, 42, 7, 123).decoded();
+        assert_eq!(
+            v,
+            json!({"protocol_version": ipc_types::PROTOCOL_VERSION, "pose": 3, "seq": 7, "stamp_ns": 123,
+                   "part_id": 42})
+        );
+        let s = schema::<PickCommand>();
+        for field in ["protocol_version", "pose", "seq", "stamp_ns", "part_id"] {
+            assert_eq!(s["properties"][field]["type"], json!("integer"), "{field}");
+        }
     }
 }

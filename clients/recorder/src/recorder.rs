@@ -9,8 +9,8 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{FrameSub, Sub, subscriber};
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, PartStates, Rejection, RigInfo, Schedule,
-    Telemetry, monotonic_now_ns, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, PartStates, PickCommand, Rejection, RigInfo,
+    Schedule, Telemetry, monotonic_now_ns, service_names,
 };
 
 use crate::rig_log::{LogOptions, RigLog};
@@ -36,6 +36,7 @@ struct Subscriptions {
     request: Sub<ForceRequest>,
     explicit: Sub<ExplicitSchedule>,
     command: Sub<CoreCommand>,
+    pick: Sub<PickCommand>,
     schedule: Sub<Schedule>,
     telemetry: Sub<Telemetry>,
     rejection: Sub<Rejection>,
@@ -69,11 +70,13 @@ pub struct Recorder {
 /// rejection's the refused message's, the ground truth's the tick (the io
 /// thread publishes the newest pose). A feed status is numbered by each
 /// write of the cell, which the io thread publishes well within its period.
-const COUNTED_BY_SEQ: [&str; 7] = [
+/// A pick is numbered by its robot, like a command by its sender.
+const COUNTED_BY_SEQ: [&str; 8] = [
     service_names::PART_STATES,
     service_names::FORCE_REQUEST,
     service_names::EXPLICIT_SCHEDULE,
     service_names::CORE_COMMAND,
+    service_names::PICK,
     service_names::TELEMETRY,
     service_names::FEED,
     service_names::CAMERA_FRAME,
@@ -91,6 +94,8 @@ impl Recorder {
             request: subscriber(&node, service_names::FORCE_REQUEST)?,
             explicit: subscriber(&node, service_names::EXPLICIT_SCHEDULE)?,
             command: subscriber(&node, service_names::CORE_COMMAND)?,
+            // Only an external robot publishes here.
+            pick: subscriber(&node, service_names::PICK)?,
             schedule: subscriber(&node, service_names::SCHEDULE)?,
             telemetry: subscriber(&node, service_names::TELEMETRY)?,
             rejection: subscriber(&node, service_names::REJECTION)?,
@@ -154,6 +159,7 @@ impl Recorder {
         drain!(request, service_names::FORCE_REQUEST);
         drain!(explicit, service_names::EXPLICIT_SCHEDULE);
         drain!(command, service_names::CORE_COMMAND);
+        drain!(pick, service_names::PICK);
         drain!(schedule, service_names::SCHEDULE);
         drain!(rejection, service_names::REJECTION);
         drain!(rig_info, service_names::RIG_INFO);
@@ -248,6 +254,34 @@ mod tests {
         drop(node);
         ipc_types::rig_node::remove_prefix_segment(&prefix);
         assert_eq!(counts.get(service_names::FEED), Some(&(3, Some(1))), "{counts:?}");
+        Ok(())
+    }
+
+    /// A robot's picks cross shared memory into the log, and a gap in
+    /// their `seq` is counted as lost.
+    #[test]
+    fn picks_are_recorded_and_their_gaps_counted() -> anyhow::Result<()> {
+        let prefix = format!("upm_rec_pick_{}_", std::process::id());
+        let mut rec = Recorder::start(&RecorderOptions { prefix: prefix.clone(), ..Default::default() })?;
+        let node = ipc_types::rig_node::rig_node(&prefix, None, SignalHandlingMode::Disabled)?;
+        let picks = ipc_types::ports::publisher::<PickCommand>(&node, service_names::PICK)?;
+        for seq in [1, 2, 5] {
+            let m = PickCommand::new(seq as u32 % 3, 10 + seq as u32, seq, monotonic_now_ns());
+            picks.send_copy(m).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        }
+        let mut received = 0;
+        for _ in 0..1000 {
+            received += rec.poll()?;
+            if received >= 3 {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let counts = rec.finish()?;
+        drop(picks);
+        drop(node);
+        ipc_types::rig_node::remove_prefix_segment(&prefix);
+        assert_eq!(counts.get(service_names::PICK), Some(&(3, Some(2))), "{counts:?}");
         Ok(())
     }
 }

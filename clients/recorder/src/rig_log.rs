@@ -19,8 +19,8 @@ use foxglove::{
     PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
 };
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo,
-    Schedule, Telemetry, WireMessage, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand, Rejection,
+    RigInfo, Schedule, Telemetry, WireMessage, service_names,
 };
 
 use crate::decoded::{Decoded, latencies, schema, schema_of};
@@ -128,6 +128,7 @@ impl RigLog {
             Topic::new::<ExplicitSchedule>(&ctx, ExplicitSchedule::SERVICE)?,
         );
         topics.insert(CoreCommand::SERVICE, Topic::new::<CoreCommand>(&ctx, CoreCommand::SERVICE)?);
+        topics.insert(PickCommand::SERVICE, Topic::new::<PickCommand>(&ctx, PickCommand::SERVICE)?);
         topics.insert(Schedule::SERVICE, Topic::new::<Schedule>(&ctx, Schedule::SERVICE)?);
         topics.insert(Telemetry::SERVICE, Topic::new::<Telemetry>(&ctx, Telemetry::SERVICE)?);
         topics.insert(Rejection::SERVICE, Topic::new::<Rejection>(&ctx, Rejection::SERVICE)?);
@@ -295,5 +296,23 @@ impl RigLog {
             ws.stop().wait_blocking();
         }
         Ok(counts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A topic for every service of the protocol, and none else: a service
+    /// without one would be silently dropped by [`RigLog::log`].
+    #[test]
+    fn every_service_has_a_topic() -> anyhow::Result<()> {
+        let log = RigLog::open(&LogOptions::default())?;
+        let topics: Vec<String> = log.counts().into_keys().collect();
+        let mut services: Vec<String> = service_names::ALL.iter().map(|s| (*s).to_owned()).collect();
+        services.sort_unstable();
+        assert_eq!(topics, services);
+        log.finish()?;
+        Ok(())
     }
 }

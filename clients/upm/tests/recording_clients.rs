@@ -284,8 +284,8 @@ fn foxglove_client_receives_part_states_live() {
 /// The JSON schema of a `/json` topic or `upm/latency`, as the recorder makes it.
 fn schema_of_topic(topic: &str) -> Option<Value> {
     use ipc_types::{
-        CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, Rejection, RigInfo,
-        Schedule, Telemetry, service_names as s,
+        CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand,
+        Rejection, RigInfo, Schedule, Telemetry, service_names as s,
     };
     use upm_recorder::decoded::{latencies, schema, schema_of};
     if topic == upm_recorder::LATENCY_TOPIC {
@@ -301,6 +301,7 @@ fn schema_of_topic(topic: &str) -> Option<Value> {
         s::REJECTION => schema::<Rejection>(),
         s::RIG_INFO => schema::<RigInfo>(),
         s::FEED => schema::<FeedStatus>(),
+        s::PICK => schema::<PickCommand>(),
         s::CAMERA_FRAME => schema::<FrameHeader>(),
         _ => return None,
     })

@@ -6,7 +6,7 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
     CoreCommand, CoreCounters, CoreLatencies, DriverTelemetry, ExplicitSchedule, ExplicitSlot, FeedStatus,
-    ForceEntry, ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, PickEvent,
+    ForceEntry, ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, PickCommand, PickEvent,
     PickPoseState, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
 };
 
@@ -236,6 +236,7 @@ pub fn all() -> Vec<Layout> {
             on_plate_s
         }),
         layout!(PickPoseState { class, part_id, ready, reserved, x, y, theta }),
+        layout!(PickCommand { protocol_version, pose, seq, stamp_ns, part_id, reserved }),
     ];
     for l in &all {
         let covered: usize = l.fields.iter().map(|f| f.size).sum();

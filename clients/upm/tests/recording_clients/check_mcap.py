@@ -23,6 +23,7 @@ SERVICES = [
     "upm/force_request",
     "upm/explicit_schedule",
     "upm/core_command",
+    "upm/pick",
     "upm/schedule",
     "upm/telemetry",
     "upm/rejection",
