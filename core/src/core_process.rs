@@ -72,7 +72,12 @@ fn run_simulated<D: SimulatedPlant>(
     };
     let status_hz = if options.vision_frame_hz > 0.0 { options.vision_frame_hz } else { 10.0 };
     let feed = driver.publish_feed_status((1000.0 / status_hz).round() as u64);
-    run_core_with_truth(params, driver, SimulatorOutputs { truth, feed }, options).context("upm-core")
+    let picks = driver.accept_picks().map(|mailbox| -> Box<dyn FnMut(&ipc_types::PickCommand) + Send> {
+        Box::new(move |c| {
+            mailbox.post(c.pose, c.part_id);
+        })
+    });
+    run_core_with_truth(params, driver, SimulatorOutputs { truth, feed, picks }, options).context("upm-core")
 }
 
 /// Print the one-line summary of a finished run; a run whose thread died

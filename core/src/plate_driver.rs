@@ -30,6 +30,9 @@ pub trait SimulatedPlant: PlateDriver + Send + 'static {
     /// Have the feed cell write its status every `every_ms` (see
     /// [`FeedCell::publish_status`]); None without a cell.
     fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>>;
+    /// The feed cell's mailbox for an external robot's picks (see
+    /// [`FeedCell::accept_picks`]); None without one.
+    fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>>;
 }
 
 impl SimulatedPlant for Simulator {
@@ -45,6 +48,9 @@ impl SimulatedPlant for Simulator {
     }
     fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>> {
         FeedCell::publish_status(self, every_ms)
+    }
+    fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>> {
+        FeedCell::accept_picks(self)
     }
 }
 
@@ -63,6 +69,9 @@ impl SimulatedPlant for EthercatDriver<SimulatedRig> {
     }
     fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>> {
         self.with_wire(|w| FeedCell::publish_status(&mut w.sim, every_ms)).flatten()
+    }
+    fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>> {
+        self.with_wire(|w| FeedCell::accept_picks(&mut w.sim)).flatten()
     }
 }
 
@@ -221,6 +230,10 @@ impl SimulatedPlant for EthercatOverVeth {
     fn publish_feed_status(&mut self, every_ms: u64) -> Option<triple_buffer::Output<ipc_types::FeedStatus>> {
         let mut rig = self.chain.wire.lock().ok()?;
         FeedCell::publish_status(&mut rig.sim, every_ms)
+    }
+    fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>> {
+        let mut rig = self.chain.wire.lock().ok()?;
+        FeedCell::accept_picks(&mut rig.sim)
     }
 }
 

@@ -23,7 +23,6 @@ mod camera_frame;
 mod capacity;
 mod clock;
 mod core_command;
-mod pick_command;
 mod core_state;
 mod counted_message;
 #[cfg(feature = "iceoryx2")]
@@ -39,6 +38,7 @@ mod latency_percentiles;
 mod node_list;
 pub mod part_shape;
 mod part_states;
+mod pick_command;
 #[cfg(feature = "iceoryx2")]
 pub mod ports;
 mod reject_reason;
@@ -60,7 +60,6 @@ pub use camera_frame::{FrameError, FrameHeader};
 pub use capacity::{CapacityError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_SLOTS};
 pub use clock::monotonic_now_ns;
 pub use core_command::{CoreCommand, CoreCommandError};
-pub use pick_command::{PickCommand, PickCommandError};
 pub use core_state::CoreState;
 pub use driver_telemetry::{DRIVER_AXES, DriverTelemetry, NO_SYNC0, bus_state, driver_kind};
 pub use explicit_schedule::{ExplicitSchedule, ExplicitScheduleError, ExplicitSlot};
@@ -75,6 +74,7 @@ pub use part_shape::{
     MAX_OUTLINE_M, MAX_SHAPE_VERTICES, MIN_OUTLINE_M, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, ShapeError,
 };
 pub use part_states::{PartState, PartStates, PartStatesError};
+pub use pick_command::{PickCommand, PickCommandError};
 pub use reject_reason::{REJECT_REASONS, RejectReason};
 pub use rejection::{RejectedKind, Rejection};
 pub use rig_info::{RIG_PREFIX_BYTES, RigCenter, RigInfo, RigInfoError};

@@ -38,7 +38,9 @@ const _: () = assert!(size_of::<PickCommand>() == 4 + 4 + 8 + 8 + 4 + 4);
 pub enum PickCommandError {
     /// Protocol version or stamp.
     Header(HeaderError),
-    PoseOutOfRange { pose: u32 },
+    PoseOutOfRange {
+        pose: u32,
+    },
     NoPart,
 }
 

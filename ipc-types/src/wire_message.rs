@@ -11,8 +11,8 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand, Rejection, RigInfo,
-    Schedule, Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand, Rejection,
+    RigInfo, Schedule, Telemetry, service_names,
 };
 
 /// Why bytes are not a message of the asked type.

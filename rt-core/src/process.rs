@@ -19,8 +19,8 @@ use iceoryx2::prelude::*;
 use ipc_types::ports::config_with_prefix;
 use ipc_types::rig_node::rig_node;
 use ipc_types::{
-    CoreState, HealthSource, PartStates, RejectReason, RigInfo, Schedule, Telemetry, monotonic_now_ns,
-    service_names,
+    CoreState, HealthSource, PartStates, RejectReason, RejectedKind, Rejection, RigInfo, Schedule, Telemetry,
+    monotonic_now_ns, service_names,
 };
 
 use super::alloc_count;
@@ -155,11 +155,20 @@ pub struct SimulatorOutputs {
     pub truth: Option<triple_buffer::Output<PartStates>>,
     /// Published on `upm/feed`.
     pub feed: Option<triple_buffer::Output<ipc_types::FeedStatus>>,
+    /// Where each valid `PickCommand` of `upm/pick` goes (an external
+    /// robot's picks, to the feed cell); the io thread reads them.
+    pub picks: Option<Box<dyn FnMut(&ipc_types::PickCommand) + Send>>,
 }
 
 impl core::fmt::Debug for SimulatorOutputs {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "SimulatorOutputs(truth: {}, feed: {})", self.truth.is_some(), self.feed.is_some())
+        write!(
+            f,
+            "SimulatorOutputs(truth: {}, feed: {}, picks: {})",
+            self.truth.is_some(),
+            self.feed.is_some(),
+            self.picks.is_some()
+        )
     }
 }
 
@@ -217,7 +226,14 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         );
     }
     let StageGraph { motor, stage, shared, motor_samples: mut motor_rx, outputs: mut stage_rx, .. } = graph;
-    let SimulatorOutputs { truth: mut truth_rx, feed: mut feed_rx } = outputs;
+    let SimulatorOutputs { truth: mut truth_rx, feed: mut feed_rx, picks: mut pick_sink } = outputs;
+    let pick_sub = match pick_sink {
+        Some(_) => Some(
+            ipc_types::ports::subscriber::<ipc_types::PickCommand>(&node, service_names::PICK)
+                .map_err(StartError::Port)?,
+        ),
+        None => None,
+    };
     let truth_pub = match truth_rx {
         Some(_) => Some(
             ipc_types::ports::publisher::<PartStates>(&node, service_names::SIM_GROUND_TRUTH)
@@ -305,6 +321,29 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
             && rx.update()
         {
             let _ = p.send_copy(*rx.peek_output_buffer());
+        }
+        if let (Some(sub), Some(sink)) = (pick_sub.as_ref(), pick_sink.as_mut()) {
+            let limits = ipc_types::ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
+            while let Ok(Some(s)) = sub.receive() {
+                let c = *s.payload();
+                match c.validate(&limits) {
+                    Ok(()) => sink(&c),
+                    Err(e) => {
+                        shared.count_reject(e.reason());
+                        let now = monotonic_now_ns();
+                        let r = Rejection::new(
+                            RejectedKind::PickCommand,
+                            c.seq,
+                            c.stamp_ns,
+                            now,
+                            e.reason(),
+                            format_args!("{e}"),
+                        );
+                        let _ = rejection_pub.send_copy(r);
+                        rejection_log.note(&r, now);
+                    }
+                }
+            }
         }
         let now = monotonic_now_ns();
         if force || now >= next_telemetry {

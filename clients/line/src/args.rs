@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use clap::Parser;
 use rig_config::{ConfigError, ProcessArgs};
+use tokio_util::sync::CancellationToken;
 use upm_users::Users;
 
 use crate::counters::LineCounters;
@@ -15,17 +16,22 @@ use crate::opcua_server::{OpcUaOptions, serve as serve_opcua};
 use crate::rig_view::RigView;
 
 #[derive(Debug, Parser)]
-#[command(name = "upm-line", version, about = "UPM's line interface: OPC UA and Modbus TCP for robots and PLCs")]
+#[command(
+    name = "upm-line",
+    version,
+    about = "UPM's line interface: OPC UA and Modbus TCP for robots and PLCs"
+)]
 pub struct LineArgs {
     /// The rig: `--prefix`, else the config's, else the one rig running.
     #[command(flatten)]
     pub process: ProcessArgs,
-    /// OPC UA endpoint address (`opc.tcp://ADDR/`).
-    #[arg(long, default_value = "127.0.0.1:4840")]
-    pub opcua: SocketAddr,
-    /// Modbus TCP address (localhost unless given).
-    #[arg(long, default_value = "127.0.0.1:5020")]
-    pub modbus: SocketAddr,
+    /// Serve OPC UA here (`opc.tcp://ADDR/`, e.g. 127.0.0.1:4840).
+    #[arg(long)]
+    pub opcua: Option<SocketAddr>,
+    /// Serve Modbus TCP here (e.g. 127.0.0.1:5020; bind a LAN address
+    /// only on a trusted cell network: Modbus has no users).
+    #[arg(long)]
+    pub modbus: Option<SocketAddr>,
     /// The users file (`upm users add`); without it no one may call methods.
     #[arg(long)]
     pub users: Option<PathBuf>,
@@ -33,6 +39,11 @@ pub struct LineArgs {
     /// the client certificates it trusts (`trusted/`).
     #[arg(long, default_value = "out/line/pki")]
     pub pki: PathBuf,
+    /// Who picks: `external` (a robot through `Rig.Picked` or holding
+    /// register 10; a real rig's) or `builtin` (the simulator's own robot:
+    /// picks from outside are refused).
+    #[arg(long, default_value = "external", value_parser = ["external", "builtin"])]
+    pub robot: String,
     /// What `Rig.Recipe` shows.
     #[arg(long, default_value = "")]
     pub recipe: String,
@@ -68,22 +79,41 @@ pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
             Users::default()
         }
     };
+    if args.opcua.is_none() && args.modbus.is_none() {
+        anyhow::bail!("nothing to serve: give --opcua ADDR, --modbus ADDR or both");
+    }
     let view = Arc::new(RigView::start(&prefix, &args.recipe)?);
     let counters = Arc::new(LineCounters::default());
+    let builtin_robot = args.robot == "builtin";
     // Two workers: the line never needs more, and never runs on an RT thread.
     let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
     runtime.block_on(async {
-        let opts = OpcUaOptions { addr: args.opcua, pki_dir: args.pki.clone(), users };
-        let (handle, opcua) = serve_opcua(opts, view.clone(), counters.clone()).await?;
-        let token = handle.token().clone();
-        let modbus_stop = token.clone();
-        let modbus = tokio::spawn(crate::modbus_server::serve(
-            args.modbus,
-            view.clone(),
-            counters.clone(),
-            async move { modbus_stop.cancelled().await },
-        ));
-        println!("upm-line: rig {prefix:?}; OPC UA on opc.tcp://{}/, Modbus TCP on {}", args.opcua, args.modbus);
+        let stop = CancellationToken::new();
+        let opcua = match args.opcua {
+            Some(addr) => {
+                let opts = OpcUaOptions { addr, pki_dir: args.pki.clone(), users, builtin_robot };
+                Some(serve_opcua(opts, view.clone(), counters.clone()).await?)
+            }
+            None => None,
+        };
+        let mut modbus = args.modbus.map(|addr| {
+            let stopped = stop.clone();
+            tokio::spawn(crate::modbus_server::serve(
+                addr,
+                builtin_robot,
+                view.clone(),
+                counters.clone(),
+                async move {
+                    stopped.cancelled().await;
+                },
+            ))
+        });
+        let shown = |a: Option<SocketAddr>| a.map_or_else(|| "off".to_owned(), |a| a.to_string());
+        println!(
+            "upm-line: rig {prefix:?}; OPC UA on {}, Modbus TCP on {}",
+            args.opcua.map_or_else(|| "off".to_owned(), |a| format!("opc.tcp://{a}/")),
+            shown(args.modbus)
+        );
         let mut term = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())?;
         let until = async {
             match duration {
@@ -91,15 +121,34 @@ pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
                 None => std::future::pending().await,
             }
         };
-        tokio::select! {
-            _ = tokio::signal::ctrl_c() => {}
-            _ = term.recv() => {}
-            () = until => {}
-            r = modbus => { handle.cancel(); r??; anyhow::bail!("the Modbus server stopped"); }
+        let modbus_ended = async {
+            match modbus.as_mut() {
+                Some(task) => task.await,
+                None => std::future::pending().await,
+            }
+        };
+        let failed = tokio::select! {
+            _ = tokio::signal::ctrl_c() => None,
+            _ = term.recv() => None,
+            () = until => None,
+            r = modbus_ended => {
+                modbus = None;
+                Some(match r {
+                    Ok(Err(e)) => e,
+                    Ok(Ok(())) => anyhow::anyhow!("the Modbus server stopped"),
+                    Err(e) => anyhow::anyhow!("the Modbus server failed: {e}"),
+                })
+            }
+        };
+        stop.cancel();
+        if let Some((handle, task)) = opcua {
+            handle.cancel();
+            let _ = task.await;
         }
-        handle.cancel();
-        let _ = opcua.await;
-        anyhow::Ok(())
+        if let Some(task) = modbus {
+            let _ = task.await;
+        }
+        failed.map_or(Ok(()), Err)
     })?;
     let counts: Vec<String> = counters.all().iter().map(|(k, v)| format!("{k} {v}")).collect();
     println!("upm-line: stopped; refused: {}", counts.join(", "));

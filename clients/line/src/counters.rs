@@ -11,6 +11,9 @@ pub struct LineCounters {
     pub access_denied: AtomicU64,
     /// OPC UA calls with arguments of the wrong type or number.
     pub bad_arguments: AtomicU64,
+    /// `Picked` on a pose with no part ready (or on a rig whose own robot
+    /// picks).
+    pub invalid_state: AtomicU64,
     /// OPC UA calls the rig could not carry out (its view thread gone).
     pub failed_calls: AtomicU64,
     /// Modbus requests answered with an exception.
@@ -27,8 +30,9 @@ impl LineCounters {
     }
 
     /// (name, value) of each counter, for display.
-    pub fn all(&self) -> [(&'static str, u64); 7] {
+    pub fn all(&self) -> [(&'static str, u64); 8] {
         [
+            ("InvalidState", self.invalid_state.load(Relaxed)),
             ("LoginFailures", self.login_failures.load(Relaxed)),
             ("AccessDenied", self.access_denied.load(Relaxed)),
             ("BadArguments", self.bad_arguments.load(Relaxed)),

@@ -15,6 +15,8 @@ pub const POSE_STRIDE: u16 = 10;
 pub const POSE_REGISTERS: u16 = POSE_STRIDE * MAX_PICK_POSES as u16;
 /// Coil 0: run (1 start, 0 stop).
 pub const RUN_COIL: u16 = 0;
+/// Holding register 10: write n to acknowledge the pick from pose n.
+pub const PICK_ACK_REGISTER: u16 = 10;
 /// Modbus's own limit on registers per read.
 pub const MAX_READ: u16 = 125;
 
@@ -40,16 +42,21 @@ fn input_register(s: &RigSnapshot, addr: u16) -> Option<u16> {
         let [lost_hi, lost_lo] = words(s.lost as u32);
         let ppm = (s.parts_per_minute * 100.0).round().clamp(0.0, f64::from(u16::MAX)) as u16;
         let poses = s.poses.len() as u16;
-        return Some([s.state.code() as u16, picked_hi, picked_lo, lost_hi, lost_lo, ppm, poses, 0][usize::from(addr)]);
+        return Some(
+            [s.state.code() as u16, picked_hi, picked_lo, lost_hi, lost_lo, ppm, poses, 0][usize::from(addr)],
+        );
     }
     if (POSE_BLOCK..POSE_BLOCK + POSE_REGISTERS).contains(&addr) {
-        let (n, k) = (usize::from((addr - POSE_BLOCK) / POSE_STRIDE), usize::from((addr - POSE_BLOCK) % POSE_STRIDE));
+        let (n, k) =
+            (usize::from((addr - POSE_BLOCK) / POSE_STRIDE), usize::from((addr - POSE_BLOCK) % POSE_STRIDE));
         let Some(p) = s.poses.get(n) else { return Some(0) };
         let [x_hi, x_lo] = words(centi_mm(p.x));
         let [y_hi, y_lo] = words(centi_mm(p.y));
         let [t_hi, t_lo] = words(milli_deg(p.theta));
         let [id_hi, id_lo] = words(p.part_id);
-        return Some([u16::from(p.ready), p.class as u16, x_hi, x_lo, y_hi, y_lo, t_hi, t_lo, id_hi, id_lo][k]);
+        return Some(
+            [u16::from(p.ready), p.class as u16, x_hi, x_lo, y_hi, y_lo, t_hi, t_lo, id_hi, id_lo][k],
+        );
     }
     None
 }
@@ -86,6 +93,7 @@ mod tests {
                 PoseView { ready: true, class: 1, part_id: 70_000, x: 0.7, y: -0.25, theta: -0.5 },
                 PoseView { ready: false, class: 0, part_id: 0, x: 0.85, y: 0.25, theta: 0.0 },
             ],
+            sent: [0; ipc_types::MAX_PICK_POSES],
             telemetry_seen: 1,
             feed_seen: 1,
             invalid_messages: 0,

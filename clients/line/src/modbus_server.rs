@@ -13,8 +13,8 @@ use tokio_modbus::server::tcp::Server;
 use tokio_modbus::{ExceptionCode, Request, Response};
 
 use crate::counters::LineCounters;
-use crate::modbus_map::{RUN_COIL, input_registers};
-use crate::rig_view::RigView;
+use crate::modbus_map::{PICK_ACK_REGISTER, RUN_COIL, input_registers};
+use crate::rig_view::{PickRefusal, RigView};
 
 /// Connections served at once; more are closed at accept (and counted):
 /// a client that never finishes a frame holds its connection.
@@ -26,6 +26,7 @@ struct PlcService {
     view: Arc<RigView>,
     counters: Arc<LineCounters>,
     open: Arc<AtomicUsize>,
+    builtin_robot: bool,
 }
 
 impl Drop for PlcService {
@@ -53,6 +54,20 @@ impl PlcService {
                 Ok(Response::WriteSingleCoil(RUN_COIL, on))
             }
             Request::ReadCoils(..) | Request::WriteSingleCoil(..) => Err(ExceptionCode::IllegalDataAddress),
+            Request::WriteSingleRegister(PICK_ACK_REGISTER, pose) => {
+                match self.view.picked(u32::from(pose), self.builtin_robot) {
+                    Ok(()) => Ok(Response::WriteSingleRegister(PICK_ACK_REGISTER, pose)),
+                    Err(PickRefusal::OutOfRange) => Err(ExceptionCode::IllegalDataValue),
+                    // Modbus has no "invalid state"; a PLC retries on busy.
+                    Err(PickRefusal::NotReady | PickRefusal::BuiltinRobot) => {
+                        Err(ExceptionCode::ServerDeviceBusy)
+                    }
+                    Err(PickRefusal::Failed(e)) => {
+                        tracing::warn!("Modbus pick acknowledge: {e}");
+                        Err(ExceptionCode::ServerDeviceFailure)
+                    }
+                }
+            }
             Request::ReadHoldingRegisters(..)
             | Request::WriteSingleRegister(..)
             | Request::WriteMultipleRegisters(..)
@@ -81,6 +96,7 @@ impl Service for PlcService {
 /// Serve on `addr` until `stop` resolves.
 pub async fn serve(
     addr: SocketAddr,
+    builtin_robot: bool,
     view: Arc<RigView>,
     counters: Arc<LineCounters>,
     stop: impl std::future::Future<Output = ()> + Send + Sync + 'static,
@@ -93,7 +109,12 @@ pub async fn serve(
     let (refused, bad_frames) = (counters.clone(), counters.clone());
     let on_connected = move |stream, peer| {
         let service = if open.fetch_add(1, Relaxed) < MAX_CONNECTIONS {
-            Some(PlcService { view: view.clone(), counters: counters.clone(), open: open.clone() })
+            Some(PlcService {
+                view: view.clone(),
+                counters: counters.clone(),
+                open: open.clone(),
+                builtin_robot,
+            })
         } else {
             open.fetch_sub(1, Relaxed);
             LineCounters::count(&refused.modbus_refused_connections);

@@ -18,15 +18,18 @@ use opcua::server::diagnostics::NamespaceMetadata;
 use opcua::server::node_manager::memory::{SimpleNodeManager, simple_node_manager};
 use opcua::server::{ANONYMOUS_USER_TOKEN_ID, ServerBuilder, ServerEndpoint, ServerHandle};
 use opcua::types::{
-    DataTypeId, DataValue, DateTime, Error, MessageSecurityMode, NodeId, ObjectId, ObjectTypeId, QualifiedName,
-    StatusCode, UAString, UserTokenPolicy, UserTokenType, VariableTypeId, Variant,
+    DataTypeId, DataValue, DateTime, Error, MessageSecurityMode, NodeId, ObjectId, ObjectTypeId,
+    QualifiedName, StatusCode, UAString, UserTokenPolicy, UserTokenType, VariableTypeId, Variant,
 };
 use upm_users::Users;
 
 use crate::counters::LineCounters;
-use crate::rig_view::{RigSnapshot, RigView};
+use crate::rig_view::{PickRefusal, RigSnapshot, RigView};
 
 pub const NAMESPACE_URI: &str = "urn:upm:rig";
+/// The `Picked(UInt32 pose)` method's node id (its browse name is
+/// `Picked`; the count `Rig.Picked` is browsed as `PickedCount`).
+pub const PICKED_METHOD: &str = "Rig.PickedMethod";
 /// How often the variables are refreshed: a camera frame.
 const UPDATE_PERIOD: Duration = Duration::from_millis(33);
 /// A failed login waits this long before its answer: guessing is slow.
@@ -40,6 +43,8 @@ pub struct OpcUaOptions {
     /// client certificates it trusts (`trusted/`) or refused (`rejected/`).
     pub pki_dir: PathBuf,
     pub users: Users,
+    /// The simulator's own robot picks: `Rig.Picked` is refused.
+    pub builtin_robot: bool,
 }
 
 /// Anonymous sessions read; users of the file may call methods and write.
@@ -94,7 +99,12 @@ impl AuthManager for RigAuth {
         allowed
     }
 
-    fn effective_user_access_level(&self, token: &UserToken, level: AccessLevel, _node: &NodeId) -> AccessLevel {
+    fn effective_user_access_level(
+        &self,
+        token: &UserToken,
+        level: AccessLevel,
+        _node: &NodeId,
+    ) -> AccessLevel {
         if token.is_anonymous() { level - AccessLevel::CURRENT_WRITE } else { level }
     }
 }
@@ -164,7 +174,10 @@ pub async fn serve(
         .trust_client_certs(false)
         .with_authenticator(auth)
         .add_endpoint("none", ("/", SecurityPolicy::None, MessageSecurityMode::None, ids))
-        .add_endpoint("basic256sha256", ("/", SecurityPolicy::Basic256Sha256, MessageSecurityMode::SignAndEncrypt, ids))
+        .add_endpoint(
+            "basic256sha256",
+            ("/", SecurityPolicy::Basic256Sha256, MessageSecurityMode::SignAndEncrypt, ids),
+        )
         .discovery_urls(vec![url])
         .with_node_manager(simple_node_manager(
             NamespaceMetadata { namespace_uri: NAMESPACE_URI.to_owned(), ..Default::default() },
@@ -189,7 +202,9 @@ pub async fn serve(
             .has_type_definition(ObjectTypeId::BaseObjectType)
             .insert(&mut *space);
         for (name, ty, value) in rig_values(&first, &counters) {
-            VariableBuilder::new(&nodes.id(&format!("Rig.{name}")), nodes.name(&name), name.as_str())
+            // The method `Picked` has the browse name; the count is `PickedCount`.
+            let browse = if name == "Picked" { "PickedCount".to_owned() } else { name.clone() };
+            VariableBuilder::new(&nodes.id(&format!("Rig.{name}")), nodes.name(&browse), name.as_str())
                 .data_type(ty)
                 .value(value)
                 .component_of(rig.clone())
@@ -203,8 +218,53 @@ pub async fn serve(
                 .user_executable(true)
                 .insert(&mut *space);
         }
+        MethodBuilder::new(&nodes.id(PICKED_METHOD), nodes.name("Picked"), "Picked")
+            .component_of(rig.clone())
+            .executable(true)
+            .user_executable(true)
+            .input_args(
+                &mut *space,
+                &nodes.id(&format!("{PICKED_METHOD}.InputArguments")),
+                &[("pose", DataTypeId::UInt32).into()],
+            )
+            .insert(&mut *space);
     }
-    for (method, command) in [("Start", CoreCommand::START), ("Stop", CoreCommand::STOP), ("Resume", CoreCommand::RESUME)]
+    {
+        let (view, counters, builtin) = (view.clone(), counters.clone(), opts.builtin_robot);
+        nm.inner().add_method_callback(nodes.id(PICKED_METHOD), move |args: &[Variant]| {
+            let pose = match args {
+                [Variant::UInt32(pose)] => *pose,
+                [] => {
+                    LineCounters::count(&counters.bad_arguments);
+                    return Err(StatusCode::BadArgumentsMissing);
+                }
+                [_] => {
+                    LineCounters::count(&counters.bad_arguments);
+                    return Err(StatusCode::BadTypeMismatch);
+                }
+                _ => {
+                    LineCounters::count(&counters.bad_arguments);
+                    return Err(StatusCode::BadTooManyArguments);
+                }
+            };
+            view.picked(pose, builtin).map(|()| Vec::new()).map_err(|refusal| {
+                let (counter, code) = match refusal {
+                    PickRefusal::OutOfRange => (&counters.bad_arguments, StatusCode::BadOutOfRange),
+                    PickRefusal::NotReady | PickRefusal::BuiltinRobot => {
+                        (&counters.invalid_state, StatusCode::BadInvalidState)
+                    }
+                    PickRefusal::Failed(e) => {
+                        tracing::warn!("Rig.Picked: {e}");
+                        (&counters.failed_calls, StatusCode::BadInternalError)
+                    }
+                };
+                LineCounters::count(counter);
+                code
+            })
+        });
+    }
+    for (method, command) in
+        [("Start", CoreCommand::START), ("Stop", CoreCommand::STOP), ("Resume", CoreCommand::RESUME)]
     {
         let (view, counters) = (view.clone(), counters.clone());
         nm.inner().add_method_callback(nodes.id(&format!("Rig.{method}")), move |args: &[Variant]| {
@@ -237,12 +297,16 @@ pub async fn serve(
                 for n in poses_made..s.poses.len() {
                     for (name, ty, value) in pose_values(&s, n) {
                         let id = format!("Rig.Pick.{n}.{name}");
-                        VariableBuilder::new(&nodes.id(&id), nodes.name(&format!("Pick.{n}.{name}")), id.as_str())
-                            .data_type(ty)
-                            .value(value)
-                            .component_of(rig.clone())
-                            .has_type_definition(VariableTypeId::BaseDataVariableType)
-                            .insert(&mut *space);
+                        VariableBuilder::new(
+                            &nodes.id(&id),
+                            nodes.name(&format!("Pick.{n}.{name}")),
+                            id.as_str(),
+                        )
+                        .data_type(ty)
+                        .value(value)
+                        .component_of(rig.clone())
+                        .has_type_definition(VariableTypeId::BaseDataVariableType)
+                        .insert(&mut *space);
                     }
                 }
                 poses_made = s.poses.len();
@@ -257,7 +321,8 @@ pub async fn serve(
                     values.push((nodes.id(&format!("Rig.Pick.{n}.{name}")), DataValue::new_at(v, now)));
                 }
             }
-            if let Err(e) = nm.set_values(&subscriptions, values.iter().map(|(id, v)| (id, None, v.clone()))) {
+            if let Err(e) = nm.set_values(&subscriptions, values.iter().map(|(id, v)| (id, None, v.clone())))
+            {
                 tracing::warn!("updating the OPC UA variables: {e}");
             }
         }

@@ -14,7 +14,8 @@ use iceoryx2::prelude::*;
 use ipc_types::ports::{Pub, Sub};
 use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{
-    CoreCommand, CoreState, FeedStatus, Telemetry, ValidationLimits, monotonic_now_ns, service_names,
+    CoreCommand, CoreState, FeedStatus, MAX_PICK_POSES, PickCommand, Telemetry, ValidationLimits,
+    monotonic_now_ns, service_names,
 };
 
 /// The core is taken as gone when its telemetry is older than this.
@@ -48,6 +49,10 @@ pub struct RigSnapshot {
     /// Picks per minute over the last five minutes of the cell's clock.
     pub parts_per_minute: f64,
     pub poses: Vec<PoseView>,
+    /// Per pose, the part last passed on as picked: until the cell's
+    /// status shows another part there, that pose is not ready (a status
+    /// written before the cell took the pick may still arrive).
+    pub sent: [u32; MAX_PICK_POSES],
     /// Messages received and refused (invalid) so far.
     pub telemetry_seen: u64,
     pub feed_seen: u64,
@@ -64,6 +69,7 @@ impl RigSnapshot {
             lost: 0,
             parts_per_minute: 0.0,
             poses: Vec::new(),
+            sent: [0; MAX_PICK_POSES],
             telemetry_seen: 0,
             feed_seen: 0,
             invalid_messages: 0,
@@ -71,8 +77,30 @@ impl RigSnapshot {
     }
 }
 
-/// An operator's command for the core, and where its outcome goes.
-type Order = (u32, SyncSender<Result<(), String>>);
+/// What the servers ask of the rig.
+#[derive(Debug, Clone, Copy)]
+enum Ask {
+    /// A `CoreCommand` code.
+    Core(u32),
+    /// The robot took `part_id` from `pose`.
+    Pick { pose: u32, part_id: u32 },
+}
+
+/// An order for the view thread, and where its outcome goes.
+type Order = (Ask, SyncSender<Result<(), String>>);
+
+/// Why a robot's pick was refused.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PickRefusal {
+    /// No such pose in the cell.
+    OutOfRange,
+    /// No part is ready at that pose.
+    NotReady,
+    /// The rig's own simulated robot picks: no one else may.
+    BuiltinRobot,
+    /// The line could not pass it on.
+    Failed(String),
+}
 
 /// The running view; dropping it stops its thread.
 #[derive(Debug)]
@@ -92,17 +120,18 @@ impl RigView {
         let (snap, halt, prefix) = (snapshot.clone(), stop.clone(), prefix.to_owned());
         // iceoryx2's ports stay on the thread that opened them.
         let (opened, outcome) = sync_channel(1);
-        let thread = std::thread::Builder::new().name("upm-line-view".into()).spawn(move || {
-            match Ports::open(&prefix) {
-                Ok(ports) => {
-                    let _ = opened.send(Ok(()));
-                    view_loop(ports, &snap, &rx, &halt);
+        let thread =
+            std::thread::Builder::new().name("upm-line-view".into()).spawn(move || {
+                match Ports::open(&prefix) {
+                    Ok(ports) => {
+                        let _ = opened.send(Ok(()));
+                        view_loop(ports, &snap, &rx, &halt);
+                    }
+                    Err(e) => {
+                        let _ = opened.send(Err(e));
+                    }
                 }
-                Err(e) => {
-                    let _ = opened.send(Err(e));
-                }
-            }
-        })?;
+            })?;
         outcome.recv().map_err(|_| anyhow::anyhow!("the line's view thread died at start"))??;
         Ok(Self { snapshot, orders: Mutex::new(tx), stop, thread: Some(thread) })
     }
@@ -114,8 +143,33 @@ impl RigView {
 
     /// Send `command` (`CoreCommand::START`, `STOP`, `RESUME`) to the core.
     pub fn command(&self, command: u32) -> Result<(), String> {
+        self.ask(Ask::Core(command))
+    }
+
+    /// The robot took the part ready at `pose`: checked against the
+    /// newest status, then passed to the cell (`PickCommand`). The pose
+    /// reads not ready until the cell's next status.
+    pub fn picked(&self, pose: u32, builtin_robot: bool) -> Result<(), PickRefusal> {
+        let part_id = {
+            let mut snap = lock(&self.snapshot);
+            let p = snap.poses.get_mut(pose as usize).ok_or(PickRefusal::OutOfRange)?;
+            if builtin_robot {
+                return Err(PickRefusal::BuiltinRobot);
+            }
+            if !p.ready || p.part_id == 0 {
+                return Err(PickRefusal::NotReady);
+            }
+            p.ready = false;
+            let part_id = p.part_id;
+            snap.sent[pose as usize] = part_id;
+            part_id
+        };
+        self.ask(Ask::Pick { pose, part_id }).map_err(PickRefusal::Failed)
+    }
+
+    fn ask(&self, ask: Ask) -> Result<(), String> {
         let (done, outcome) = sync_channel(1);
-        lock(&self.orders).send((command, done)).map_err(|_| "the line's view thread has stopped".to_owned())?;
+        lock(&self.orders).send((ask, done)).map_err(|_| "the line's view thread has stopped".to_owned())?;
         outcome
             .recv_timeout(Duration::from_secs(1))
             .map_err(|_| "the line's view thread did not answer".to_owned())?
@@ -139,6 +193,7 @@ struct Ports {
     telemetry: Sub<Telemetry>,
     feed: Sub<FeedStatus>,
     command: Pub<CoreCommand>,
+    pick: Pub<PickCommand>,
     notifier: WakeNotifier,
     _node: Node<ipc::Service>,
 }
@@ -150,6 +205,7 @@ impl Ports {
             telemetry: ipc_types::ports::subscriber(&node, service_names::TELEMETRY)?,
             feed: ipc_types::ports::subscriber(&node, service_names::FEED)?,
             command: ipc_types::ports::publisher(&node, service_names::CORE_COMMAND)?,
+            pick: ipc_types::ports::publisher(&node, service_names::PICK)?,
             notifier: WakeNotifier::new(&node, WakeEvent::Inbox)?,
             _node: node,
         })
@@ -172,7 +228,9 @@ impl Rate {
             self.samples.pop_front();
         }
         match (self.samples.front(), self.samples.back()) {
-            (Some(&(t0, p0)), Some(&(t1, p1))) if t1 - t0 >= 10.0 => p1.saturating_sub(p0) as f64 * 60.0 / (t1 - t0),
+            (Some(&(t0, p0)), Some(&(t1, p1))) if t1 - t0 >= 10.0 => {
+                p1.saturating_sub(p0) as f64 * 60.0 / (t1 - t0)
+            }
             _ => 0.0,
         }
     }
@@ -183,13 +241,17 @@ fn view_loop(mut ports: Ports, snapshot: &Mutex<RigSnapshot>, orders: &Receiver<
     let mut rate = Rate::default();
     let mut last_telemetry: Option<Instant> = None;
     while !stop.load(Ordering::Relaxed) {
-        while let Ok((command, done)) = orders.try_recv() {
+        while let Ok((ask, done)) = orders.try_recv() {
             seq += 1;
-            let sent = ports
-                .command
-                .send_copy(CoreCommand::new(command, seq, monotonic_now_ns()))
-                .map(|_| ports.notifier.notify())
-                .map_err(|e| format!("sending to the core: {e:?}"));
+            let now = monotonic_now_ns();
+            let sent = match ask {
+                Ask::Core(command) => ports.command.send_copy(CoreCommand::new(command, seq, now)),
+                Ask::Pick { pose, part_id } => {
+                    ports.pick.send_copy(PickCommand::new(pose, part_id, seq, now))
+                }
+            };
+            let sent =
+                sent.map(|_| ports.notifier.notify()).map_err(|e| format!("sending to the core: {e:?}"));
             let _ = done.send(sent);
         }
         // The line checks messages whole; where a part may lie is the core's business.
@@ -232,8 +294,9 @@ fn view_loop(mut ports: Ports, snapshot: &Mutex<RigSnapshot>, orders: &Receiver<
                 snap.parts_per_minute = rate.add(f.time_s, f.picked);
                 snap.poses.clear();
                 let n = (f.count as usize).min(f.poses.len());
-                snap.poses.extend(f.poses[..n].iter().map(|p| PoseView {
-                    ready: p.ready != 0,
+                let sent = snap.sent;
+                snap.poses.extend(f.poses[..n].iter().zip(sent).map(|(p, sent)| PoseView {
+                    ready: p.ready != 0 && p.part_id != sent,
                     class: i32::try_from(p.class).unwrap_or(i32::MAX),
                     part_id: p.part_id,
                     x: p.x,

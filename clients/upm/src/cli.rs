@@ -131,17 +131,20 @@ pub enum Command {
         /// Serve the live view (Foxglove WebSocket) on this localhost port.
         #[arg(long, num_args = 0..=1, default_missing_value = "8765")]
         monitor: Option<u16>,
-        /// Serve OPC UA on this address (`upm line`; 127.0.0.1:4840 with
-        /// `--modbus` alone).
+        /// Serve OPC UA on this address (`upm line`), e.g. 127.0.0.1:4840.
         #[arg(long)]
         opcua: Option<String>,
-        /// Serve Modbus TCP on this address (`upm line`; 127.0.0.1:5020
-        /// with `--opcua` alone).
+        /// Serve Modbus TCP on this address (`upm line`), e.g. 127.0.0.1:5020.
         #[arg(long)]
         modbus: Option<String>,
         /// The users file of `upm line` (`upm users add`).
         #[arg(long)]
         users: Option<PathBuf>,
+        /// Who takes the feed cell's parts: the simulator's own robot, or
+        /// one outside that reports its picks (e.g. an OPC UA client
+        /// calling `Rig.Picked` through `--opcua`).
+        #[arg(long, value_enum)]
+        robot: Option<RobotChoice>,
         /// Print metrics.json on stdout instead of a short summary.
         #[arg(long)]
         json: bool,
@@ -348,6 +351,15 @@ pub enum CalibrateTarget {
     Plate,
 }
 
+/// Who takes a feed cell's parts in `upm run`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RobotChoice {
+    /// The simulator's robot (the scenario's `[feed] robot`).
+    Builtin,
+    /// A robot outside, through `upm/pick` (`upm line`'s `Rig.Picked`).
+    External,
+}
+
 /// What `upm users` does.
 #[derive(Debug, Subcommand)]
 pub enum UsersAction {
@@ -449,6 +461,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             opcua,
             modbus,
             users,
+            robot,
             json,
         } => {
             let path = upm_commands::scenario::resolve(&scenario);
@@ -472,6 +485,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             }
             if adapt {
                 config.planner.drive_mut().adapt_friction = true;
+            }
+            if robot == Some(RobotChoice::External) {
+                config.feed.use_external_robot().map_err(anyhow::Error::msg)?;
             }
             if let Some(f) = calibration {
                 // Absolute: the processes start in other directories.
@@ -504,7 +520,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 camera,
                 record: !no_record,
                 monitor,
-                line: line_args(opcua, modbus, users, &sc.rig.feed.recipe)?,
+                line: line_args(
+                    opcua,
+                    modbus,
+                    users,
+                    &sc.rig.feed.recipe,
+                    robot == Some(RobotChoice::External),
+                )?,
             };
             if let Some(port) = monitor {
                 eprintln!("upm run: live view on ws://127.0.0.1:{port} (Foxglove: open connection)");
@@ -807,6 +829,7 @@ fn line_args(
     modbus: Option<String>,
     users: Option<PathBuf>,
     recipe: &str,
+    external_robot: bool,
 ) -> anyhow::Result<Option<Vec<String>>> {
     if opcua.is_none() && modbus.is_none() {
         if users.is_some() {
@@ -827,5 +850,7 @@ fn line_args(
     // The recipe's name, as `recipes/NAME.toml` is named; none without a cell.
     let name = std::path::Path::new(recipe).file_stem().map(|s| s.to_string_lossy().into_owned());
     args.extend(["--recipe".to_owned(), name.unwrap_or_default()]);
+    let robot = if external_robot { "external" } else { "builtin" };
+    args.extend(["--robot".to_owned(), robot.to_owned()]);
     Ok(Some(args))
 }

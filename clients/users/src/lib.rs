@@ -66,7 +66,8 @@ impl Users {
     /// Read and check `path`.
     pub fn load(path: &Path) -> Result<Self, UsersError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| UsersError::Read { path: shown.clone(), source })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| UsersError::Read { path: shown.clone(), source })?;
         Self::parse(&text, &shown)
     }
 
@@ -91,8 +92,9 @@ impl Users {
         if password.is_empty() {
             return Err(UsersError::EmptyPassword);
         }
-        let hash =
-            Argon2::default().hash_password(password.as_bytes()).map_err(|e| UsersError::Hash(e.to_string()))?;
+        let hash = Argon2::default()
+            .hash_password(password.as_bytes())
+            .map_err(|e| UsersError::Hash(e.to_string()))?;
         self.users.push(User { name: name.into(), hash: hash.to_string() });
         Ok(())
     }
@@ -115,8 +117,13 @@ impl Users {
         let werr = |source| UsersError::Write { path: shown.clone(), source };
         let text = toml::to_string(self).map_err(|e| UsersError::Hash(e.to_string()))?;
         let tmp = path.with_extension("tmp");
-        let mut f =
-            std::fs::OpenOptions::new().write(true).create(true).truncate(true).mode(0o600).open(&tmp).map_err(werr)?;
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .mode(0o600)
+            .open(&tmp)
+            .map_err(werr)?;
         f.write_all(b"# upm users: argon2id hashes, never a password. `upm users add` adds one.\n")
             .and_then(|()| f.write_all(text.as_bytes()))
             .and_then(|()| f.sync_all())
@@ -144,7 +151,8 @@ mod tests {
         let _ = std::fs::remove_file(&path);
         add_user(&path, "robot", "s3cret-pass")?;
         add_user(&path, "op.1", "other")?;
-        let text = std::fs::read_to_string(&path).map_err(|source| UsersError::Read { path: "f".into(), source })?;
+        let text =
+            std::fs::read_to_string(&path).map_err(|source| UsersError::Read { path: "f".into(), source })?;
         assert!(!text.contains("s3cret-pass"), "the password is in the file");
         let users = Users::load(&path)?;
         assert!(users.verify("robot", "s3cret-pass"));
@@ -163,7 +171,9 @@ mod tests {
         assert!(e.as_deref().is_some_and(|e| e.starts_with("user[0].name")), "{e:?}");
         let e = err("[[user]]\nname = \"a\"\nhash = \"not-phc\"\n");
         assert!(e.as_deref().is_some_and(|e| e.starts_with("user[0].hash")), "{e:?}");
-        let e = err("[[user]]\nname = \"a\"\nhash = \"$argon2id$v=19$m=19456,t=2,p=1$c2FsdHNhbHQ$aGFzaGhhc2hoYXNoaGFzaGhhc2hoYXNo\"\n[[user]]\nname = \"a\"\nhash = \"$argon2id$v=19$m=19456,t=2,p=1$c2FsdHNhbHQ$aGFzaGhhc2hoYXNoaGFzaGhhc2hoYXNo\"\n");
+        let e = err(
+            "[[user]]\nname = \"a\"\nhash = \"$argon2id$v=19$m=19456,t=2,p=1$c2FsdHNhbHQ$aGFzaGhhc2hoYXNoaGFzaGhhc2hoYXNo\"\n[[user]]\nname = \"a\"\nhash = \"$argon2id$v=19$m=19456,t=2,p=1$c2FsdHNhbHQ$aGFzaGhhc2hoYXNoaGFzaGhhc2hoYXNo\"\n",
+        );
         assert!(e.as_deref().is_some_and(|e| e.contains("appears twice")), "{e:?}");
         let e = err("[[user]]\nname = \"a\"\n");
         assert!(e.as_deref().is_some_and(|e| e.contains("hash")), "{e:?}");

@@ -11,11 +11,23 @@ pub struct FeedSection {
     /// The recipe file; empty: no feed cell.
     pub recipe: String,
     /// What the simulated robot takes: `"at_pose"` (a part presented at
-    /// its pick pose) or `"any_in_zone"` (the feeders' shake-and-pick).
+    /// its pick pose), `"any_in_zone"` (the feeders' shake-and-pick) or
+    /// `"external"` (none: a robot outside posts its picks on `upm/pick`).
     pub robot: drivers::feed::RobotMode,
 }
 
 impl FeedSection {
+    /// The robot is outside the simulator (`upm run --robot external`).
+    pub fn use_external_robot(&mut self) -> Result<(), String> {
+        if self.recipe.is_empty() {
+            return Err(
+                "--robot external: this scenario runs no feed cell (its [feed] recipe is empty)".into()
+            );
+        }
+        self.robot = drivers::feed::RobotMode::External;
+        Ok(())
+    }
+
     /// The recipe, checked against a plate of `plate_half_extent`; None
     /// without one. The message names the field.
     pub fn recipe(&self, plate_half_extent: [f64; 2]) -> Result<Option<Recipe>, String> {

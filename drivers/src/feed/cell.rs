@@ -6,6 +6,7 @@ use core::fmt;
 use upm_recipe::{Outline, Recipe};
 
 use super::counts::{FeedCounts, PickRecord};
+use super::pick_mailbox::MailboxSlot;
 use super::robot_mode::RobotMode;
 use super::status_port::StatusSlot;
 use crate::rng::SplitMix64;
@@ -64,6 +65,7 @@ pub struct FeedCell {
     /// Where the next pick goes once `picks` is full.
     pick_head: usize,
     pub(super) status: StatusSlot,
+    pub(super) mailbox: MailboxSlot,
 }
 
 impl FeedCell {
@@ -131,6 +133,7 @@ impl FeedCell {
             picks: Vec::with_capacity(PICK_LOG),
             pick_head: 0,
             status: StatusSlot::default(),
+            mailbox: MailboxSlot::default(),
         };
         let mut cell = cell;
         cell.schedule_first_arrival();

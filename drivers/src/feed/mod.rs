@@ -9,6 +9,7 @@
 mod cell;
 mod counts;
 mod infeed;
+mod pick_mailbox;
 mod robot;
 mod robot_mode;
 mod status;
@@ -16,5 +17,6 @@ mod status_port;
 
 pub use cell::{FeedCell, FeedError};
 pub use counts::{FeedCounts, PickRecord};
+pub use pick_mailbox::PickMailbox;
 pub use robot_mode::{RobotMode, ZONE_MARGIN_M};
 pub use status::STUCK_AFTER_S;

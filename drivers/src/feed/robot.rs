@@ -18,7 +18,7 @@ impl FeedCell {
     /// pose ([`RobotMode::AtPose`]), or still in the zone.
     pub(super) fn track_settling(&mut self, sim: &Simulator, t: f64) {
         match self.mode {
-            RobotMode::AtPose => self.track_at_pose(sim, t),
+            RobotMode::AtPose | RobotMode::External => self.track_at_pose(sim, t),
             RobotMode::AnyInZone => self.track_in_zone(sim, t),
         }
     }
@@ -75,8 +75,12 @@ impl FeedCell {
         }
     }
 
-    /// Take one settled part with a clear gripper, poses in turn.
+    /// Take one settled part with a clear gripper, poses in turn (or, for
+    /// an external robot, each part it posted, if ready where it says).
     pub(super) fn robot_step(&mut self, sim: &mut Simulator, t: f64) {
+        if self.mode == RobotMode::External {
+            return self.external_picks(sim, t);
+        }
         let robot = self.recipe.robot;
         if t < self.busy_until {
             return;
@@ -91,23 +95,50 @@ impl FeedCell {
             // The feeders' robot takes a part where it lies: its record is
             // against the nearest pose of its class.
             let j = if self.mode == RobotMode::AnyInZone { self.within_pose[i] } else { j };
-            let (Some(p), pose) = (sim.part(i), self.recipe.picks[j]) else { continue };
-            let order = self.order[self.slot_class[i]];
-            self.log_pick(PickRecord {
-                t,
-                part_id: self.slot_id[i],
-                class: pose.class,
-                pose: j as u32,
-                position_error: (p.position[0] - pose.position[0]).hypot(p.position[1] - pose.position[1]),
-                angle_error: angle_error(p.angle, pose.theta, order),
-                on_plate_s: t - self.arrived_t[i],
-            });
-            self.take_off(sim, i);
-            self.counts.picked += 1;
+            if !self.pick(sim, i, j, t) {
+                continue;
+            }
             self.busy_until = t + robot.pick_s;
             self.next_pose = j + 1;
             return;
         }
+    }
+
+    /// The picks an external robot posted. The robot is the authority: it
+    /// acted on a status some milliseconds old, so the part it names is
+    /// taken if it is still on the plate and last lay at that pose (the
+    /// pick's record has its errors as they are now); else the post is
+    /// refused (counted in the mailbox).
+    fn external_picks(&mut self, sim: &mut Simulator, t: f64) {
+        let Some(mailbox) = self.mailbox.0.take() else { return };
+        for j in 0..self.recipe.picks.len() {
+            let id = mailbox.take(j);
+            if id == 0 {
+                continue;
+            }
+            let at = (0..self.slot_id.len()).find(|&i| self.slot_id[i] == id && self.within_pose[i] == j);
+            let done = at.is_some_and(|i| self.pick(sim, i, j, t));
+            mailbox.outcome(done);
+        }
+        self.mailbox.0 = Some(mailbox);
+    }
+
+    /// Part `i` leaves the plate, picked at pose `j`: logged and counted.
+    fn pick(&mut self, sim: &mut Simulator, i: usize, j: usize, t: f64) -> bool {
+        let (Some(p), pose) = (sim.part(i), self.recipe.picks[j]) else { return false };
+        let order = self.order[self.slot_class[i]];
+        self.log_pick(PickRecord {
+            t,
+            part_id: self.slot_id[i],
+            class: pose.class,
+            pose: j as u32,
+            position_error: (p.position[0] - pose.position[0]).hypot(p.position[1] - pose.position[1]),
+            angle_error: angle_error(p.angle, pose.theta, order),
+            on_plate_s: t - self.arrived_t[i],
+        });
+        self.take_off(sim, i);
+        self.counts.picked += 1;
+        true
     }
 
     /// Whether part `i` is on the plate, has lain ready for the settle

@@ -14,6 +14,10 @@ pub enum RobotMode {
     /// bounding box grown by [`ZONE_MARGIN_M`]), at whatever angle: the
     /// flexible feeders' shake-and-pick.
     AnyInZone,
+    /// The robot is outside the simulator (e.g. on OPC UA through `upm
+    /// line`): a part ready at a pose leaves when a pick of it is posted
+    /// ([`crate::feed::PickMailbox`]).
+    External,
 }
 
 /// How far the pick zone reaches beyond the pick poses.

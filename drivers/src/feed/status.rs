@@ -7,6 +7,7 @@
 use ipc_types::{FeedStatus, PickEvent, PickPoseState, monotonic_now_ns};
 
 use super::cell::FeedCell;
+use super::pick_mailbox::PickMailbox;
 use super::robot_mode::RobotMode;
 use super::status_port::StatusPort;
 use crate::sim::Simulator;
@@ -23,6 +24,18 @@ impl FeedCell {
         let (out, reader) = triple_buffer::triple_buffer(&FeedStatus::new());
         cell.status.0 = Some(StatusPort { every: every_ms.max(1), steps: 0, out });
         Some(reader)
+    }
+
+    /// The mailbox an external robot's picks go to; None if `sim` has no
+    /// feed cell or its robot is not [`RobotMode::External`]. Start-up only.
+    pub fn accept_picks(sim: &mut Simulator) -> Option<std::sync::Arc<PickMailbox>> {
+        let cell = sim.cell_mut()?.as_any_mut().downcast_mut::<Self>()?;
+        if cell.mode != RobotMode::External {
+            return None;
+        }
+        let mailbox = std::sync::Arc::new(PickMailbox::default());
+        cell.mailbox.0 = Some(mailbox.clone());
+        Some(mailbox)
     }
 
     /// The cell's status now into `out` (its `recent` picks are left as they
@@ -59,7 +72,7 @@ impl FeedCell {
 
     /// The part lying within tolerance of pose `j`, if any.
     fn part_at_pose(&self, j: usize) -> Option<usize> {
-        if self.mode != RobotMode::AtPose {
+        if self.mode == RobotMode::AnyInZone {
             return None;
         }
         (0..self.slot_id.len())

@@ -250,7 +250,8 @@ pub fn run_plan(
             break;
         }
         hung.check(observer.last_telemetry.as_ref(), observer.parts_seen, &mut vision, &mut planner, &say);
-        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut(), line.as_mut()].into_iter().flatten() {
+        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut(), line.as_mut()].into_iter().flatten()
+        {
             if let Some(event) = c.restart_if_dead()? {
                 if c.crash_looping() {
                     fatal = Some(event);

@@ -1,0 +1,138 @@
+"""A robot on OPC UA, written against docs/line.md with asyncua only.
+
+usage: robot_opcua.py URL USER PASSWORD SECONDS
+Prints one JSON object: what it read, picked and was refused.
+"""
+import asyncio
+import json
+import sys
+import time
+
+from asyncua import Client, ua
+
+URL, USER, PASSWORD, SECONDS = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
+out = {}
+
+
+def code(e):
+    return type(e).__name__
+
+
+async def refused(coro):
+    """The status code name of a call that must fail, or 'Good'."""
+    try:
+        await coro
+        return "Good"
+    except ua.UaStatusCodeError as e:
+        return code(e)
+
+
+async def anonymous():
+    async with Client(URL) as c:
+        ns = await c.get_namespace_index("urn:upm:rig")
+        node = lambda s: c.get_node(f"ns={ns};s=Rig.{s}")
+        out["namespace_index"] = ns
+        for name in ["State", "Health", "Recipe", "Picked", "Lost", "PartsPerMinute"]:
+            out[name] = await node(name).read_value()
+        poses = []
+        for n in range(16):
+            try:
+                poses.append({k: await node(f"Pick.{n}.{k}").read_value()
+                              for k in ["Ready", "Class", "PartId", "X", "Y", "Theta"]})
+            except ua.UaStatusCodeError:
+                break
+        out["poses"] = poses
+        rig = c.get_node(f"ns={ns};s=Rig")
+        out["anonymous_stop"] = await refused(rig.call_method(f"{ns}:Stop"))
+        out["anonymous_picked"] = await refused(
+            rig.call_method(f"{ns}:Picked", ua.Variant(0, ua.VariantType.UInt32)))
+        # Values change by subscription at the camera's rate.
+        changes = []
+
+        class Handler:
+            def datachange_notification(self, node, val, data):
+                changes.append(val)
+
+        sub = await c.create_subscription(50, Handler())
+        await sub.subscribe_data_change(node("PartsPerMinute"))
+        await sub.subscribe_data_change(node("Pick.0.Ready"))
+        await asyncio.sleep(3)
+        out["subscription_notifications"] = len(changes)
+        await sub.delete()
+
+
+async def wrong_password():
+    c = Client(URL)
+    c.set_user(USER)
+    c.set_password(PASSWORD + "x")
+    try:
+        await c.connect()
+        await c.disconnect()
+        out["wrong_password"] = "Good"
+    except Exception as e:  # asyncua raises the ActivateSession fault
+        out["wrong_password"] = code(e) if isinstance(e, ua.UaStatusCodeError) else str(e)
+
+
+async def robot():
+    c = Client(URL)
+    c.set_user(USER)
+    c.set_password(PASSWORD)
+    async with c:
+        ns = await c.get_namespace_index("urn:upm:rig")
+        node = lambda s: c.get_node(f"ns={ns};s=Rig.{s}")
+        rig = c.get_node(f"ns={ns};s=Rig")
+        picked = lambda v: rig.call_method(f"{ns}:Picked", v)
+        u32 = lambda n: ua.Variant(n, ua.VariantType.UInt32)
+        n_poses = len(out["poses"])
+        out["out_of_range"] = await refused(picked(u32(n_poses)))
+        out["far_out_of_range"] = await refused(picked(u32(2**32 - 1)))
+        out["string_pose"] = await refused(picked(ua.Variant("0", ua.VariantType.String)))
+        out["int64_pose"] = await refused(picked(ua.Variant(0, ua.VariantType.Int64)))
+        out["no_pose"] = await refused(rig.call_method(f"{ns}:Picked"))
+        out["two_poses"] = await refused(rig.call_method(f"{ns}:Picked", u32(0), u32(1)))
+        out["stop_with_argument"] = await refused(rig.call_method(f"{ns}:Stop", u32(1)))
+        # The pick loop: take what is ready, note what is refused.
+        good, not_ready, other = 0, 0, {}
+        tried_not_ready = None
+        t0 = time.time()
+        while time.time() - t0 < SECONDS:
+            for n in range(n_poses):
+                ready = await node(f"Pick.{n}.Ready").read_value()
+                if not ready and tried_not_ready is None:
+                    tried_not_ready = await refused(picked(u32(n)))
+                    continue
+                if not ready:
+                    continue
+                r = await refused(picked(u32(n)))
+                if r == "Good":
+                    good += 1
+                elif r == "BadInvalidState":
+                    not_ready += 1
+                else:
+                    other[r] = other.get(r, 0) + 1
+            await asyncio.sleep(0.03)
+        out["picks_good"] = good
+        out["picks_raced"] = not_ready
+        out["picks_other"] = other
+        out["not_ready_pose"] = tried_not_ready
+        # Stop and start: the state follows.
+        out["stop"] = await refused(rig.call_method(f"{ns}:Stop"))
+        await asyncio.sleep(2.0)
+        out["state_after_stop"] = await node("State").read_value()
+        out["start"] = await refused(rig.call_method(f"{ns}:Start"))
+        await asyncio.sleep(2.0)
+        out["state_after_start"] = await node("State").read_value()
+        out["resume"] = await refused(rig.call_method(f"{ns}:Resume"))
+        out["picked_after"] = await node("Picked").read_value()
+        for k in ["LoginFailures", "AccessDenied", "BadArguments", "InvalidState"]:
+            out[f"Line.{k}"] = await node(f"Line.{k}").read_value()
+
+
+async def main():
+    await anonymous()
+    await wrong_password()
+    await robot()
+    print(json.dumps(out))
+
+
+asyncio.run(main())

@@ -1,0 +1,194 @@
+//! The line interface as strangers use it: a robot written with Python's
+//! asyncua picks from a feed rig over OPC UA (`upm run feed --robot
+//! external --opcua …`), and a PLC written with pymodbus reads the
+//! registers and runs the coil. Every refusal docs/line.md names is
+//! provoked and checked, and the simulator's count of picks must match the
+//! picks the line accepted.
+
+mod common;
+
+use std::io::Write as _;
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+fn upm() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_upm"));
+    c.current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    c
+}
+
+fn client(name: &str) -> String {
+    format!("{}/../line/clients/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A free localhost port (the OS's choice, released at once).
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr()).map(|a| a.port()).expect("a port")
+}
+
+fn json_of(o: &std::process::Output, what: &str) -> Value {
+    assert!(
+        o.status.success(),
+        "{what}: {}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    serde_json::from_str(text.lines().last().unwrap_or("")).unwrap_or_else(|e| panic!("{what}: {e}: {text}"))
+}
+
+fn add_user(users: &Path, name: &str, password: &str) {
+    let mut c = upm()
+        .args(["users", "add"])
+        .arg(users)
+        .args([name, "--password-stdin"])
+        .stdin(Stdio::piped())
+        .spawn()
+        .expect("upm users add");
+    c.stdin.take().expect("stdin").write_all(format!("{password}\n").as_bytes()).expect("password");
+    assert!(c.wait().expect("wait").success(), "upm users add failed");
+}
+
+#[test]
+fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
+    let py_opcua = common::venv("upm-asyncua", "asyncua", "asyncua==2.1.0");
+    let py_modbus = common::venv("upm-pymodbus", "pymodbus", "pymodbus==3.16.1");
+    let dir = std::env::temp_dir().join(format!("upm_line_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    let users = dir.join("users.toml");
+    add_user(&users, "robot", "pick-pass-1");
+    let text = std::fs::read_to_string(&users).expect("users file");
+    assert!(!text.contains("pick-pass-1"), "the users file holds a password in clear");
+    // The same name twice is refused.
+    let again =
+        upm().args(["users", "add"]).arg(&users).args(["robot", "--password-stdin"]).output().expect("run");
+    assert!(!again.status.success());
+
+    let (opcua, modbus) = (free_port(), free_port());
+    let prefix = format!("upm_line_{}_", std::process::id());
+    let rig = upm()
+        .args(["run", "feed", "--duration", "150", "--quiet", "--no-record", "--robot", "external"])
+        .args(["--opcua", &format!("127.0.0.1:{opcua}"), "--modbus", &format!("127.0.0.1:{modbus}")])
+        .arg("--users")
+        .arg(&users)
+        .args(["--prefix", &prefix, "--out"])
+        .arg(dir.join("run"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("upm run");
+    let deadline = Instant::now() + Duration::from_secs(40);
+    while TcpStream::connect(("127.0.0.1", opcua)).is_err()
+        || TcpStream::connect(("127.0.0.1", modbus)).is_err()
+    {
+        assert!(Instant::now() < deadline, "the line's servers never came up");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+
+    let plc = json_of(
+        &Command::new(&py_modbus)
+            .arg(client("plc_modbus.py"))
+            .args(["127.0.0.1", &modbus.to_string()])
+            .output()
+            .expect("plc"),
+        "plc_modbus.py",
+    );
+    let url = format!("opc.tcp://127.0.0.1:{opcua}/");
+    let robot = json_of(
+        &Command::new(&py_opcua)
+            .arg(client("robot_opcua.py"))
+            .args([url.as_str(), "robot", "pick-pass-1", "100"])
+            .output()
+            .expect("robot"),
+        "robot_opcua.py",
+    );
+    let o = rig.wait_with_output().expect("wait");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let metrics: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run/metrics.json")).expect("metrics"))
+            .expect("json");
+
+    // The PLC: the map of docs/line.md, the coil, the refusals.
+    assert_eq!(plc["state"], 1, "{plc}");
+    assert_eq!(plc["poses"], 4, "{plc}");
+    let p0 = &plc["pose_list"][0];
+    assert_eq!(
+        (p0["class"].as_u64(), p0["x_centi_mm"].as_i64(), p0["y_centi_mm"].as_i64()),
+        (Some(0), Some(70_000), Some(25_000)),
+        "{plc}"
+    );
+    assert_eq!(plc["pose_list"][3]["theta_milli_deg"], 45_000, "{plc}");
+    assert_eq!(plc["run_coil"], true);
+    for (k, code) in [
+        ("off_map", 2),
+        ("across_blocks", 2),
+        ("past_poses", 2),
+        ("holding_read", 2),
+        ("coil_1", 2),
+        ("ack_out_of_range", 3),
+    ] {
+        assert_eq!(plc[k], code, "{k}: {plc}");
+    }
+    assert!(plc["ack_not_ready"] == 6 || plc["ack_not_ready"] == "all ready", "{plc}");
+    assert_eq!((plc["stop"].is_null(), plc["start"].is_null()), (true, true), "{plc}");
+    assert_eq!(
+        (plc["state_after_stop"].as_u64(), plc["run_coil_after_stop"].as_bool()),
+        (Some(0), Some(false)),
+        "{plc}"
+    );
+    assert_eq!(plc["state_after_start"], 1, "{plc}");
+    assert_eq!(plc["malformed_closed"], serde_json::json!([true, true]), "{plc}");
+    assert_eq!(plc["after_churn_state"], 1, "{plc}");
+
+    // The robot: what it read, what it was refused, what it picked.
+    assert_eq!(
+        (robot["State"].as_str(), robot["Recipe"].as_str()),
+        (Some("running"), Some("default")),
+        "{robot}"
+    );
+    assert_eq!(robot["poses"].as_array().map(Vec::len), Some(4), "{robot}");
+    assert_eq!(robot["poses"][2]["X"], 0.85, "{robot}");
+    assert!(robot["subscription_notifications"].as_u64().is_some_and(|n| n >= 2), "{robot}");
+    assert_eq!(
+        (robot["anonymous_stop"].as_str(), robot["anonymous_picked"].as_str()),
+        (Some("BadUserAccessDenied"), Some("BadUserAccessDenied")),
+        "{robot}"
+    );
+    assert_eq!(robot["wrong_password"], "BadUserAccessDenied", "{robot}");
+    for (k, code) in [
+        ("out_of_range", "BadOutOfRange"),
+        ("far_out_of_range", "BadOutOfRange"),
+        ("string_pose", "BadTypeMismatch"),
+        ("int64_pose", "BadTypeMismatch"),
+        ("no_pose", "BadArgumentsMissing"),
+        ("two_poses", "BadTooManyArguments"),
+        ("stop_with_argument", "BadTooManyArguments"),
+        ("not_ready_pose", "BadInvalidState"),
+        ("stop", "Good"),
+        ("start", "Good"),
+        ("resume", "Good"),
+    ] {
+        assert_eq!(robot[k], code, "{k}: {robot}");
+    }
+    assert_eq!(
+        (robot["state_after_stop"].as_str(), robot["state_after_start"].as_str()),
+        (Some("idle"), Some("running")),
+        "{robot}"
+    );
+    assert!(robot["picks_other"].as_object().is_some_and(|m| m.is_empty()), "{robot}");
+    let good = robot["picks_good"].as_u64().unwrap_or(0);
+    assert!(good >= 1, "the robot picked nothing in 100 s: {robot}");
+    assert!(robot["Line.LoginFailures"].as_u64().is_some_and(|n| n >= 1), "{robot}");
+    assert!(robot["Line.AccessDenied"].as_u64().is_some_and(|n| n >= 2), "{robot}");
+    // Every pick the line accepted, the simulator carried out; it picked
+    // nothing by itself.
+    assert_eq!(metrics["feed"]["picked"].as_u64(), Some(good), "accepted {good}: {}", metrics["feed"]);
+    assert_eq!(metrics["feed"]["lost"], 0);
+    assert!(metrics["processes"]["line"].as_u64().is_some(), "{}", metrics["processes"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
