@@ -1,16 +1,23 @@
 """A robot on OPC UA, written against docs/line.md with asyncua only.
 
-usage: robot_opcua.py URL USER PASSWORD SECONDS
-Prints one JSON object: what it read, picked and was refused.
+usage: robot_opcua.py URL USER PASSWORD SECONDS SERVER_PKI_DIR
+Prints one JSON object: what it read, picked and was refused. With the
+server's PKI directory it also connects over Basic256Sha256
+SignAndEncrypt: refused until its certificate is trusted, then served.
 """
 import asyncio
 import json
+import shutil
+import socket
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 from asyncua import Client, ua
 
 URL, USER, PASSWORD, SECONDS = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
+SERVER_PKI = Path(sys.argv[5]) if len(sys.argv) > 5 else None
 out = {}
 
 
@@ -128,9 +135,46 @@ async def robot():
             out[f"Line.{k}"] = await node(f"Line.{k}").read_value()
 
 
+async def secure_session(cert, key):
+    c = Client(URL)
+    c.set_user(USER)
+    c.set_password(PASSWORD)
+    c.application_uri = "urn:upm:rig:robot"  # the URI in the client's certificate
+    await c.set_security_string(f"Basic256Sha256,SignAndEncrypt,{cert},{key}")
+    async with c:
+        ns = await c.get_namespace_index("urn:upm:rig")
+        rig = c.get_node(f"ns={ns};s=Rig")
+        return (await c.get_node(f"ns={ns};s=Rig.State").read_value(),
+                await refused(rig.call_method(f"{ns}:Resume")))
+
+
+async def secure():
+    from asyncua.crypto.cert_gen import setup_self_signed_certificate
+    from cryptography.x509.oid import ExtendedKeyUsageOID
+    tmp = Path(tempfile.mkdtemp())
+    cert, key = tmp / "robot.der", tmp / "robot.pem"
+    await setup_self_signed_certificate(key, cert, "urn:upm:rig:robot", socket.gethostname(),
+                                        [ExtendedKeyUsageOID.CLIENT_AUTH], {"commonName": "upm-test-robot"})
+    try:
+        await secure_session(cert, key)
+        out["secure_untrusted"] = "Good"
+    except Exception as e:
+        out["secure_untrusted"] = code(e) if isinstance(e, ua.UaStatusCodeError) else type(e).__name__
+    # The operator trusts it: the server put it in rejected/.
+    rejected = list((SERVER_PKI / "rejected").glob("*"))
+    out["secure_rejected_files"] = len(rejected)
+    (SERVER_PKI / "trusted").mkdir(parents=True, exist_ok=True)
+    for f in rejected:
+        shutil.move(str(f), SERVER_PKI / "trusted" / f.name)
+    out["secure_state"], out["secure_resume"] = await secure_session(cert, key)
+    shutil.rmtree(tmp)
+
+
 async def main():
     await anonymous()
     await wrong_password()
+    if SERVER_PKI is not None:
+        await secure()
     await robot()
     print(json.dumps(out))
 

@@ -30,8 +30,11 @@ pub const NAMESPACE_URI: &str = "urn:upm:rig";
 /// The `Picked(UInt32 pose)` method's node id (its browse name is
 /// `Picked`; the count `Rig.Picked` is browsed as `PickedCount`).
 pub const PICKED_METHOD: &str = "Rig.PickedMethod";
-/// How often the variables are refreshed: a camera frame.
-const UPDATE_PERIOD: Duration = Duration::from_millis(33);
+/// How often the variables are refreshed (the cell's status comes at the
+/// camera's rate; this keeps the line's share of the delay small).
+const UPDATE_PERIOD: Duration = Duration::from_millis(10);
+/// The shortest publishing and sampling intervals a client may ask.
+const MIN_INTERVAL_MS: f64 = 10.0;
 /// A failed login waits this long before its answer: guessing is slow.
 const LOGIN_FAILURE_DELAY: Duration = Duration::from_secs(1);
 
@@ -163,7 +166,12 @@ pub async fn serve(
     let url = format!("opc.tcp://{}/", opts.addr);
     let ids: &[&str] = &[ANONYMOUS_USER_TOKEN_ID];
     let auth = Arc::new(RigAuth { users: Arc::new(opts.users), counters: counters.clone() });
-    let (server, handle) = ServerBuilder::new()
+    let mut builder = ServerBuilder::new();
+    // A robot waits on `Ready`: let it subscribe faster than the crate's
+    // 100 ms floor.
+    let limits = &mut builder.limits_mut().subscriptions;
+    (limits.min_publishing_interval_ms, limits.min_sampling_interval_ms) = (MIN_INTERVAL_MS, MIN_INTERVAL_MS);
+    let (server, handle) = builder
         .application_name("UPM rig")
         .application_uri("urn:upm:rig:line")
         .product_uri("urn:upm:rig")

@@ -103,6 +103,7 @@ fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
         &Command::new(&py_opcua)
             .arg(client("robot_opcua.py"))
             .args([url.as_str(), "robot", "pick-pass-1", "100"])
+            .arg(dir.join("run/pki"))
             .output()
             .expect("robot"),
         "robot_opcua.py",
@@ -160,6 +161,15 @@ fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
         "{robot}"
     );
     assert_eq!(robot["wrong_password"], "BadUserAccessDenied", "{robot}");
+    // Basic256Sha256 SignAndEncrypt: refused until the operator trusts the
+    // robot's certificate, then a user session like any other.
+    assert_ne!(robot["secure_untrusted"], "Good", "an untrusted certificate was served: {robot}");
+    assert!(robot["secure_rejected_files"].as_u64().is_some_and(|n| n >= 1), "{robot}");
+    assert_eq!(
+        (robot["secure_state"].as_str(), robot["secure_resume"].as_str()),
+        (Some("running"), Some("Good")),
+        "{robot}"
+    );
     for (k, code) in [
         ("out_of_range", "BadOutOfRange"),
         ("far_out_of_range", "BadOutOfRange"),
