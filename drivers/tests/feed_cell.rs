@@ -17,6 +17,10 @@ const DEFAULT: &str = include_str!("../../recipes/default.toml");
 
 /// The default recipe with `edits` applied, on a still 1 kHz plate.
 fn cell(edits: &[(&str, &str)], seed: u64) -> Simulator {
+    cell_with(edits, seed, RobotMode::AtPose)
+}
+
+fn cell_with(edits: &[(&str, &str)], seed: u64, robot: RobotMode) -> Simulator {
     let mut text = DEFAULT.to_owned();
     for (from, to) in edits {
         assert!(text.contains(from), "{from:?}");
@@ -24,7 +28,7 @@ fn cell(edits: &[(&str, &str)], seed: u64) -> Simulator {
     }
     let recipe = Recipe::parse(&text, "test.toml", [1.0, 0.5]).expect("recipe");
     let cfg = SimConfig { tick_hz: 1000.0, seed, ..SimConfig::default() };
-    FeedCell::simulator(cfg, &recipe, 0.04, RobotMode::AtPose).expect("cell")
+    FeedCell::simulator(cfg, &recipe, 0.04, robot).expect("cell")
 }
 
 fn run(sim: &mut Simulator, seconds: f64) {
@@ -129,6 +133,30 @@ fn the_robot_takes_a_settled_part_at_its_pose_and_nothing_else() {
     put(&mut sim, other, [0.0, 0.0], 0.0);
     run(&mut sim, 0.5);
     assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 2, "the disc, at any angle, once clear");
+}
+
+#[test]
+fn an_external_robot_takes_only_the_part_it_posts() {
+    let mut sim = cell_with(&[("rate_per_min = 40", "rate_per_min = 2")], 5, RobotMode::External);
+    let mailbox = FeedCell::accept_picks(&mut sim).expect("an external robot's mailbox");
+    let square = first_of(&mut sim, 1);
+    let id = FeedCell::of(&sim).expect("feed").id_of(square);
+    put(&mut sim, square, [0.85, -0.25], core::f64::consts::FRAC_PI_4);
+    run(&mut sim, 1.0);
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().picked, 0, "the simulator's robot picked");
+    // The wrong pose, a part that is not there, a pose out of range.
+    assert!(mailbox.post(2, id) && mailbox.post(3, id + 1000));
+    assert!(!mailbox.post(ipc_types::MAX_PICK_POSES as u32, id));
+    run(&mut sim, 0.01);
+    assert_eq!((mailbox.taken(), mailbox.refused()), (0, 2));
+    assert!(mailbox.post(3, id));
+    run(&mut sim, 0.01);
+    let feed = FeedCell::of(&sim).expect("feed");
+    assert_eq!((mailbox.taken(), feed.counts().picked), (1, 1));
+    assert_eq!((feed.picks()[0].part_id, feed.picks()[0].pose), (id, 3));
+    assert_ne!(feed.id_of(square), id, "a picked part leaves");
+    let mut at_pose = cell(&[], 5);
+    assert!(FeedCell::accept_picks(&mut at_pose).is_none(), "a mailbox beside the simulator's robot");
 }
 
 fn first_other(sim: &mut Simulator, not: usize) -> usize {
