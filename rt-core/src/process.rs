@@ -146,6 +146,10 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
     run_core_with_truth(params, driver, SimulatorOutputs::default(), options)
 }
 
+/// Where the io thread hands each valid `PickCommand` (an external
+/// robot's pick, to the feed cell).
+pub type PickSink = Box<dyn FnMut(&ipc_types::PickCommand) + Send>;
+
 /// What a simulated driver writes where it steps, for the io thread to
 /// publish: its parts' ground truth (for the simulated camera) and its
 /// feed cell's status.
@@ -157,7 +161,7 @@ pub struct SimulatorOutputs {
     pub feed: Option<triple_buffer::Output<ipc_types::FeedStatus>>,
     /// Where each valid `PickCommand` of `upm/pick` goes (an external
     /// robot's picks, to the feed cell); the io thread reads them.
-    pub picks: Option<Box<dyn FnMut(&ipc_types::PickCommand) + Send>>,
+    pub picks: Option<PickSink>,
 }
 
 impl core::fmt::Debug for SimulatorOutputs {

@@ -340,6 +340,7 @@ pub async fn serve(
             tracing::error!("the OPC UA server stopped: {e}");
         }
     });
-    let _ = updater;
+    // The updater ends with the server's token; it needs no handle.
+    drop(updater);
     Ok((handle, server_task))
 }
