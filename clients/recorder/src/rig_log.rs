@@ -44,7 +44,7 @@ pub const COUNTS_METADATA: &str = "upm.recorder";
 pub const CONFIG_ATTACHMENT: &str = "config.toml";
 
 /// Uncompressed bytes per MCAP chunk.
-const CHUNK_BYTES: u64 = 8 << 20;
+const CHUNK_BYTES: u64 = 1 << 20;
 /// Scene at most this often; decoded ground truth (1 kHz raw) likewise.
 const VIEW_PERIOD_NS: u64 = 100_000_000;
 const TRUTH_JSON_PERIOD_NS: u64 = 20_000_000;
@@ -149,7 +149,8 @@ impl RigLog {
             Some(path) => {
                 // The writer keeps each chunk's index entry (≈ 0.8 kB) in
                 // memory until the file ends: at 1 MiB a feed run's
-                // recorder grew 8 MB an hour, at 8 MiB it is 1 MB.
+                // recorder grows 8 MB an hour (1 MB at 8 MiB, but an 8 MiB
+                // chunk's compression is one long burst on the clients' CPU).
                 let options = McapWriteOptions::new()
                     .compression(Some(McapCompression::Zstd))
                     .chunk_size(Some(CHUNK_BYTES))
