@@ -9,6 +9,7 @@ pub mod bench_fidelity;
 pub mod bench_fidelity_loop;
 pub mod bench_ipc;
 pub mod bench_latency;
+pub mod bench_line;
 pub mod bench_least_squares;
 pub mod bench_planner_wake;
 pub mod bench_record;

@@ -404,6 +404,12 @@ pub enum BenchTarget {
     /// A feed cell, lock-step: the `present` planner beside the feeders'
     /// shake-and-pick on the same seeds and recipe.
     Feed,
+    /// The line interface: a robot on OPC UA beside the simulator's own
+    /// robot (`upm run feed`, same seed), `Picked`'s round trip, a part
+    /// turning ready → `Ready` at the robot, and the core's motor p99 while
+    /// 200 clients connect and drop. Each run lasts 90 s (`--seconds`
+    /// above 5 sets it; `--quick`: 55 s, and 20 clients in 20 s); `--seed`.
+    Line,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -647,6 +653,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Record, None) => {
                     let (s, r) = if quick { (seconds.min(5.0), 1) } else { (seconds, rounds) };
                     (upm_bench::bench_record::run(s, r)?, upm_bench::bench_record::to_text)
+                }
+                (BenchTarget::Line, None) => {
+                    // `--seconds` keeps its default of 5 for the latency benches.
+                    let s = match (quick, seconds > 5.0) {
+                        (true, _) => upm_bench::bench_line::QUICK_SECONDS,
+                        (false, true) => seconds,
+                        (false, false) => upm_bench::bench_line::DEFAULT_SECONDS,
+                    };
+                    let b = upm_bench::bench_line::LineBench {
+                        seconds: s,
+                        seed,
+                        churn: if quick { 20 } else { 200 },
+                        churn_seconds: if quick { 20.0 } else { s },
+                    };
+                    (upm_bench::bench_line::run(&b)?, upm_bench::bench_line::to_text)
                 }
                 (BenchTarget::Ethercat, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
