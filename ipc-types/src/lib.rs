@@ -34,6 +34,7 @@ mod force_request;
 mod header;
 mod health;
 mod latency_percentiles;
+mod line_status;
 #[cfg(feature = "iceoryx2")]
 mod node_list;
 pub mod part_shape;
@@ -41,6 +42,7 @@ mod part_states;
 mod pick_command;
 #[cfg(feature = "iceoryx2")]
 pub mod ports;
+mod recipe_command;
 mod reject_reason;
 mod rejection;
 mod rig_info;
@@ -70,11 +72,13 @@ pub use force_request::{ForceEntry, ForceRequest, ForceRequestError};
 pub use header::HeaderError;
 pub use health::{DetailText, HEALTH_DETAIL_BYTES, HealthCause, HealthSource, detail_str};
 pub use latency_percentiles::LatencyPercentiles;
+pub use line_status::{LineStatus, LineStatusError};
 pub use part_shape::{
     MAX_OUTLINE_M, MAX_SHAPE_VERTICES, MIN_OUTLINE_M, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, ShapeError,
 };
 pub use part_states::{PartState, PartStates, PartStatesError};
 pub use pick_command::{PickCommand, PickCommandError};
+pub use recipe_command::{RECIPE_PATH_BYTES, RecipeCommand, RecipeCommandError};
 pub use reject_reason::{REJECT_REASONS, RejectReason};
 pub use rejection::{RejectedKind, Rejection};
 pub use rig_info::{RIG_PREFIX_BYTES, RigCenter, RigInfo, RigInfoError};

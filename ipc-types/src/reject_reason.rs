@@ -46,6 +46,8 @@ crate::wire_code::wire_code! {
         UnknownCommand = 24 => "unknown_command",
         /// A part's outline is malformed (shape code, radius, vertices).
         BadShape = 25 => "bad_shape",
+        /// A recipe's path is not UTF-8 or not absolute.
+        BadPath = 26 => "bad_path",
     }
 }
 

@@ -23,6 +23,7 @@ crate::wire_code::wire_code! {
         ExplicitSchedule = 2 => "explicit_schedule",
         CoreCommand = 3 => "core_command",
         PickCommand = 4 => "pick",
+        RecipeCommand = 5 => "recipe",
     }
 }
 
@@ -35,6 +36,7 @@ impl RejectedKind {
             Self::ExplicitSchedule => crate::service_names::EXPLICIT_SCHEDULE,
             Self::CoreCommand => crate::service_names::CORE_COMMAND,
             Self::PickCommand => crate::service_names::PICK,
+            Self::RecipeCommand => crate::service_names::RECIPE,
         }
     }
 }

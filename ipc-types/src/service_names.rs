@@ -42,13 +42,26 @@ pub const FEED: &str = "upm/feed";
 /// robot is external.
 pub const PICK: &str = "upm/pick";
 
+/// [`crate::RecipeCommand`], line process (`upm line`) → core: load this
+/// recipe (a changeover). Read only when the core runs a feed cell.
+pub const RECIPE: &str = "upm/recipe";
+
+/// [`crate::RecipeCommand`], core → all (planner, `upm line`, `upm
+/// status`; history 1): the recipe its feed cell runs, at start and after
+/// each changeover. Only published when the core runs a cell.
+pub const RECIPE_ACTIVE: &str = "upm/recipe/active";
+
+/// [`crate::LineStatus`], line process (`upm line`) → all, a few times a
+/// second: what the line interface refused, by kind (`upm status`).
+pub const LINE: &str = "upm/line";
+
 /// Camera frames ([`crate::FrameHeader`] user header, `[u8]` pixels), frame
 /// source → vision.
 pub const CAMERA_FRAME: &str = "upm/camera/frame";
 
 /// Every publish-subscribe service above, e.g. for tools that list or clean
 /// up a rig.
-pub const ALL: [&str; 12] = [
+pub const ALL: [&str; 15] = [
     PART_STATES,
     FORCE_REQUEST,
     EXPLICIT_SCHEDULE,
@@ -60,5 +73,8 @@ pub const ALL: [&str; 12] = [
     SIM_GROUND_TRUTH,
     FEED,
     PICK,
+    RECIPE,
+    RECIPE_ACTIVE,
+    LINE,
     CAMERA_FRAME,
 ];

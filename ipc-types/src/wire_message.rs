@@ -11,8 +11,8 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand, Rejection,
-    RigInfo, Schedule, Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, LineStatus, PartStates,
+    PickCommand, RecipeCommand, Rejection, RigInfo, Schedule, Telemetry, service_names,
 };
 
 /// Why bytes are not a message of the asked type.
@@ -90,6 +90,8 @@ wire_message!(
     RigInfo => service_names::RIG_INFO,
     FeedStatus => service_names::FEED,
     PickCommand => service_names::PICK,
+    RecipeCommand => service_names::RECIPE,
+    LineStatus => service_names::LINE,
     FrameHeader => service_names::CAMERA_FRAME,
 );
 

@@ -73,6 +73,12 @@ fn validate_never_allocates() {
         feed.push_pick(ipc_types::PickEvent { number: n, time_s: n as f64, ..ipc_types::PickEvent::ZERO });
     }
     let mut pick = ipc_types::PickCommand::new(ipc_types::MAX_PICK_POSES as u32 - 1, 7, 1, 1_000);
+    // The longest path, multi-byte: the UTF-8 check walks every byte.
+    let path = format!("/{}", "é".repeat((ipc_types::RECIPE_PATH_BYTES - 1) / 2));
+    let mut recipe = ipc_types::RecipeCommand::new(&path, 1, 1_000).expect("fits");
+    drop(path);
+    let mut line = ipc_types::LineStatus::new();
+    line.stamp_ns = 1_000;
     let mut bad_outline = parts;
     bad_outline.parts[PartStates::CAPACITY - 1].vertices.swap(1, 5); // a polygon, now not convex
     assert!(matches!(bad_outline.validate(&limits), Err(ipc_types::PartStatesError::Shape { .. })));
@@ -86,6 +92,10 @@ fn validate_never_allocates() {
             && black_box(rig.validate(&limits)).is_ok()
             && black_box(feed.validate(&limits)).is_ok()
             && black_box(pick.validate(&limits)).is_ok()
+            && black_box(recipe.validate(&limits)).is_ok()
+            && black_box(recipe.path()).is_ok()
+            && black_box(line.validate(&limits)).is_ok()
+            && black_box(line.total_refusals()) == 0
     });
     assert!(ok, "full-capacity messages must be valid");
     assert_eq!(n, 0, "validate() of valid messages allocated");
@@ -98,6 +108,8 @@ fn validate_never_allocates() {
     rig.centers[ipc_types::MAX_CENTERS - 1].k_bound = 2.0;
     feed.poses[ipc_types::MAX_PICK_POSES - 1].theta = f64::NAN;
     pick.part_id = 0; // the last check
+    recipe.path[0] = b'r'; // UTF-8 all through, then not absolute: the last check
+    line.protocol_version = 5;
     let mut bad_telemetry = telemetry;
     bad_telemetry.latency.solver.p50_ns = 1;
     let (all_rejected, n) = count(|| {
@@ -110,6 +122,8 @@ fn validate_never_allocates() {
             && black_box(rig.validate(&limits)).is_err()
             && black_box(feed.validate(&limits)).is_err()
             && black_box(pick.validate(&limits)).is_err()
+            && black_box(recipe.validate(&limits)).is_err()
+            && black_box(line.validate(&limits)).is_err()
     });
     assert!(all_rejected, "corrupted messages must be rejected");
     assert_eq!(n, 0, "validate() of rejected messages allocated");

@@ -3,11 +3,12 @@
 
 use ipc_types::{
     CapacityError, CoreState, ExplicitSchedule, ExplicitScheduleError, ExplicitSlot, FEED_RECENT_PICKS,
-    FeedStatus, FeedStatusError, ForceEntry, ForceRequest, ForceRequestError, HeaderError, MAX_CENTERS,
-    MAX_CURLS, MAX_PARTS, MAX_PICK_POSES, MAX_SHAPE_VERTICES, MAX_SLOTS, PROTOCOL_VERSION, PartState,
-    PartStates, PartStatesError, PickCommand, PickCommandError, PickEvent, PickPoseState, RejectReason,
-    RejectedKind, Rejection, RigCenter, RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON,
-    Schedule, ScheduleError, ScheduleSlot, ShapeError, Telemetry, TelemetryError, ValidationLimits,
+    FeedStatus, FeedStatusError, ForceEntry, ForceRequest, ForceRequestError, HeaderError, LineStatus,
+    LineStatusError, MAX_CENTERS, MAX_CURLS, MAX_PARTS, MAX_PICK_POSES, MAX_SHAPE_VERTICES, MAX_SLOTS,
+    PROTOCOL_VERSION, PartState, PartStates, PartStatesError, PickCommand, PickCommandError, PickEvent,
+    PickPoseState, RECIPE_PATH_BYTES, RecipeCommand, RecipeCommandError, RejectReason, RejectedKind,
+    Rejection, RigCenter, RigInfo, RigInfoError, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule,
+    ScheduleError, ScheduleSlot, ShapeError, Telemetry, TelemetryError, ValidationLimits,
 };
 
 const NOW: u64 = 5_000_000_000;
@@ -675,6 +676,152 @@ fn pick_command_is_checked_field_by_field_and_answered_as_a_pick() {
         m.validate(&l),
         Err(PickCommandError::Header(HeaderError::WrongProtocolVersion { .. }))
     ));
+}
+
+fn good_recipe_command() -> RecipeCommand {
+    RecipeCommand::new("/srv/upm/recipes/gears-m3.toml", 4, NOW - 1_000_000).expect("absolute, short")
+}
+
+#[test]
+fn recipe_command_is_checked_field_by_field_and_answered_as_a_recipe() {
+    let mut l = limits();
+    assert_eq!(good_recipe_command().validate(&l), Ok(()));
+    assert_eq!(good_recipe_command().path(), Ok("/srv/upm/recipes/gears-m3.toml"));
+    let full = format!("/{}", "ü".repeat((RECIPE_PATH_BYTES - 2) / 2));
+    let m = RecipeCommand::new(&full, 0, NOW).expect("240 bytes fit");
+    assert_eq!((m.path_len as usize, m.validate(&l)), (RECIPE_PATH_BYTES - 1, Ok(())));
+    assert_eq!(RecipeCommand::new("/", 0, NOW).map(|m| m.validate(&l)), Ok(Ok(())), "the root is absolute");
+    let mut future = good_recipe_command();
+    future.stamp_ns = NOW + l.max_future_skew_ns;
+    assert_eq!(future.validate(&l), Ok(()), "within the skew");
+    // Not an output: an old stamp is refused once the receiver bounds the age.
+    l.max_age_ns = 500_000;
+    assert_eq!(
+        good_recipe_command().validate(&l),
+        Err(RecipeCommandError::Header(HeaderError::Stale { stamp_ns: NOW - 1_000_000, now_ns: NOW }))
+    );
+    let l = limits();
+    // How to break a good one, what validate() says, its reason and its line.
+    type Case = (fn(&mut RecipeCommand), RecipeCommandError, RejectReason, &'static str);
+    let cases: [Case; 7] = [
+        (
+            |m| m.protocol_version = 5,
+            RecipeCommandError::Header(HeaderError::WrongProtocolVersion { found: 5 }),
+            RejectReason::WrongProtocolVersion,
+            "recipe_command.protocol_version is 5, expected 6",
+        ),
+        (
+            |m| m.stamp_ns = NOW + 1_000_001,
+            RecipeCommandError::Header(HeaderError::StampFromFuture {
+                stamp_ns: NOW + 1_000_001,
+                now_ns: NOW,
+            }),
+            RejectReason::StampFromFuture,
+            "recipe_command.stamp_ns 5001000001 is in the future (now 5000000000)",
+        ),
+        (
+            |m| m.path_len = RECIPE_PATH_BYTES as u32 + 1,
+            RecipeCommandError::PathTooLong { len: 241 },
+            RejectReason::CountExceedsCapacity,
+            "recipe_command.path_len 241 exceeds the capacity 240",
+        ),
+        (
+            |m| m.path_len = u32::MAX,
+            RecipeCommandError::PathTooLong { len: u32::MAX },
+            RejectReason::CountExceedsCapacity,
+            "recipe_command.path_len 4294967295 exceeds the capacity 240",
+        ),
+        (
+            |m| m.path[5] = 0xC3, // a lead byte followed by ASCII
+            RecipeCommandError::NotUtf8,
+            RejectReason::BadPath,
+            "recipe_command.path is not UTF-8",
+        ),
+        (
+            |m| m.path[0] = b'~',
+            RecipeCommandError::NotAbsolute,
+            RejectReason::BadPath,
+            "recipe_command.path is not absolute: it must start with '/'",
+        ),
+        (
+            |m| m.path_len = 0,
+            RecipeCommandError::NotAbsolute,
+            RejectReason::BadPath,
+            "recipe_command.path is not absolute: it must start with '/'",
+        ),
+    ];
+    for (break_it, want, reason, text) in cases {
+        let mut m = good_recipe_command();
+        break_it(&mut m);
+        assert_eq!(m.validate(&l), Err(want));
+        assert_eq!(want.reason(), reason, "{want:?}");
+        assert_eq!(want.to_string(), text);
+        // The answer on upm/rejection names the recipe and carries the line.
+        let r = Rejection::new(
+            RejectedKind::RecipeCommand,
+            m.seq,
+            m.stamp_ns,
+            NOW,
+            want.reason(),
+            format_args!("{want}"),
+        );
+        assert_eq!(
+            (r.kind(), r.reason(), r.detail_str()),
+            (Some(RejectedKind::RecipeCommand), Some(reason), text)
+        );
+        assert_eq!(r.to_string(), format!("recipe seq 4 rejected: {} ({text})", reason.as_str()));
+    }
+    // Bytes past path_len are not read: a path cut short is still checked as cut.
+    let mut m = good_recipe_command();
+    m.path[m.path_len as usize] = 0xFF;
+    m.path[RECIPE_PATH_BYTES - 1] = 0xFF;
+    assert_eq!(m.validate(&l), Ok(()));
+    // The header is checked first: a wrong version hides the rest.
+    let mut m = good_recipe_command();
+    (m.protocol_version, m.path_len) = (0, u32::MAX);
+    assert!(matches!(
+        m.validate(&l),
+        Err(RecipeCommandError::Header(HeaderError::WrongProtocolVersion { .. }))
+    ));
+    // new() refuses what validate() would.
+    let over = format!("/{}", "a".repeat(RECIPE_PATH_BYTES));
+    assert_eq!(RecipeCommand::new(&over, 1, NOW), Err(RecipeCommandError::PathTooLong { len: 241 }));
+    assert_eq!(RecipeCommand::new("recipes/gears.toml", 1, NOW), Err(RecipeCommandError::NotAbsolute));
+}
+
+#[test]
+fn line_status_checks_its_header_only_and_old_stamps_are_fine() {
+    let mut l = limits();
+    let mut m = LineStatus::new();
+    (m.line_pid, m.seq, m.stamp_ns) = (4242, 17, NOW - 4_000_000_000);
+    (m.login_failures, m.modbus_refused_connections, m.picks_sent) = (3, u64::MAX, 9);
+    assert_eq!(m.validate(&l), Ok(()));
+    l.max_age_ns = 1;
+    assert_eq!(m.validate(&l), Ok(()), "an output: any age");
+    assert_eq!(m.total_refusals(), u64::MAX, "saturates");
+    m.stamp_ns = NOW + 1_000_001;
+    assert_eq!(
+        m.validate(&l),
+        Err(LineStatusError::Header(HeaderError::StampFromFuture { stamp_ns: NOW + 1_000_001, now_ns: NOW }))
+    );
+    m.protocol_version = 7;
+    let e = m.validate(&l).expect_err("wrong version");
+    assert_eq!(e, LineStatusError::Header(HeaderError::WrongProtocolVersion { found: 7 }));
+    assert_eq!(e.to_string(), "line_status.protocol_version is 7, expected 6");
+    let names: Vec<&str> = LineStatus::new().refusals().iter().map(|(n, _)| *n).collect();
+    assert_eq!(
+        names,
+        [
+            "login_failures",
+            "access_denied",
+            "bad_arguments",
+            "invalid_state",
+            "failed_calls",
+            "modbus_exceptions",
+            "modbus_bad_frames",
+            "modbus_refused_connections"
+        ]
+    );
 }
 
 #[test]

@@ -33,6 +33,8 @@ fn payload_type_names_carry_the_protocol_version() {
         type_name::<ipc_types::PickEvent>(),
         type_name::<ipc_types::PickPoseState>(),
         type_name::<ipc_types::PickCommand>(),
+        type_name::<ipc_types::RecipeCommand>(),
+        type_name::<ipc_types::LineStatus>(),
     ];
     for name in names {
         assert!(name.starts_with("upm::") && name.ends_with(&suffix), "{name} lacks upm::…{suffix}");
@@ -124,7 +126,7 @@ fn a_new_part_is_a_point_and_the_builders_keep_its_pose() {
 /// of `service_names::ALL`, and the kind's name is that service's.
 #[test]
 fn each_rejected_kind_names_its_message_and_service() {
-    use ipc_types::{PickCommand, RejectedKind, WireMessage};
+    use ipc_types::{PickCommand, RecipeCommand, RejectedKind, WireMessage};
     for k in RejectedKind::ALL {
         let (service, type_name) = match k {
             RejectedKind::PartStates => (PartStates::SERVICE, type_name::<PartStates>()),
@@ -132,6 +134,7 @@ fn each_rejected_kind_names_its_message_and_service() {
             RejectedKind::ExplicitSchedule => (ExplicitSchedule::SERVICE, type_name::<ExplicitSchedule>()),
             RejectedKind::CoreCommand => (CoreCommand::SERVICE, type_name::<CoreCommand>()),
             RejectedKind::PickCommand => (PickCommand::SERVICE, type_name::<PickCommand>()),
+            RejectedKind::RecipeCommand => (RecipeCommand::SERVICE, type_name::<RecipeCommand>()),
         };
         assert_eq!(k.service(), service, "{k:?}: {type_name}");
         assert!(service_names::ALL.contains(&service), "{service}");
@@ -152,4 +155,42 @@ fn a_pick_crosses_the_wire_as_its_32_bytes() {
     let any = [0xA5u8; 32];
     assert_eq!(PickCommand::from_bytes(&any).map(|p| p.as_bytes().to_vec()), Ok(any.to_vec()));
     assert!(PickCommand::from_bytes(&any[..31]).is_err());
+}
+
+/// A recipe's bytes round-trip through the wire form, whatever they hold;
+/// the path starts at 24.
+#[test]
+fn a_recipe_crosses_the_wire_as_its_264_bytes() {
+    use ipc_types::{RECIPE_PATH_BYTES, RecipeCommand, WireMessage};
+    let m = RecipeCommand::new("/srv/recipes/gears.toml", 3, 123_456).expect("absolute");
+    assert_eq!(m.as_bytes().len(), 24 + RECIPE_PATH_BYTES);
+    assert_eq!(RecipeCommand::from_bytes(m.as_bytes()), Ok(m));
+    assert_eq!(&m.as_bytes()[4..8], &23u32.to_ne_bytes(), "path_len at 4");
+    assert_eq!(&m.as_bytes()[24..47], b"/srv/recipes/gears.toml", "path at 24");
+    assert!(m.as_bytes()[47..].iter().all(|&b| b == 0), "the rest 0");
+    let any = [0xA5u8; 264];
+    assert_eq!(RecipeCommand::from_bytes(&any).map(|p| p.as_bytes().to_vec()), Ok(any.to_vec()));
+    assert!(RecipeCommand::from_bytes(&any[..263]).is_err());
+}
+
+/// A line status's bytes round-trip; its counters sit where the contract says.
+#[test]
+fn a_line_status_crosses_the_wire_as_its_120_bytes() {
+    use ipc_types::{LineStatus, WireMessage};
+    let mut m = LineStatus::new();
+    (m.line_pid, m.seq, m.login_failures, m.recipes_refused) = (4242, 9, 3, 2);
+    assert_eq!(m.as_bytes().len(), 120);
+    assert_eq!(LineStatus::from_bytes(m.as_bytes()), Ok(m));
+    let offsets = [
+        offset_of!(LineStatus, opcua_sessions),
+        offset_of!(LineStatus, login_failures),
+        offset_of!(LineStatus, modbus_refused_connections),
+        offset_of!(LineStatus, picks_sent),
+        offset_of!(LineStatus, recipes_refused),
+    ];
+    assert_eq!(offsets, [24, 32, 88, 96, 112]);
+    assert_eq!(&m.as_bytes()[32..40], &3u64.to_ne_bytes(), "login_failures at 32");
+    let any = [0x5Au8; 120];
+    assert_eq!(LineStatus::from_bytes(&any).map(|p| p.as_bytes().to_vec()), Ok(any.to_vec()));
+    assert!(LineStatus::from_bytes(&any[..119]).is_err());
 }
