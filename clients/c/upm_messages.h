@@ -24,6 +24,7 @@
 #define UPM_RIG_PREFIX_BYTES 64
 #define UPM_MAX_PICK_POSES 16
 #define UPM_FEED_RECENT_PICKS 16
+#define UPM_RECIPE_PATH_BYTES 240
 #define UPM_SHAPE_POINT 0u
 #define UPM_SHAPE_DISC 1u
 #define UPM_SHAPE_POLYGON 2u
@@ -38,6 +39,9 @@
 #define UPM_SERVICE_SIM_GROUND_TRUTH "upm/sim/ground_truth"
 #define UPM_SERVICE_FEED "upm/feed"
 #define UPM_SERVICE_PICK "upm/pick"
+#define UPM_SERVICE_RECIPE "upm/recipe"
+#define UPM_SERVICE_RECIPE_ACTIVE "upm/recipe/active"
+#define UPM_SERVICE_LINE "upm/line"
 #define UPM_SERVICE_CAMERA_FRAME "upm/camera/frame"
 #define UPM_SERVICE_INBOX "upm/inbox"
 
@@ -598,5 +602,63 @@ UPM_STATIC_ASSERT(offsetof(upm_PickCommand, seq) == 8, "upm_PickCommand.seq offs
 UPM_STATIC_ASSERT(offsetof(upm_PickCommand, stamp_ns) == 16, "upm_PickCommand.stamp_ns offset");
 UPM_STATIC_ASSERT(offsetof(upm_PickCommand, part_id) == 24, "upm_PickCommand.part_id offset");
 UPM_STATIC_ASSERT(offsetof(upm_PickCommand, reserved) == 28, "upm_PickCommand.reserved offset");
+
+/* iceoryx2 type name "upm::RecipeCommand.v6", 264 bytes, align 8 */
+#define UPM_RECIPECOMMAND_TYPE_NAME "upm::RecipeCommand.v6"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t path_len;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint8_t path[240];
+} upm_RecipeCommand;
+UPM_STATIC_ASSERT(sizeof(upm_RecipeCommand) == 264, "upm_RecipeCommand size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_RecipeCommand) == 8, "upm_RecipeCommand align");
+UPM_STATIC_ASSERT(offsetof(upm_RecipeCommand, protocol_version) == 0, "upm_RecipeCommand.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_RecipeCommand, path_len) == 4, "upm_RecipeCommand.path_len offset");
+UPM_STATIC_ASSERT(offsetof(upm_RecipeCommand, seq) == 8, "upm_RecipeCommand.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_RecipeCommand, stamp_ns) == 16, "upm_RecipeCommand.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_RecipeCommand, path) == 24, "upm_RecipeCommand.path offset");
+
+/* iceoryx2 type name "upm::LineStatus.v6", 120 bytes, align 8 */
+#define UPM_LINESTATUS_TYPE_NAME "upm::LineStatus.v6"
+typedef struct {
+    uint32_t protocol_version;
+    uint32_t line_pid;
+    uint64_t seq;
+    uint64_t stamp_ns;
+    uint32_t opcua_sessions;
+    uint32_t modbus_connections;
+    uint64_t login_failures;
+    uint64_t access_denied;
+    uint64_t bad_arguments;
+    uint64_t invalid_state;
+    uint64_t failed_calls;
+    uint64_t modbus_exceptions;
+    uint64_t modbus_bad_frames;
+    uint64_t modbus_refused_connections;
+    uint64_t picks_sent;
+    uint64_t recipes_loaded;
+    uint64_t recipes_refused;
+} upm_LineStatus;
+UPM_STATIC_ASSERT(sizeof(upm_LineStatus) == 120, "upm_LineStatus size");
+UPM_STATIC_ASSERT(UPM_ALIGNOF(upm_LineStatus) == 8, "upm_LineStatus align");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, protocol_version) == 0, "upm_LineStatus.protocol_version offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, line_pid) == 4, "upm_LineStatus.line_pid offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, seq) == 8, "upm_LineStatus.seq offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, stamp_ns) == 16, "upm_LineStatus.stamp_ns offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, opcua_sessions) == 24, "upm_LineStatus.opcua_sessions offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, modbus_connections) == 28, "upm_LineStatus.modbus_connections offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, login_failures) == 32, "upm_LineStatus.login_failures offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, access_denied) == 40, "upm_LineStatus.access_denied offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, bad_arguments) == 48, "upm_LineStatus.bad_arguments offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, invalid_state) == 56, "upm_LineStatus.invalid_state offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, failed_calls) == 64, "upm_LineStatus.failed_calls offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, modbus_exceptions) == 72, "upm_LineStatus.modbus_exceptions offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, modbus_bad_frames) == 80, "upm_LineStatus.modbus_bad_frames offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, modbus_refused_connections) == 88, "upm_LineStatus.modbus_refused_connections offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, picks_sent) == 96, "upm_LineStatus.picks_sent offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, recipes_loaded) == 104, "upm_LineStatus.recipes_loaded offset");
+UPM_STATIC_ASSERT(offsetof(upm_LineStatus, recipes_refused) == 112, "upm_LineStatus.recipes_refused offset");
 
 #endif /* UPM_MESSAGES_H */

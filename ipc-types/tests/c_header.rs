@@ -68,6 +68,7 @@ fn render() -> String {
         ipc_types::MAX_PICK_POSES,
         ipc_types::FEED_RECENT_PICKS
     );
+    out += &format!("#define UPM_RECIPE_PATH_BYTES {}\n", ipc_types::RECIPE_PATH_BYTES);
     // PartState.shape codes.
     for (name, code) in [("POINT", SHAPE_POINT), ("DISC", SHAPE_DISC), ("POLYGON", SHAPE_POLYGON)] {
         out += &format!("#define UPM_SHAPE_{name} {code}u\n");

@@ -9,8 +9,9 @@ mod wire_layout;
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::wake_event::WakeEvent;
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PROTOCOL_VERSION, PartStates,
-    PickCommand, RejectReason, RejectedKind, Rejection, RigInfo, Schedule, Telemetry, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, LineStatus, PROTOCOL_VERSION,
+    PartStates, PickCommand, RecipeCommand, RejectReason, RejectedKind, Rejection, RigInfo, Schedule,
+    Telemetry, service_names,
 };
 
 fn doc() -> String {
@@ -82,6 +83,9 @@ fn services_settings_version_and_reject_codes_match() {
         (service_names::SIM_GROUND_TRUTH, type_name::<PartStates>()),
         (service_names::FEED, type_name::<FeedStatus>()),
         (service_names::PICK, type_name::<PickCommand>()),
+        (service_names::RECIPE, type_name::<RecipeCommand>()),
+        (service_names::RECIPE_ACTIVE, type_name::<RecipeCommand>()),
+        (service_names::LINE, type_name::<LineStatus>()),
     ]
     .iter()
     .map(|(s, t)| (s.to_string(), t.to_string()))
@@ -156,7 +160,8 @@ fn services_settings_version_and_reject_codes_match() {
     }
 
     // Each kind by the Rust name of the message it refuses (`pick` is a
-    // `PickCommand`: the kind is named after the service).
+    // `PickCommand`, `recipe` a `RecipeCommand`: the kind is named after
+    // the service).
     let kinds: Vec<String> = RejectedKind::ALL
         .iter()
         .map(|k| {
@@ -166,6 +171,7 @@ fn services_settings_version_and_reject_codes_match() {
                 RejectedKind::ExplicitSchedule => type_name::<ExplicitSchedule>(),
                 RejectedKind::CoreCommand => type_name::<CoreCommand>(),
                 RejectedKind::PickCommand => type_name::<PickCommand>(),
+                RejectedKind::RecipeCommand => type_name::<RecipeCommand>(),
             };
             let rust = name.trim_start_matches("upm::").split('.').next().unwrap_or(name);
             format!("{} `{rust}`", k.code())
@@ -190,6 +196,14 @@ fn feed_status_capacities_match() {
         let named = format!("0 … {value} (`{name}`");
         assert!(doc.contains(&named), "docs/protocol.md lacks {named:?}");
     }
+}
+
+/// RecipeCommand's path capacity, as its table and section name it.
+#[test]
+fn recipe_path_capacity_matches() {
+    let doc = doc();
+    let named = format!("0 … {} (`RECIPE_PATH_BYTES`", ipc_types::RECIPE_PATH_BYTES);
+    assert!(doc.contains(&named), "docs/protocol.md lacks {named:?}");
 }
 
 /// Prints the layout tables docs/protocol.md starts from (a helper, not a

@@ -20,15 +20,15 @@ fn python_layout() -> BTreeMap<String, String> {
 import ctypes, importlib.util, sys
 spec = importlib.util.spec_from_file_location("messages", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
-for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader, m.RigCenter, m.RigInfo, m.PickPoseState, m.PickEvent, m.FeedStatus, m.PickCommand):
+for s in (m.PartState, m.PartStates, m.ForceEntry, m.ForceRequest, m.ScheduleSlot, m.Schedule, m.Rejection, m.FrameHeader, m.RigCenter, m.RigInfo, m.PickPoseState, m.PickEvent, m.FeedStatus, m.PickCommand, m.RecipeCommand, m.LineStatus):
     print(f"{s.__name__}.size {ctypes.sizeof(s)}")
     print(f"{s.__name__}.align {ctypes.alignment(s)}")
     print(f"{s.__name__}.type_name {s.type_name()}")
     for f in s._fields_:
         d = getattr(s, f[0])
         print(f"{s.__name__}.{f[0].rstrip('_')} {d.offset}+{d.size}")
-for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_CENTERS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "RIG_INFO", "FEED", "PICK", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT", "PART_STATES_EVENT",
-          "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "PART_STATES_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER", "RIG_PREFIX_BYTES", "MAX_PICK_POSES", "FEED_RECENT_PICKS"):
+for c in ("PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_CENTERS", "MAX_SHAPE_VERTICES", "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "RIG_INFO", "FEED", "PICK", "RECIPE", "RECIPE_ACTIVE", "LINE", "CAMERA_FRAME", "INBOX_EVENT", "FRAME_EVENT", "PART_STATES_EVENT",
+          "MAX_PUBLISHERS", "MAX_SUBSCRIBERS", "SUBSCRIBER_BUFFER", "HISTORY", "MAX_NODES", "INBOX_MAX_LISTENERS", "PART_STATES_MAX_LISTENERS", "FRAME_SUBSCRIBERS", "FRAME_BUFFER", "RIG_PREFIX_BYTES", "MAX_PICK_POSES", "FEED_RECENT_PICKS", "RECIPE_PATH_BYTES"):
     print(f"{c} {getattr(m, c)}")
 print("REJECTED_KINDS " + ",".join(m.REJECTED_KINDS))
 print("REJECT_REASONS " + ",".join(m.REJECT_REASONS))
@@ -58,6 +58,8 @@ fn python_messages_match_the_rust_types_field_by_field() {
         "PickEvent",
         "FeedStatus",
         "PickCommand",
+        "RecipeCommand",
+        "LineStatus",
     ];
     let mut rust = BTreeMap::new();
     for l in wire_layout::all().into_iter().filter(|l| mirrored.contains(&l.rust)) {
@@ -79,6 +81,10 @@ fn python_messages_match_the_rust_types_field_by_field() {
         ("RIG_INFO", service_names::RIG_INFO.to_owned()),
         ("FEED", service_names::FEED.to_owned()),
         ("PICK", service_names::PICK.to_owned()),
+        ("RECIPE", service_names::RECIPE.to_owned()),
+        ("RECIPE_ACTIVE", service_names::RECIPE_ACTIVE.to_owned()),
+        ("LINE", service_names::LINE.to_owned()),
+        ("RECIPE_PATH_BYTES", ipc_types::RECIPE_PATH_BYTES.to_string()),
         ("MAX_PICK_POSES", ipc_types::MAX_PICK_POSES.to_string()),
         ("FEED_RECENT_PICKS", ipc_types::FEED_RECENT_PICKS.to_string()),
         ("PART_STATES_EVENT", ipc_types::wake_event::WakeEvent::PartStates.service().to_owned()),

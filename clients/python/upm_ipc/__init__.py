@@ -25,23 +25,26 @@ import iceoryx2 as iox2
 
 from .messages import (  # noqa: F401 (re-exported: the messages are the API)
     FEED, FEED_RECENT_PICKS, FORCE_REQUEST, FRAME_EVENT, HISTORY, INBOX_EVENT, INBOX_EVENT_ID,
-    INBOX_MAX_LISTENERS, MAX_CENTERS, MAX_CURLS, MAX_NODES, MAX_PARTS, MAX_PICK_POSES, MAX_PUBLISHERS,
-    MAX_SHAPE_VERTICES, MAX_SLOTS, MAX_SUBSCRIBERS, PART_STATES, PART_STATES_EVENT, PART_STATES_MAX_LISTENERS,
-    PICK, PROTOCOL_VERSION, REJECTED_KINDS, REJECTION, REQUEST_LIFETIME_NS, RIG_INFO, SCHEDULE,
-    SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, SUBSCRIBER_BUFFER, TELEMETRY,
-    FeedStatus, ForceEntry, ForceRequest, PartState, PartStates, PickCommand, PickEvent, PickPoseState,
-    Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot,
+    INBOX_MAX_LISTENERS, LINE, LINE_REFUSALS, MAX_CENTERS, MAX_CURLS, MAX_NODES, MAX_PARTS, MAX_PICK_POSES,
+    MAX_PUBLISHERS, MAX_SHAPE_VERTICES, MAX_SLOTS, MAX_SUBSCRIBERS, PART_STATES, PART_STATES_EVENT,
+    PART_STATES_MAX_LISTENERS, PICK, PROTOCOL_VERSION, RECIPE, RECIPE_ACTIVE, RECIPE_PATH_BYTES,
+    REJECTED_KINDS, REJECTION, REQUEST_LIFETIME_NS, RIG_INFO, SCHEDULE, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON,
+    SUBSCRIBER_BUFFER, TELEMETRY,
+    FeedStatus, ForceEntry, ForceRequest, LineStatus, PartState, PartStates, PickCommand, PickEvent,
+    PickPoseState, RecipeCommand, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot,
     max_force, monotonic_now_ns,
 )
 
 __all__ = [
     "PROTOCOL_VERSION", "MAX_PARTS", "MAX_CURLS", "MAX_SLOTS", "MAX_CENTERS", "REQUEST_LIFETIME_NS",
     "SHAPE_POINT", "SHAPE_DISC", "SHAPE_POLYGON", "MAX_SHAPE_VERTICES", "MAX_PICK_POSES", "FEED_RECENT_PICKS",
+    "RECIPE_PATH_BYTES", "LINE_REFUSALS",
     "PART_STATES", "FORCE_REQUEST", "SCHEDULE", "TELEMETRY", "REJECTION", "RIG_INFO", "FEED", "PICK",
-    "INBOX_EVENT",
+    "RECIPE", "RECIPE_ACTIVE", "LINE", "INBOX_EVENT",
     "FRAME_EVENT", "PART_STATES_EVENT",
     "PartState", "PartStates", "ForceEntry", "ForceRequest", "ScheduleSlot", "Schedule", "Rejection",
-    "RigCenter", "RigInfo", "PickPoseState", "PickEvent", "FeedStatus", "PickCommand", "max_force",
+    "RigCenter", "RigInfo", "PickPoseState", "PickEvent", "FeedStatus", "PickCommand", "RecipeCommand",
+    "LineStatus", "max_force",
     "monotonic_now_ns", "config_with_prefix", "open_pub_sub", "open_inbox_event", "open_wake_event", "copy_out",
     "Rig", "connect",
 ]

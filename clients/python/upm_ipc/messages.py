@@ -16,6 +16,8 @@ MAX_CENTERS = 192
 # ipc-types/src/feed_status.rs
 MAX_PICK_POSES = 16
 FEED_RECENT_PICKS = 16
+# ipc-types/src/recipe_command.rs
+RECIPE_PATH_BYTES = 240
 
 # ipc-types/src/part_shape.rs: PartState.shape codes
 SHAPE_POINT = 0  # the paper's point part (the field at its position)
@@ -36,6 +38,9 @@ REJECTION = "upm/rejection"  # every refusal, whoever sent the message: filter
 RIG_INFO = "upm/rig_info"  # the rig describing itself, once, history 1
 FEED = "upm/feed"  # FeedStatus: a feed cell's counters and picks, at the camera's rate
 PICK = "upm/pick"  # PickCommand: robot -> core, a part taken from a pick pose
+RECIPE = "upm/recipe"  # RecipeCommand: line -> core, load this recipe (a changeover)
+RECIPE_ACTIVE = "upm/recipe/active"  # RecipeCommand: core -> all, the recipe its feed cell runs, history 1
+LINE = "upm/line"  # LineStatus: line -> all, what the line interface refused, by kind
 CAMERA_FRAME = "upm/camera/frame"  # [u8] pixels, FrameHeader user header
 INBOX_EVENT = "upm/inbox"  # event service, same name space as pub-sub
 FRAME_EVENT = CAMERA_FRAME  # event service: a frame source notifies vision
@@ -236,13 +241,13 @@ class Schedule(ctypes.Structure):
 
 
 # Rejection.kind codes and the reject reasons (docs/protocol.md).
-REJECTED_KINDS = ("part_states", "force_request", "explicit_schedule", "core_command", "pick")
+REJECTED_KINDS = ("part_states", "force_request", "explicit_schedule", "core_command", "pick", "recipe")
 REJECT_REASONS = (
     "wrong_protocol_version", "count_exceeds_capacity", "empty", "stamp_from_future", "stale",
     "out_of_order", "duplicate", "non_finite", "off_plate", "unknown_class", "duplicate_id",
     "not_a_flag", "constrains_nothing", "too_many_curls", "deadline_before_stamp", "unknown_center",
     "k_out_of_range", "no_part_states", "unknown_part", "unsolvable", "motion_limits",
-    "actuator_limits", "overflow", "receive_error", "unknown_command", "bad_shape",
+    "actuator_limits", "overflow", "receive_error", "unknown_command", "bad_shape", "bad_path",
 )
 DETAIL_BYTES = 120
 
@@ -495,6 +500,100 @@ class PickCommand(ctypes.Structure):
         super().__init__(PROTOCOL_VERSION, pose, seq, stamp_ns, part_id, 0)
 
 
+class RecipeCommand(ctypes.Structure):
+    """Line process -> core on RECIPE: "load the recipe at `path`" (a
+    changeover); the core announces the recipe its feed cell runs on
+    RECIPE_ACTIVE (history 1), which planners follow. `path` is the recipe
+    file's absolute path, UTF-8, `path_len` bytes used (at most
+    RECIPE_PATH_BYTES), the rest 0. Refused ones come back on REJECTION,
+    kind "recipe"."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("path_len", ctypes.c_uint32),  # used bytes of path
+        ("seq", ctypes.c_uint64),
+        ("stamp_ns", ctypes.c_uint64),  # CLOCK_MONOTONIC ns when sent
+        ("path", ctypes.c_uint8 * RECIPE_PATH_BYTES),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::RecipeCommand.v6"
+
+    def __init__(self, path=None, seq=0, stamp_ns=0):
+        """As RecipeCommand::new: the protocol version set, `path` copied
+        in; ValueError if it is longer than RECIPE_PATH_BYTES (as UTF-8) or
+        not absolute. Without a path (as copy_out makes one) it is empty."""
+        if path is None:
+            super().__init__(PROTOCOL_VERSION, 0, seq, stamp_ns)
+            return
+        raw = path.encode("utf-8")
+        if len(raw) > RECIPE_PATH_BYTES:
+            raise ValueError(f"recipe_command.path_len {len(raw)} exceeds the capacity {RECIPE_PATH_BYTES}")
+        if not raw.startswith(b"/"):
+            raise ValueError("recipe_command.path is not absolute: it must start with '/'")
+        super().__init__(PROTOCOL_VERSION, len(raw), seq, stamp_ns)
+        ctypes.memmove(self.path, raw, len(raw))
+
+    def path_str(self):
+        """The used bytes of `path` as text (as RecipeCommand::path); ValueError
+        if `path_len` exceeds the capacity or the bytes are not UTF-8."""
+        if self.path_len > RECIPE_PATH_BYTES:
+            raise ValueError(f"recipe_command.path_len {self.path_len} exceeds the capacity {RECIPE_PATH_BYTES}")
+        try:
+            return bytes(self.path[: self.path_len]).decode("utf-8")
+        except UnicodeDecodeError:
+            raise ValueError("recipe_command.path is not UTF-8") from None
+
+
+# LineStatus's refusal counters, in field order (LineStatus::refusals).
+LINE_REFUSALS = (
+    "login_failures", "access_denied", "bad_arguments", "invalid_state", "failed_calls",
+    "modbus_exceptions", "modbus_bad_frames", "modbus_refused_connections",
+)
+
+
+class LineStatus(ctypes.Structure):
+    """Line process -> all on LINE, a few times a second: the line
+    interface's open OPC UA sessions and Modbus connections, what it
+    refused since it started, by kind, and what it passed on to the rig."""
+    _fields_ = [
+        ("protocol_version", ctypes.c_uint32),
+        ("line_pid", ctypes.c_uint32),
+        ("seq", ctypes.c_uint64),  # one more for each status
+        ("stamp_ns", ctypes.c_uint64),
+        ("opcua_sessions", ctypes.c_uint32),  # open now
+        ("modbus_connections", ctypes.c_uint32),  # open now
+        ("login_failures", ctypes.c_uint64),  # OPC UA logins: unknown user or wrong password
+        ("access_denied", ctypes.c_uint64),  # calls or writes refused for want of a user
+        ("bad_arguments", ctypes.c_uint64),  # calls with arguments of wrong type or number
+        ("invalid_state", ctypes.c_uint64),  # Picked on a pose with no part ready
+        ("failed_calls", ctypes.c_uint64),  # calls the rig could not carry out
+        ("modbus_exceptions", ctypes.c_uint64),  # Modbus requests answered with an exception
+        ("modbus_bad_frames", ctypes.c_uint64),  # Modbus connections closed on a malformed frame
+        ("modbus_refused_connections", ctypes.c_uint64),  # beyond the limit
+        ("picks_sent", ctypes.c_uint64),  # PickCommands passed on to the rig
+        ("recipes_loaded", ctypes.c_uint64),
+        ("recipes_refused", ctypes.c_uint64),
+    ]
+
+    @staticmethod
+    def type_name():
+        return "upm::LineStatus.v6"
+
+    def __init__(self):
+        """As LineStatus::new: the protocol version set, the rest 0."""
+        super().__init__()
+        self.protocol_version = PROTOCOL_VERSION
+
+    def refusals(self):
+        """[(name, count)] of the eight refusal counters, in field order."""
+        return [(name, getattr(self, name)) for name in LINE_REFUSALS]
+
+    def total_refusals(self):
+        """Every refusal since the line started (saturating at 2**64 - 1, as in Rust)."""
+        return min(sum(n for _, n in self.refusals()), 2**64 - 1)
+
+
 # The Rust `const _: () = assert!(size_of::<..>() == ..)` lines.
 assert ctypes.sizeof(PartState) == 4 * 4 + 7 * 8 + 2 * 4 + MAX_SHAPE_VERTICES * 16
 assert ctypes.sizeof(PartStates) == 4 + 4 + 8 + 8 + MAX_PARTS * ctypes.sizeof(PartState)
@@ -512,3 +611,5 @@ assert ctypes.sizeof(FeedStatus) == (
     + FEED_RECENT_PICKS * ctypes.sizeof(PickEvent) + MAX_PICK_POSES * ctypes.sizeof(PickPoseState)
 )
 assert ctypes.sizeof(PickCommand) == 4 + 4 + 8 + 8 + 4 + 4
+assert ctypes.sizeof(RecipeCommand) == 4 + 4 + 8 + 8 + RECIPE_PATH_BYTES
+assert ctypes.sizeof(LineStatus) == 4 + 4 + 8 + 8 + 4 + 4 + 11 * 8

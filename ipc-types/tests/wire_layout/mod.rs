@@ -6,8 +6,9 @@ use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
 use ipc_types::{
     CoreCommand, CoreCounters, CoreLatencies, DriverTelemetry, ExplicitSchedule, ExplicitSlot, FeedStatus,
-    ForceEntry, ForceRequest, FrameHeader, LatencyPercentiles, PartState, PartStates, PickCommand, PickEvent,
-    PickPoseState, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
+    ForceEntry, ForceRequest, FrameHeader, LatencyPercentiles, LineStatus, PartState, PartStates,
+    PickCommand, PickEvent, PickPoseState, RecipeCommand, Rejection, RigCenter, RigInfo, Schedule,
+    ScheduleSlot, Telemetry,
 };
 
 /// One field: where it is, how wide, and its Rust type (paths dropped).
@@ -237,6 +238,26 @@ pub fn all() -> Vec<Layout> {
         }),
         layout!(PickPoseState { class, part_id, ready, reserved, x, y, theta }),
         layout!(PickCommand { protocol_version, pose, seq, stamp_ns, part_id, reserved }),
+        layout!(RecipeCommand { protocol_version, path_len, seq, stamp_ns, path }),
+        layout!(LineStatus {
+            protocol_version,
+            line_pid,
+            seq,
+            stamp_ns,
+            opcua_sessions,
+            modbus_connections,
+            login_failures,
+            access_denied,
+            bad_arguments,
+            invalid_state,
+            failed_calls,
+            modbus_exceptions,
+            modbus_bad_frames,
+            modbus_refused_connections,
+            picks_sent,
+            recipes_loaded,
+            recipes_refused
+        }),
     ];
     for l in &all {
         let covered: usize = l.fields.iter().map(|f| f.size).sum();
