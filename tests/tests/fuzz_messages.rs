@@ -3,10 +3,10 @@
 //! breaking an invariant the core relies on.
 
 use ipc_types::{
-    ExplicitSchedule, FEED_RECENT_PICKS, FeedStatus, ForceRequest, MAX_CURLS, MAX_PICK_POSES,
+    ExplicitSchedule, FEED_RECENT_PICKS, FeedStatus, ForceRequest, LineStatus, MAX_CURLS, MAX_PICK_POSES,
     MAX_SHAPE_VERTICES, PROTOCOL_VERSION, PartState, PartStates, PartStatesError, PickCommand,
-    PickCommandError, PickEvent, PickPoseState, RejectReason, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON,
-    Schedule, ShapeError, Telemetry, ValidationLimits,
+    PickCommandError, PickEvent, PickPoseState, RECIPE_PATH_BYTES, RecipeCommand, RecipeCommandError,
+    RejectReason, SHAPE_DISC, SHAPE_POINT, SHAPE_POLYGON, Schedule, ShapeError, Telemetry, ValidationLimits,
 };
 use proptest::prelude::*;
 use upm_tests::{from_bytes, patch_header};
@@ -268,6 +268,94 @@ proptest! {
             let no_count = !matches!(e, PickCommandError::Header(ipc_types::HeaderError::CountExceedsCapacity { .. }));
             prop_assert!(no_count, "a pick has no count: {}", e);
         }
+    }
+
+    #[test]
+    fn recipe_command_never_panics(
+        mut bytes in body(),
+        path_len in 0u32..260,
+        age in any::<u64>(),
+        patch in any::<bool>(),
+        slash in any::<bool>(),
+        ascii in any::<bool>(),
+        mut l in limits_strategy(),
+        max_age in prop::option::of(any::<u64>()),
+    ) {
+        // The whole message is 264 bytes; patched: a valid version, a
+        // length near the capacity, a stamp at or before now, and a path
+        // that may start with '/' and may be ASCII, so every check is reached.
+        bytes.resize(bytes.len().max(size_of::<RecipeCommand>()), 0);
+        if patch {
+            patch_header(&mut bytes, path_len);
+            let at = core::mem::offset_of!(RecipeCommand, stamp_ns);
+            bytes[at..at + 8].copy_from_slice(&l.now_ns.saturating_sub(age % 1_000_000_000).to_ne_bytes());
+            let at = core::mem::offset_of!(RecipeCommand, path);
+            let path = &mut bytes[at..at + RECIPE_PATH_BYTES];
+            if ascii {
+                path.iter_mut().for_each(|b| *b &= 0x7F);
+            }
+            if slash {
+                path[0] = b'/';
+            }
+        }
+        if let Some(max_age) = max_age {
+            l.max_age_ns = max_age;
+        }
+        let m: RecipeCommand = from_bytes(&bytes);
+        let verdict = m.validate(&l);
+        // Accepted exactly when every rule holds, checked by other means.
+        let used = m.path.get(..m.path_len as usize);
+        let text = used.and_then(|u| String::from_utf8(u.to_vec()).ok());
+        let sound = m.protocol_version == PROTOCOL_VERSION
+            && m.stamp_ns <= l.now_ns.saturating_add(l.max_future_skew_ns)
+            && l.now_ns.saturating_sub(m.stamp_ns) <= l.max_age_ns
+            && text.as_deref().is_some_and(|t| t.starts_with('/'));
+        prop_assert_eq!(verdict.is_ok(), sound, "{:?}: {:?}", m, verdict);
+        // path() reads what validate() read, whatever the header says.
+        prop_assert_eq!(m.path().ok(), text.as_deref());
+        if verdict.is_ok() {
+            // What the receiver opens: within the capacity, absolute, and
+            // new() rebuilds the same used bytes.
+            let path = m.path().unwrap_or_default();
+            let again = RecipeCommand::new(path, m.seq, m.stamp_ns);
+            prop_assert_eq!(again.map(|a| a.path[..a.path_len as usize].to_vec()), Ok(path.as_bytes().to_vec()));
+        }
+        if let Err(e) = verdict {
+            prop_assert!(e.to_string().starts_with("recipe_command."), "{}", e);
+            let expected = match e {
+                RecipeCommandError::Header(h) => h.reason(),
+                RecipeCommandError::PathTooLong { len } => {
+                    prop_assert_eq!(len, m.path_len);
+                    prop_assert!(len as usize > RECIPE_PATH_BYTES);
+                    RejectReason::CountExceedsCapacity
+                }
+                RecipeCommandError::NotUtf8 | RecipeCommandError::NotAbsolute => RejectReason::BadPath,
+            };
+            prop_assert_eq!(e.reason(), expected);
+            let no_count = !matches!(e, RecipeCommandError::Header(ipc_types::HeaderError::CountExceedsCapacity { .. }));
+            prop_assert!(no_count, "a recipe's header has no count: {}", e);
+        }
+    }
+
+    #[test]
+    fn line_status_never_panics(mut bytes in body(), patch in any::<bool>(), l in limits_strategy()) {
+        bytes.resize(bytes.len().max(size_of::<LineStatus>()), 0);
+        if patch {
+            patch_header(&mut bytes, 0);
+            let at = core::mem::offset_of!(LineStatus, stamp_ns);
+            bytes[at..at + 8].copy_from_slice(&l.now_ns.to_ne_bytes());
+        }
+        let m: LineStatus = from_bytes(&bytes);
+        let verdict = m.validate(&l);
+        // Any age, any counter: only the version and a stamp from the future refuse it.
+        let sound = m.protocol_version == PROTOCOL_VERSION
+            && m.stamp_ns <= l.now_ns.saturating_add(l.max_future_skew_ns);
+        prop_assert_eq!(verdict.is_ok(), sound, "{:?}: {:?}", m, verdict);
+        if let Err(e) = verdict {
+            prop_assert!(e.to_string().starts_with("line_status."), "{}", e);
+        }
+        let sum: u128 = m.refusals().iter().map(|(_, n)| u128::from(*n)).sum();
+        prop_assert_eq!(u128::from(m.total_refusals()), sum.min(u128::from(u64::MAX)));
     }
 }
 

@@ -6,8 +6,9 @@
 
 use ipc_types::{
     CoreCommand, CoreState, ExplicitSchedule, ExplicitSlot, FeedStatus, ForceEntry, ForceRequest,
-    FrameHeader, LatencyPercentiles, PartState, PartStates, PickCommand, PickEvent, PickPoseState,
-    REJECT_REASONS, RejectReason, Rejection, RigCenter, RigInfo, Schedule, ScheduleSlot, Telemetry,
+    FrameHeader, LatencyPercentiles, LineStatus, PartState, PartStates, PickCommand, PickEvent,
+    PickPoseState, RECIPE_PATH_BYTES, REJECT_REASONS, RecipeCommand, RejectReason, Rejection, RigCenter,
+    RigInfo, Schedule, ScheduleSlot, Telemetry,
 };
 use serde_json::{Map, Value, json};
 
@@ -101,6 +102,34 @@ impl Decoded for PickCommand {
     }
     fn sample() -> Self {
         Self::new(0, 0, 0, 0)
+    }
+}
+
+impl Decoded for RecipeCommand {
+    /// The path as text: its used bytes (a corrupt `path_len` clamped),
+    /// invalid UTF-8 replaced.
+    fn decoded(&self) -> Value {
+        let used = &self.path[..(self.path_len as usize).min(RECIPE_PATH_BYTES)];
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "path_len": self.path_len, "path": String::from_utf8_lossy(used)})
+    }
+    fn sample() -> Self {
+        Self::new("/", 0, 0).expect("the root is an absolute path")
+    }
+}
+
+impl Decoded for LineStatus {
+    fn decoded(&self) -> Value {
+        let refused: Map<String, Value> =
+            self.refusals().iter().map(|(name, n)| ((*name).to_owned(), json!(n))).collect();
+        json!({"protocol_version": self.protocol_version, "seq": self.seq, "stamp_ns": self.stamp_ns,
+               "line_pid": self.line_pid, "opcua_sessions": self.opcua_sessions,
+               "modbus_connections": self.modbus_connections, "refused": refused,
+               "refused_total": self.total_refusals(), "picks_sent": self.picks_sent,
+               "recipes_loaded": self.recipes_loaded, "recipes_refused": self.recipes_refused})
+    }
+    fn sample() -> Self {
+        Self::new()
     }
 }
 
@@ -316,6 +345,39 @@ mod tests {
         let s = schema::<FeedStatus>();
         assert_eq!(s["properties"]["recent"]["items"]["properties"]["number"]["type"], json!("integer"));
         assert_eq!(s["properties"]["poses"]["items"]["properties"]["x"]["type"], json!(["number", "null"]));
+    }
+
+    #[test]
+    fn a_recipe_shows_its_path_as_text() {
+        let m = RecipeCommand::new("/srv/recipes/gears.toml", 7, 123).expect("absolute");
+        assert_eq!(
+            m.decoded(),
+            json!({"protocol_version": ipc_types::PROTOCOL_VERSION, "seq": 7, "stamp_ns": 123, "path_len": 23,
+                   "path": "/srv/recipes/gears.toml"})
+        );
+        let mut bad = m;
+        (bad.path_len, bad.path[1]) = (u32::MAX, 0xFF);
+        let v = bad.decoded();
+        assert_eq!(v["path_len"], json!(u32::MAX));
+        let path = v["path"].as_str().expect("text");
+        assert!(path.starts_with("/\u{FFFD}rv/recipes/gears.toml\0"), "clamped, lossy: {path:?}");
+        let s = schema::<RecipeCommand>();
+        assert_eq!(s["properties"]["path"]["type"], json!("string"));
+        assert_eq!(s["properties"]["path_len"]["type"], json!("integer"));
+    }
+
+    #[test]
+    fn a_line_status_shows_its_refusals_by_name() {
+        let mut m = LineStatus::sample();
+        (m.line_pid, m.seq, m.opcua_sessions, m.access_denied, m.modbus_bad_frames) = (42, 3, 2, 5, 1);
+        let v = m.decoded();
+        assert_eq!((v["line_pid"].clone(), v["opcua_sessions"].clone()), (json!(42), json!(2)));
+        assert_eq!(v["refused"]["access_denied"], json!(5));
+        assert_eq!(v["refused"]["modbus_bad_frames"], json!(1));
+        assert_eq!(v["refused"].as_object().map(Map::len), Some(8));
+        assert_eq!(v["refused_total"], json!(6));
+        let s = schema::<LineStatus>();
+        assert_eq!(s["properties"]["refused"]["properties"]["login_failures"]["type"], json!("integer"));
     }
 
     #[test]

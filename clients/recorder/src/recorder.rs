@@ -9,8 +9,8 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use iceoryx2::prelude::*;
 use ipc_types::ports::{FrameSub, Sub, subscriber};
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, PartStates, PickCommand, Rejection, RigInfo,
-    Schedule, Telemetry, monotonic_now_ns, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, LineStatus, PartStates, PickCommand,
+    RecipeCommand, Rejection, RigInfo, Schedule, Telemetry, monotonic_now_ns, service_names,
 };
 
 use crate::rig_log::{LogOptions, RigLog};
@@ -37,6 +37,9 @@ struct Subscriptions {
     explicit: Sub<ExplicitSchedule>,
     command: Sub<CoreCommand>,
     pick: Sub<PickCommand>,
+    recipe: Sub<RecipeCommand>,
+    recipe_active: Sub<RecipeCommand>,
+    line: Sub<LineStatus>,
     schedule: Sub<Schedule>,
     telemetry: Sub<Telemetry>,
     rejection: Sub<Rejection>,
@@ -70,13 +73,17 @@ pub struct Recorder {
 /// rejection's the refused message's, the ground truth's the tick (the io
 /// thread publishes the newest pose). A feed status is numbered by each
 /// write of the cell, which the io thread publishes well within its period.
-/// A pick is numbered by its robot, like a command by its sender.
-const COUNTED_BY_SEQ: [&str; 8] = [
+/// A pick is numbered by its robot, a recipe command by the line, like a
+/// command by its sender; the line numbers its statuses one by one. Not:
+/// the active recipe, whose `seq` is the accepted command's (0 at start).
+const COUNTED_BY_SEQ: [&str; 10] = [
     service_names::PART_STATES,
     service_names::FORCE_REQUEST,
     service_names::EXPLICIT_SCHEDULE,
     service_names::CORE_COMMAND,
     service_names::PICK,
+    service_names::RECIPE,
+    service_names::LINE,
     service_names::TELEMETRY,
     service_names::FEED,
     service_names::CAMERA_FRAME,
@@ -96,6 +103,11 @@ impl Recorder {
             command: subscriber(&node, service_names::CORE_COMMAND)?,
             // Only an external robot publishes here.
             pick: subscriber(&node, service_names::PICK)?,
+            // Only the line process publishes these two; only a core
+            // running a feed cell the active recipe.
+            recipe: subscriber(&node, service_names::RECIPE)?,
+            recipe_active: subscriber(&node, service_names::RECIPE_ACTIVE)?,
+            line: subscriber(&node, service_names::LINE)?,
             schedule: subscriber(&node, service_names::SCHEDULE)?,
             telemetry: subscriber(&node, service_names::TELEMETRY)?,
             rejection: subscriber(&node, service_names::REJECTION)?,
@@ -160,6 +172,9 @@ impl Recorder {
         drain!(explicit, service_names::EXPLICIT_SCHEDULE);
         drain!(command, service_names::CORE_COMMAND);
         drain!(pick, service_names::PICK);
+        drain!(recipe, service_names::RECIPE);
+        drain!(recipe_active, service_names::RECIPE_ACTIVE);
+        drain!(line, service_names::LINE);
         drain!(schedule, service_names::SCHEDULE);
         drain!(rejection, service_names::REJECTION);
         drain!(rig_info, service_names::RIG_INFO);
@@ -282,6 +297,49 @@ mod tests {
         drop(node);
         ipc_types::rig_node::remove_prefix_segment(&prefix);
         assert_eq!(counts.get(service_names::PICK), Some(&(3, Some(2))), "{counts:?}");
+        Ok(())
+    }
+
+    /// The line's recipe commands and statuses cross shared memory into
+    /// the log with their gaps counted; the core's active recipe is
+    /// recorded, its losses unknown (its `seq` is the command's).
+    #[test]
+    fn recipes_and_line_statuses_are_recorded_and_their_gaps_counted() -> anyhow::Result<()> {
+        let prefix = format!("upm_rec_line_{}_", std::process::id());
+        let mut rec = Recorder::start(&RecorderOptions { prefix: prefix.clone(), ..Default::default() })?;
+        let node = ipc_types::rig_node::rig_node(&prefix, None, SignalHandlingMode::Disabled)?;
+        let recipes = ipc_types::ports::publisher::<RecipeCommand>(&node, service_names::RECIPE)?;
+        let active = ipc_types::ports::publisher::<RecipeCommand>(&node, service_names::RECIPE_ACTIVE)?;
+        let statuses = ipc_types::ports::publisher::<LineStatus>(&node, service_names::LINE)?;
+        let send_err = |e| anyhow::anyhow!("{e:?}");
+        for seq in [1, 2, 4] {
+            let m = RecipeCommand::new(&format!("/srv/recipes/{seq}.toml"), seq, monotonic_now_ns())?;
+            recipes.send_copy(m).map_err(send_err)?;
+        }
+        for seq in [0, 2] {
+            let m = RecipeCommand::new("/srv/recipes/2.toml", seq, monotonic_now_ns())?;
+            active.send_copy(m).map_err(send_err)?;
+        }
+        let mut m = LineStatus::new();
+        for seq in [1, 2, 3, 6] {
+            (m.seq, m.stamp_ns, m.login_failures) = (seq, monotonic_now_ns(), seq);
+            statuses.send_copy(m).map_err(send_err)?;
+        }
+        let mut received = 0;
+        for _ in 0..1000 {
+            received += rec.poll()?;
+            if received >= 9 {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let counts = rec.finish()?;
+        drop((recipes, active, statuses));
+        drop(node);
+        ipc_types::rig_node::remove_prefix_segment(&prefix);
+        assert_eq!(counts.get(service_names::RECIPE), Some(&(3, Some(1))), "{counts:?}");
+        assert_eq!(counts.get(service_names::RECIPE_ACTIVE), Some(&(2, None)), "{counts:?}");
+        assert_eq!(counts.get(service_names::LINE), Some(&(4, Some(2))), "{counts:?}");
         Ok(())
     }
 }

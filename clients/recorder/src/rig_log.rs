@@ -19,8 +19,8 @@ use foxglove::{
     PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
 };
 use ipc_types::{
-    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand, Rejection,
-    RigInfo, Schedule, Telemetry, WireMessage, service_names,
+    CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, LineStatus, PartStates,
+    PickCommand, RecipeCommand, Rejection, RigInfo, Schedule, Telemetry, WireMessage, service_names,
 };
 
 use crate::decoded::{Decoded, latencies, schema, schema_of};
@@ -129,15 +129,20 @@ impl RigLog {
         );
         topics.insert(CoreCommand::SERVICE, Topic::new::<CoreCommand>(&ctx, CoreCommand::SERVICE)?);
         topics.insert(PickCommand::SERVICE, Topic::new::<PickCommand>(&ctx, PickCommand::SERVICE)?);
+        topics.insert(RecipeCommand::SERVICE, Topic::new::<RecipeCommand>(&ctx, RecipeCommand::SERVICE)?);
+        topics.insert(LineStatus::SERVICE, Topic::new::<LineStatus>(&ctx, LineStatus::SERVICE)?);
         topics.insert(Schedule::SERVICE, Topic::new::<Schedule>(&ctx, Schedule::SERVICE)?);
         topics.insert(Telemetry::SERVICE, Topic::new::<Telemetry>(&ctx, Telemetry::SERVICE)?);
         topics.insert(Rejection::SERVICE, Topic::new::<Rejection>(&ctx, Rejection::SERVICE)?);
         topics.insert(RigInfo::SERVICE, Topic::new::<RigInfo>(&ctx, RigInfo::SERVICE)?);
         topics.insert(FeedStatus::SERVICE, Topic::new::<FeedStatus>(&ctx, FeedStatus::SERVICE)?);
         topics.insert(FrameHeader::SERVICE, Topic::new::<FrameHeader>(&ctx, FrameHeader::SERVICE)?);
-        // The simulator's ground truth is PartStates on a service of its own.
+        // The simulator's ground truth is PartStates on a service of its own,
+        // the core's active recipe a RecipeCommand.
         let truth = service_names::SIM_GROUND_TRUTH;
         topics.insert(truth, Topic::new::<PartStates>(&ctx, truth)?);
+        let active = service_names::RECIPE_ACTIVE;
+        topics.insert(active, Topic::new::<RecipeCommand>(&ctx, active)?);
         let scene_channel = ChannelBuilder::new(SCENE_TOPIC).context(&ctx).build::<SceneUpdate>();
         let latency_schema = serde_json::to_vec(&schema_of(&latencies(&Telemetry::new())))?;
         let latency = ChannelBuilder::new(LATENCY_TOPIC)
