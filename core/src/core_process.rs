@@ -58,6 +58,8 @@ fn with_outline(state: ipc_types::PartState, shape: &drivers::sim::BodyShape) ->
 /// at the camera's rate (10 Hz if the core was not told it).
 fn run_simulated<D: SimulatedPlant>(
     params: &CoreParams,
+    config: &CoreConfig,
+    shown: &str,
     mut driver: D,
     parts: crate::config::SimParts,
     truth_hz: f64,
@@ -77,7 +79,9 @@ fn run_simulated<D: SimulatedPlant>(
             mailbox.post(c.pose, c.part_id);
         })
     });
-    run_core_with_truth(params, driver, SimulatorOutputs { truth, feed, picks }, options).context("upm-core")
+    let recipes = crate::recipe_changeover::changeovers(config, shown, &mut driver)?;
+    run_core_with_truth(params, driver, SimulatorOutputs { truth, feed, picks, recipes }, options)
+        .context("upm-core")
 }
 
 /// Print the one-line summary of a finished run; a run whose thread died
@@ -145,7 +149,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
     let report = match config.driver.kind {
         DriverChoice::Sim => {
             let (sim, parts) = crate::plate_driver::simulator(&config, &shown)?;
-            run_simulated(&params, sim, parts, args.truth_hz, &options)?
+            run_simulated(&params, &config, &shown, sim, parts, args.truth_hz, &options)?
         }
         DriverChoice::EthercatSim => match crate::plate_driver::ethercat_over_veth(&config, &shown)? {
             Ok((driver, parts)) => {
@@ -154,7 +158,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
                     driver.interface()
                 );
                 let chain = driver.chain();
-                let report = run_simulated(&params, driver, parts, args.truth_hz, &options)?;
+                let report = run_simulated(&params, &config, &shown, driver, parts, args.truth_hz, &options)?;
                 if let Ok(rig) = chain.lock() {
                     let (events, missed) = rig
                         .chain
@@ -174,7 +178,7 @@ pub fn run(args: CoreArgs) -> anyhow::Result<RunReport> {
                     &shown,
                     crate::plate_driver::keep_real_time,
                 )?;
-                run_simulated(&params, driver, parts, args.truth_hz, &options)?
+                run_simulated(&params, &config, &shown, driver, parts, args.truth_hz, &options)?
             }
         },
         DriverChoice::Ethercat => {

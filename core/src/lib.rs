@@ -7,3 +7,4 @@
 pub mod config;
 pub mod core_process;
 pub mod plate_driver;
+pub mod recipe_changeover;

@@ -33,6 +33,9 @@ pub trait SimulatedPlant: PlateDriver + Send + 'static {
     /// The feed cell's mailbox for an external robot's picks (see
     /// [`FeedCell::accept_picks`]); None without one.
     fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>>;
+    /// The feed cell's mailbox for changeovers (see
+    /// [`FeedCell::accept_recipes`]); None without a cell.
+    fn accept_recipes(&mut self) -> Option<drivers::feed::RecipeMailbox>;
 }
 
 impl SimulatedPlant for Simulator {
@@ -51,6 +54,9 @@ impl SimulatedPlant for Simulator {
     }
     fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>> {
         FeedCell::accept_picks(self)
+    }
+    fn accept_recipes(&mut self) -> Option<drivers::feed::RecipeMailbox> {
+        FeedCell::accept_recipes(self)
     }
 }
 
@@ -72,6 +78,9 @@ impl SimulatedPlant for EthercatDriver<SimulatedRig> {
     }
     fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>> {
         self.with_wire(|w| FeedCell::accept_picks(&mut w.sim)).flatten()
+    }
+    fn accept_recipes(&mut self) -> Option<drivers::feed::RecipeMailbox> {
+        self.with_wire(|w| FeedCell::accept_recipes(&mut w.sim)).flatten()
     }
 }
 
@@ -234,6 +243,10 @@ impl SimulatedPlant for EthercatOverVeth {
     fn accept_picks(&mut self) -> Option<std::sync::Arc<drivers::feed::PickMailbox>> {
         let mut rig = self.chain.wire.lock().ok()?;
         FeedCell::accept_picks(&mut rig.sim)
+    }
+    fn accept_recipes(&mut self) -> Option<drivers::feed::RecipeMailbox> {
+        let mut rig = self.chain.wire.lock().ok()?;
+        FeedCell::accept_recipes(&mut rig.sim)
     }
 }
 

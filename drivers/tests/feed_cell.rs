@@ -271,3 +271,48 @@ fn the_status_names_the_part_at_each_pose_and_every_pick_by_number() {
     let ((), allocated) = allocations_in(|| run(&mut sim, 5.0));
     assert_eq!(allocated, 0, "the status port allocated");
 }
+
+#[test]
+fn a_changeover_moves_the_poses_keeps_the_parts_and_allocates_nothing_where_it_lands() {
+    let mut sim = cell_with(&[], 13, RobotMode::External);
+    let mut recipes = FeedCell::accept_recipes(&mut sim).expect("a cell's mailbox");
+    run(&mut sim, 20.0);
+    let before = FeedCell::of(&sim).expect("feed").counts();
+    assert!(before.on_plate >= 2, "parts arrived");
+    let ids: Vec<u32> = on_plate(&sim).iter().map(|&i| FeedCell::of(&sim).expect("feed").id_of(i)).collect();
+    // Two poses, moved, and a faster robot: the same classes.
+    let next = Recipe::parse(
+        &DEFAULT.replacen("position = [0.7, 0.25]", "position = [0.6, 0.1]", 1).replacen(
+            "pick_s = 1.0",
+            "pick_s = 0.5",
+            1,
+        ),
+        "next.toml",
+        [1.0, 0.5],
+    )
+    .expect("next");
+    let mut next = next;
+    next.picks.truncate(2);
+    let running = FeedCell::of(&sim).expect("feed").recipe().clone();
+    assert_eq!(running.check_changeover(&next), Ok(()));
+    recipes.post(next.clone());
+    // The step that swaps it in allocates nothing (the old recipe is freed
+    // by the next post).
+    let ((), allocated) = allocations_in(|| run(&mut sim, 0.001));
+    assert_eq!(allocated, 0, "the changeover allocated on the cell's thread");
+    let feed = FeedCell::of(&sim).expect("feed");
+    assert_eq!(feed.recipe(), &next);
+    assert_eq!(feed.counts().changeovers, 1);
+    assert_eq!(feed.counts().arrived, before.arrived, "no part came or went with it");
+    let still: Vec<u32> = on_plate(&sim).iter().map(|&i| feed.id_of(i)).collect();
+    assert_eq!(still, ids, "the parts on the plate stay");
+    let mut status = ipc_types::FeedStatus::new();
+    feed.write_status(&sim, &mut status);
+    assert_eq!(status.count, 2);
+    assert_eq!([status.poses[0].x, status.poses[0].y], [0.6, 0.1]);
+    // A second post frees the first recipe here, off the cell's thread.
+    recipes.post(running.clone());
+    run(&mut sim, 0.001);
+    assert_eq!(FeedCell::of(&sim).expect("feed").recipe(), &running);
+    assert_eq!(FeedCell::of(&sim).expect("feed").counts().changeovers, 2);
+}

@@ -3,6 +3,7 @@
 //! the robot. [`Recipe::load`] reads and checks a file against the plate;
 //! every refusal is one line naming the field. Parsing has no side effects.
 
+mod changeover;
 mod error;
 mod outline;
 mod recipe;

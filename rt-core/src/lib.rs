@@ -48,8 +48,8 @@ pub use motor::{MotorLoop, MotorPolicy, TickOutcome};
 pub use params::{CoreParams, CoreParamsError};
 pub use plate_params::PlateParams;
 pub use process::{
-    CORE_NODE_NAME, PickSink, RealtimeStatus, RunOptions, RunReport, SimulatorOutputs, fill_telemetry,
-    run_core, run_core_with_truth,
+    CORE_NODE_NAME, Changeovers, PickSink, RealtimeStatus, RecipeSink, RunOptions, RunReport,
+    SimulatorOutputs, fill_telemetry, run_core, run_core_with_truth,
 };
 pub use rig_info::rig_info;
 pub use rt_params::{ReceiverWake, RtParams};

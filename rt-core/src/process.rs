@@ -150,6 +150,25 @@ pub fn run_core<D: PlateDriver + Send + 'static>(
 /// robot's pick, to the feed cell).
 pub type PickSink = Box<dyn FnMut(&ipc_types::PickCommand) + Send>;
 
+/// Where the io thread hands each valid `RecipeCommand`'s path (a
+/// changeover, for the feed cell): Ok once the cell switches at its next
+/// step, else the one-line reason it will not (the running recipe stays).
+pub type RecipeSink = Box<dyn FnMut(&str) -> Result<(), String> + Send>;
+
+/// A feed cell's changeovers: the recipe it runs now, announced on
+/// `upm/recipe/active` at start and after each changeover, and where a
+/// new one goes.
+pub struct Changeovers {
+    pub running: ipc_types::RecipeCommand,
+    pub sink: RecipeSink,
+}
+
+impl core::fmt::Debug for Changeovers {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "Changeovers(running: {:?})", self.running.path())
+    }
+}
+
 /// What a simulated driver writes where it steps, for the io thread to
 /// publish: its parts' ground truth (for the simulated camera) and its
 /// feed cell's status.
@@ -162,16 +181,19 @@ pub struct SimulatorOutputs {
     /// Where each valid `PickCommand` of `upm/pick` goes (an external
     /// robot's picks, to the feed cell); the io thread reads them.
     pub picks: Option<PickSink>,
+    /// The feed cell's changeovers (`upm/recipe`); the io thread reads them.
+    pub recipes: Option<Changeovers>,
 }
 
 impl core::fmt::Debug for SimulatorOutputs {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         write!(
             f,
-            "SimulatorOutputs(truth: {}, feed: {}, picks: {})",
+            "SimulatorOutputs(truth: {}, feed: {}, picks: {}, recipes: {})",
             self.truth.is_some(),
             self.feed.is_some(),
-            self.picks.is_some()
+            self.picks.is_some(),
+            self.recipes.is_some()
         )
     }
 }
@@ -230,7 +252,26 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
         );
     }
     let StageGraph { motor, stage, shared, motor_samples: mut motor_rx, outputs: mut stage_rx, .. } = graph;
-    let SimulatorOutputs { truth: mut truth_rx, feed: mut feed_rx, picks: mut pick_sink } = outputs;
+    let SimulatorOutputs {
+        truth: mut truth_rx,
+        feed: mut feed_rx,
+        picks: mut pick_sink,
+        recipes: mut changeovers,
+    } = outputs;
+    let recipe_ports = match changeovers.as_ref() {
+        Some(c) => {
+            let requests =
+                ipc_types::ports::subscriber::<ipc_types::RecipeCommand>(&node, service_names::RECIPE)
+                    .map_err(StartError::Port)?;
+            let active =
+                ipc_types::ports::publisher::<ipc_types::RecipeCommand>(&node, service_names::RECIPE_ACTIVE)
+                    .map_err(StartError::Port)?;
+            // History hands the running recipe to every later subscriber.
+            active.send_copy(c.running).map_err(|_| StartError::RigInfo)?;
+            Some((requests, active))
+        }
+        None => None,
+    };
     let pick_sub = match pick_sink {
         Some(_) => Some(
             ipc_types::ports::subscriber::<ipc_types::PickCommand>(&node, service_names::PICK)
@@ -342,6 +383,39 @@ pub fn run_core_with_truth<D: PlateDriver + Send + 'static>(
                             now,
                             e.reason(),
                             format_args!("{e}"),
+                        );
+                        let _ = rejection_pub.send_copy(r);
+                        rejection_log.note(&r, now);
+                    }
+                }
+            }
+        }
+        if let (Some((requests, active)), Some(c)) = (recipe_ports.as_ref(), changeovers.as_mut()) {
+            // A new subscriber gets the running recipe here.
+            let _ = active.update_connections();
+            let limits = ipc_types::ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
+            while let Ok(Some(s)) = requests.receive() {
+                let command = *s.payload();
+                let outcome = match command.validate(&limits) {
+                    Ok(()) => (c.sink)(command.path().unwrap_or_default())
+                        .map_err(|m| (ipc_types::RejectReason::BadRecipe, m)),
+                    Err(e) => Err((e.reason(), e.to_string())),
+                };
+                match outcome {
+                    Ok(()) => {
+                        c.running = command;
+                        let _ = active.send_copy(command);
+                    }
+                    Err((reason, message)) => {
+                        shared.count_reject(reason);
+                        let now = monotonic_now_ns();
+                        let r = Rejection::new(
+                            RejectedKind::RecipeCommand,
+                            command.seq,
+                            command.stamp_ns,
+                            now,
+                            reason,
+                            format_args!("{message}"),
                         );
                         let _ = rejection_pub.send_copy(r);
                         rejection_log.note(&r, now);

@@ -5,6 +5,7 @@ use core::fmt;
 
 use upm_recipe::{Outline, Recipe};
 
+use super::changeover::RecipeInbox;
 use super::counts::{FeedCounts, PickRecord};
 use super::pick_mailbox::MailboxSlot;
 use super::robot_mode::RobotMode;
@@ -58,6 +59,9 @@ pub struct FeedCell {
     pub(super) next_id: u32,
     pub(super) next_arrival: f64,
     pub(super) busy_until: f64,
+    /// The simulated robot's cycles so far (s): each pick's `pick_s` as
+    /// the recipe then had it.
+    pub(super) busy_s: f64,
     pub(super) next_pose: usize,
     pub(super) rng: SplitMix64,
     pub(super) counts: FeedCounts,
@@ -66,6 +70,7 @@ pub struct FeedCell {
     pick_head: usize,
     pub(super) status: StatusSlot,
     pub(super) mailbox: MailboxSlot,
+    pub(super) changeover: RecipeInbox,
 }
 
 impl FeedCell {
@@ -127,6 +132,7 @@ impl FeedCell {
             next_id: 1,
             next_arrival: 0.0,
             busy_until: 0.0,
+            busy_s: 0.0,
             next_pose: 0,
             rng,
             counts: FeedCounts::default(),
@@ -134,6 +140,7 @@ impl FeedCell {
             pick_head: 0,
             status: StatusSlot::default(),
             mailbox: MailboxSlot::default(),
+            changeover: RecipeInbox::default(),
         };
         let mut cell = cell;
         cell.schedule_first_arrival();
@@ -152,6 +159,7 @@ impl FeedCell {
             return;
         }
         let t = sim.time();
+        self.take_changeover();
         self.count_lost(sim);
         self.track_settling(sim, t);
         self.robot_step(sim, t);

@@ -14,6 +14,8 @@ pub struct FeedCounts {
     pub arrivals_blocked: u64,
     /// Parts on the plate now.
     pub on_plate: u32,
+    /// Recipes switched to while running.
+    pub changeovers: u32,
 }
 
 /// One pick, at the instant the robot closed on the part, against the

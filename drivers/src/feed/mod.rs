@@ -7,6 +7,7 @@
 //! it again, so nothing allocates.
 
 mod cell;
+mod changeover;
 mod counts;
 mod infeed;
 mod pick_mailbox;
@@ -16,6 +17,7 @@ mod status;
 mod status_port;
 
 pub use cell::{FeedCell, FeedError};
+pub use changeover::RecipeMailbox;
 pub use counts::{FeedCounts, PickRecord};
 pub use pick_mailbox::PickMailbox;
 pub use robot_mode::{RobotMode, ZONE_MARGIN_M};

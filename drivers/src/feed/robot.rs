@@ -99,6 +99,7 @@ impl FeedCell {
                 continue;
             }
             self.busy_until = t + robot.pick_s;
+            self.busy_s += robot.pick_s;
             self.next_pose = j + 1;
             return;
         }

@@ -50,8 +50,8 @@ impl FeedCell {
         out.stuck_after_s = STUCK_AFTER_S;
         out.collisions = u32::try_from(sim.counters().collisions).unwrap_or(u32::MAX);
         out.time_s = t;
-        let pick_s = self.recipe.robot.pick_s;
-        out.robot_busy_s = (c.picked as f64 * pick_s - (self.busy_until - t).max(0.0)).max(0.0);
+        // An external robot's cycle is its own: the cell does not see it.
+        out.robot_busy_s = (self.busy_s - (self.busy_until - t).max(0.0)).max(0.0);
         out.clear();
         for (j, pose) in self.recipe.picks.iter().enumerate() {
             let at = self.part_at_pose(j);
