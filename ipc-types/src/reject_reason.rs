@@ -48,6 +48,9 @@ crate::wire_code::wire_code! {
         BadShape = 25 => "bad_shape",
         /// A recipe's path is not UTF-8 or not absolute.
         BadPath = 26 => "bad_path",
+        /// A recipe the cell cannot switch to: unreadable, invalid for
+        /// this plate, or of other part classes.
+        BadRecipe = 27 => "bad_recipe",
     }
 }
 

@@ -242,7 +242,12 @@ fn timeline(inputs: &Inputs) -> Vec<Output<'_>> {
     let rejections = inputs
         .rejections
         .iter()
-        .filter(|(_, r)| !matches!(r.kind(), Some(RejectedKind::CoreCommand | RejectedKind::PickCommand)))
+        .filter(|(_, r)| {
+            !matches!(
+                r.kind(),
+                Some(RejectedKind::CoreCommand | RejectedKind::PickCommand | RejectedKind::RecipeCommand)
+            )
+        })
         .map(|(i, r)| (*i, Output::Rejection(r)));
     for (index, out) in schedules.chain(rejections) {
         outputs.push((out.handled_ns(), index, out));
@@ -330,7 +335,7 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayReport> {
             RejectedKind::PartStates => parts.get(&key).map(|m| core.inbox().push_parts(m)),
             RejectedKind::ForceRequest => requests.get(&key).map(|m| core.inbox().push_request(m)),
             RejectedKind::ExplicitSchedule => explicit.get(&key).map(|m| core.inbox().push_explicit(m)),
-            RejectedKind::CoreCommand | RejectedKind::PickCommand => continue,
+            RejectedKind::CoreCommand | RejectedKind::PickCommand | RejectedKind::RecipeCommand => continue,
         };
         found.ok_or_else(|| missing(what()))?;
         core.handle_at(now);

@@ -8,29 +8,47 @@ use iceoryx2::prelude::*;
 use ipc_types::discovery::{NodePresence, running_rigs};
 use ipc_types::rig_node::rig_node;
 use ipc_types::{
-    CoreCommand, FeedStatus, LatencyPercentiles, RejectReason, Telemetry, ValidationLimits, monotonic_now_ns,
-    service_names,
+    CoreCommand, FeedStatus, LatencyPercentiles, LineStatus, RecipeCommand, RejectReason, Telemetry,
+    ValidationLimits, monotonic_now_ns, service_names,
 };
 use serde_json::{Value, json};
 
-/// Wait up to `timeout` for a telemetry sample of the core on `prefix`.
-pub fn read_telemetry(prefix: &str, timeout: Duration) -> anyhow::Result<Telemetry> {
+/// The newest `T` on `service` of the rig on `prefix`, waiting up to
+/// `timeout` for one; checked whole by `validate`. None if none came.
+fn read_newest<T: Copy + core::fmt::Debug + ZeroCopySend + 'static>(
+    prefix: &str,
+    service: &'static str,
+    timeout: Duration,
+    validate: impl Fn(&T, &ValidationLimits) -> Result<(), String>,
+) -> anyhow::Result<Option<T>> {
     let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
-    let sub = ipc_types::ports::subscriber::<Telemetry>(&node, service_names::TELEMETRY)?;
+    let sub = ipc_types::ports::subscriber::<T>(&node, service)?;
     let start = Instant::now();
-    let mut newest: Option<Telemetry> = None;
-    while start.elapsed() < timeout {
-        while let Some(s) = sub.receive().map_err(|e| anyhow::anyhow!("receiving telemetry: {e:?}"))? {
+    let mut newest: Option<T> = None;
+    while start.elapsed() < timeout && newest.is_none() {
+        while let Some(s) = sub.receive().map_err(|e| anyhow::anyhow!("receiving {service}: {e:?}"))? {
             newest = Some(*s.payload());
         }
-        if let Some(t) = newest {
-            let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
-            t.validate(&limits).map_err(|e| anyhow::anyhow!("invalid telemetry from the core: {e}"))?;
-            return Ok(t);
+        if newest.is_none() {
+            std::thread::sleep(Duration::from_millis(5));
         }
-        std::thread::sleep(Duration::from_millis(5));
     }
-    bail!("no upm-core is running on service prefix {prefix:?} (no telemetry within {timeout:?})")
+    let Some(m) = newest else { return Ok(None) };
+    let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
+    validate(&m, &limits).map_err(|e| anyhow::anyhow!("invalid message on {service}: {e}"))?;
+    Ok(Some(m))
+}
+
+/// Wait up to `timeout` for a telemetry sample of the core on `prefix`.
+pub fn read_telemetry(prefix: &str, timeout: Duration) -> anyhow::Result<Telemetry> {
+    let t = read_newest(prefix, service_names::TELEMETRY, timeout, |t: &Telemetry, l| {
+        t.validate(l).map_err(|e| e.to_string())
+    })?;
+    t.ok_or_else(|| {
+        anyhow::anyhow!(
+            "no upm-core is running on service prefix {prefix:?} (no telemetry within {timeout:?})"
+        )
+    })
 }
 
 fn us(p: &LatencyPercentiles) -> Value {
@@ -77,24 +95,59 @@ pub fn driver_json(t: &Telemetry) -> Value {
     })
 }
 
-/// The `upm status --json` document.
-/// A feed cell's newest valid status on `prefix`, waiting up to `timeout`
-/// (None: the core runs no cell).
+/// The feed cell's newest status; None if the core runs no cell.
 pub fn read_feed(prefix: &str, timeout: Duration) -> anyhow::Result<Option<FeedStatus>> {
-    let node = rig_node(prefix, None, SignalHandlingMode::Disabled)?;
-    let sub = ipc_types::ports::subscriber::<FeedStatus>(&node, service_names::FEED)?;
-    let start = Instant::now();
-    let mut newest: Option<FeedStatus> = None;
-    while start.elapsed() < timeout && newest.is_none() {
-        while let Some(s) = sub.receive().map_err(|e| anyhow::anyhow!("receiving feed status: {e:?}"))? {
-            newest = Some(*s.payload());
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let Some(f) = newest else { return Ok(None) };
-    let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
-    f.validate(&limits).map_err(|e| anyhow::anyhow!("invalid feed status from the core: {e}"))?;
-    Ok(Some(f))
+    read_newest(prefix, service_names::FEED, timeout, |f: &FeedStatus, l| {
+        f.validate(l).map_err(|e| e.to_string())
+    })
+}
+
+/// The line interface's newest counters; None if no line runs.
+pub fn read_line(prefix: &str, timeout: Duration) -> anyhow::Result<Option<LineStatus>> {
+    read_newest(prefix, service_names::LINE, timeout, |s: &LineStatus, l| {
+        s.validate(l).map_err(|e| e.to_string())
+    })
+}
+
+/// The recipe the feed cell runs (its file), as the core announced it.
+pub fn read_recipe(prefix: &str, timeout: Duration) -> anyhow::Result<Option<String>> {
+    let command = read_newest(prefix, service_names::RECIPE_ACTIVE, timeout, |c: &RecipeCommand, l| {
+        c.validate(l).map_err(|e| e.to_string())
+    })?;
+    Ok(command.and_then(|c| c.path().ok().map(str::to_owned)))
+}
+
+/// `status.line`: the line interface's open connections and refusals.
+pub fn line_json(s: &LineStatus) -> Value {
+    let refused: serde_json::Map<String, Value> =
+        s.refusals().iter().map(|&(k, v)| (k.to_owned(), json!(v))).collect();
+    json!({
+        "pid": s.line_pid,
+        "opcua_sessions": s.opcua_sessions,
+        "modbus_connections": s.modbus_connections,
+        "picks_sent": s.picks_sent,
+        "recipes_loaded": s.recipes_loaded,
+        "recipes_refused": s.recipes_refused,
+        "refused": refused,
+        "refused_total": s.total_refusals(),
+    })
+}
+
+/// One line: the line interface's connections and what it refused.
+pub fn line_text(s: &LineStatus) -> String {
+    let refused: Vec<String> =
+        s.refusals().iter().filter(|(_, v)| *v > 0).map(|(k, v)| format!("{k} {v}")).collect();
+    format!(
+        "line: pid {}, {} OPC UA sessions, {} Modbus connections, {} picks passed on, recipes loaded {} (refused {}); refused {}: {}",
+        s.line_pid,
+        s.opcua_sessions,
+        s.modbus_connections,
+        s.picks_sent,
+        s.recipes_loaded,
+        s.recipes_refused,
+        s.total_refusals(),
+        if refused.is_empty() { "none".to_owned() } else { refused.join(", ") }
+    )
 }
 
 /// `status.feed`: the cell's counters and each pick pose.
@@ -147,6 +200,7 @@ pub fn feed_text(f: &FeedStatus) -> String {
     )
 }
 
+/// The `upm status --json` document.
 pub fn to_json(t: &Telemetry) -> Value {
     let flag = |b: u32| t.realtime_flags & b != 0;
     let c = &t.counters;
@@ -313,4 +367,39 @@ pub fn send_command(prefix: &str, command: u32) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("sending command {command}: {e:?}"))?;
     notifier.notify();
     Ok(())
+}
+
+/// `upm status`: the core's telemetry, and where they run, the feed cell's
+/// status and recipe and the line interface's counters; JSON or text.
+pub fn report(prefix: &str, timeout_s: f64, as_json: bool) -> anyhow::Result<String> {
+    if !(timeout_s.is_finite() && timeout_s > 0.0 && timeout_s < 3600.0) {
+        bail!("--timeout must be a positive number of seconds below 3600, got {timeout_s}");
+    }
+    let t = read_telemetry(prefix, Duration::from_secs_f64(timeout_s))?;
+    // Each published a few times a second, where it runs.
+    let briefly = Duration::from_millis(300);
+    let feed = read_feed(prefix, briefly)?;
+    let recipe = if feed.is_some() { read_recipe(prefix, briefly)? } else { None };
+    let line = read_line(prefix, briefly)?;
+    if as_json {
+        let mut v = to_json(&t);
+        v["prefix"] = json!(prefix);
+        v["feed"] = feed.as_ref().map_or(Value::Null, feed_json);
+        if let (Some(r), Some(f)) = (&recipe, v["feed"].as_object_mut()) {
+            f.insert("recipe".into(), json!(r));
+        }
+        v["line"] = line.as_ref().map_or(Value::Null, line_json);
+        return Ok(serde_json::to_string_pretty(&v)?);
+    }
+    let mut text = format!("rig {prefix}\n{}", to_text(&t));
+    if let Some(f) = &feed {
+        text += &format!("\n{}", feed_text(f));
+    }
+    if let Some(r) = &recipe {
+        text += &format!("\nrecipe: {r}");
+    }
+    if let Some(l) = &line {
+        text += &format!("\n{}", line_text(l));
+    }
+    Ok(text)
 }

@@ -1,9 +1,11 @@
 """A robot on OPC UA, written against docs/line.md with asyncua only.
 
-usage: robot_opcua.py URL USER PASSWORD SECONDS SERVER_PKI_DIR
+usage: robot_opcua.py URL USER PASSWORD SECONDS [SERVER_PKI_DIR [RECIPE BAD_RECIPE]]
 Prints one JSON object: what it read, picked and was refused. With the
 server's PKI directory it also connects over Basic256Sha256
 SignAndEncrypt: refused until its certificate is trusted, then served.
+With RECIPE (a name) and BAD_RECIPE (a path), it switches the cell to
+RECIPE halfway through its pick loop, after being refused BAD_RECIPE.
 """
 import asyncio
 import json
@@ -18,6 +20,7 @@ from asyncua import Client, ua
 
 URL, USER, PASSWORD, SECONDS = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
 SERVER_PKI = Path(sys.argv[5]) if len(sys.argv) > 5 else None
+RECIPE, BAD_RECIPE = (sys.argv[6], sys.argv[7]) if len(sys.argv) > 7 else (None, None)
 out = {}
 
 
@@ -53,6 +56,8 @@ async def anonymous():
         out["anonymous_stop"] = await refused(rig.call_method(f"{ns}:Stop"))
         out["anonymous_picked"] = await refused(
             rig.call_method(f"{ns}:Picked", ua.Variant(0, ua.VariantType.UInt32)))
+        out["anonymous_load"] = await refused(
+            rig.call_method(f"{ns}:LoadRecipe", ua.Variant("default", ua.VariantType.String)))
         # Values change by subscription at the camera's rate.
         changes = []
 
@@ -99,29 +104,53 @@ async def robot():
         out["two_poses"] = await refused(rig.call_method(f"{ns}:Picked", u32(0), u32(1)))
         out["stop_with_argument"] = await refused(rig.call_method(f"{ns}:Stop", u32(1)))
         # The pick loop: take what is ready, note what is refused.
-        good, not_ready, other = 0, 0, {}
-        tried_not_ready = None
-        t0 = time.time()
-        while time.time() - t0 < SECONDS:
-            for n in range(n_poses):
-                ready = await node(f"Pick.{n}.Ready").read_value()
-                if not ready and tried_not_ready is None:
-                    tried_not_ready = await refused(picked(u32(n)))
-                    continue
-                if not ready:
-                    continue
-                r = await refused(picked(u32(n)))
-                if r == "Good":
-                    good += 1
-                elif r == "BadInvalidState":
-                    not_ready += 1
-                else:
-                    other[r] = other.get(r, 0) + 1
-            await asyncio.sleep(0.03)
-        out["picks_good"] = good
-        out["picks_raced"] = not_ready
-        out["picks_other"] = other
-        out["not_ready_pose"] = tried_not_ready
+        counts = {"good": 0, "raced": 0, "other": {}, "not_ready": None}
+
+        async def pick_for(seconds, n_poses):
+            t0 = time.time()
+            while time.time() - t0 < seconds:
+                for n in range(n_poses):
+                    ready = await node(f"Pick.{n}.Ready").read_value()
+                    if not ready and counts["not_ready"] is None:
+                        counts["not_ready"] = await refused(picked(u32(n)))
+                        continue
+                    if not ready:
+                        continue
+                    r = await refused(picked(u32(n)))
+                    if r == "Good":
+                        counts["good"] += 1
+                    elif r == "BadInvalidState":
+                        counts["raced"] += 1
+                    else:
+                        counts["other"][r] = counts["other"].get(r, 0) + 1
+                await asyncio.sleep(0.03)
+
+        if RECIPE is None:
+            await pick_for(SECONDS, n_poses)
+        else:
+            await pick_for(SECONDS / 2, n_poses)
+            load = lambda v: rig.call_method(f"{ns}:LoadRecipe", v)
+            text = lambda t: ua.Variant(t, ua.VariantType.String)
+            out["load_unknown"] = await refused(load(text("no-such-recipe")))
+            out["load_unknown_error"] = await node("RecipeError").read_value()
+            out["load_other_parts"] = await refused(load(text(BAD_RECIPE)))
+            out["load_other_parts_error"] = await node("RecipeError").read_value()
+            out["load_int"] = await refused(load(ua.Variant(3, ua.VariantType.Int32)))
+            out["load_nothing"] = await refused(rig.call_method(f"{ns}:LoadRecipe"))
+            out["recipe_after_refusals"] = await node("Recipe").read_value()
+            out["picks_before_changeover"] = counts["good"]
+            out["load"] = await refused(load(text(RECIPE)))
+            out["recipe_after_load"] = await node("Recipe").read_value()
+            out["recipe_error_after_load"] = await node("RecipeError").read_value()
+            await asyncio.sleep(0.5)
+            out["pose_count_after_load"] = await node("PoseCount").read_value()
+            out["pose0_after_load"] = [await node(f"Pick.0.{k}").read_value() for k in ["X", "Y"]]
+            out["pose3_ready_after_load"] = await node("Pick.3.Ready").read_value()
+            await pick_for(SECONDS / 2, out["pose_count_after_load"])
+        out["picks_good"] = counts["good"]
+        out["picks_raced"] = counts["raced"]
+        out["picks_other"] = counts["other"]
+        out["not_ready_pose"] = counts["not_ready"]
         # Stop and start: the state follows.
         out["stop"] = await refused(rig.call_method(f"{ns}:Stop"))
         await asyncio.sleep(2.0)
@@ -131,7 +160,8 @@ async def robot():
         out["state_after_start"] = await node("State").read_value()
         out["resume"] = await refused(rig.call_method(f"{ns}:Resume"))
         out["picked_after"] = await node("Picked").read_value()
-        for k in ["LoginFailures", "AccessDenied", "BadArguments", "InvalidState"]:
+        for k in ["LoginFailures", "AccessDenied", "BadArguments", "InvalidState", "RecipesLoaded",
+                  "RecipesRefused"]:
             out[f"Line.{k}"] = await node(f"Line.{k}").read_value()
 
 

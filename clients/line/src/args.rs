@@ -44,9 +44,10 @@ pub struct LineArgs {
     /// picks from outside are refused).
     #[arg(long, default_value = "external", value_parser = ["external", "builtin"])]
     pub robot: String,
-    /// What `Rig.Recipe` shows.
-    #[arg(long, default_value = "")]
-    pub recipe: String,
+    /// Where `LoadRecipe(NAME)` looks for `NAME.toml` (a path is taken as
+    /// it is).
+    #[arg(long, default_value = "recipes")]
+    pub recipes: PathBuf,
 }
 
 /// The rig's prefix: given, or the only rig running (as `upm status`).
@@ -82,8 +83,8 @@ pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
     if args.opcua.is_none() && args.modbus.is_none() {
         anyhow::bail!("nothing to serve: give --opcua ADDR, --modbus ADDR or both");
     }
-    let view = Arc::new(RigView::start(&prefix, &args.recipe)?);
     let counters = Arc::new(LineCounters::default());
+    let view = Arc::new(RigView::start(&prefix, counters.clone())?);
     let builtin_robot = args.robot == "builtin";
     // Two workers: the line never needs more, and never runs on an RT thread.
     let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
@@ -91,7 +92,13 @@ pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
         let stop = CancellationToken::new();
         let opcua = match args.opcua {
             Some(addr) => {
-                let opts = OpcUaOptions { addr, pki_dir: args.pki.clone(), users, builtin_robot };
+                let opts = OpcUaOptions {
+                    addr,
+                    pki_dir: args.pki.clone(),
+                    users,
+                    builtin_robot,
+                    recipes_dir: args.recipes.clone(),
+                };
                 Some(serve_opcua(opts, view.clone(), counters.clone()).await?)
             }
             None => None,

@@ -1,7 +1,10 @@
-//! What the line refused, by kind: shown as `Rig.Line.*` over OPC UA and
-//! printed when the line stops.
+//! What the line refused, by kind, and what it passed on: shown as
+//! `Rig.Line.*` over OPC UA, published as `LineStatus` for `upm status`,
+//! and printed when the line stops.
 
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+
+use ipc_types::LineStatus;
 
 #[derive(Debug, Default)]
 pub struct LineCounters {
@@ -22,6 +25,13 @@ pub struct LineCounters {
     pub modbus_bad_frames: AtomicU64,
     /// Modbus connections refused beyond the limit.
     pub modbus_refused_connections: AtomicU64,
+    /// Picks passed on to the rig; recipes loaded, and refused.
+    pub picks_sent: AtomicU64,
+    pub recipes_loaded: AtomicU64,
+    pub recipes_refused: AtomicU64,
+    /// Open now: OPC UA sessions, Modbus connections.
+    pub opcua_sessions: AtomicU64,
+    pub modbus_connections: AtomicU64,
 }
 
 impl LineCounters {
@@ -30,7 +40,7 @@ impl LineCounters {
     }
 
     /// (name, value) of each counter, for display.
-    pub fn all(&self) -> [(&'static str, u64); 8] {
+    pub fn all(&self) -> [(&'static str, u64); 11] {
         [
             ("InvalidState", self.invalid_state.load(Relaxed)),
             ("LoginFailures", self.login_failures.load(Relaxed)),
@@ -40,6 +50,27 @@ impl LineCounters {
             ("ModbusExceptions", self.modbus_exceptions.load(Relaxed)),
             ("ModbusBadFrames", self.modbus_bad_frames.load(Relaxed)),
             ("ModbusRefusedConnections", self.modbus_refused_connections.load(Relaxed)),
+            ("PicksSent", self.picks_sent.load(Relaxed)),
+            ("RecipesLoaded", self.recipes_loaded.load(Relaxed)),
+            ("RecipesRefused", self.recipes_refused.load(Relaxed)),
         ]
+    }
+
+    /// The counters into `out` (its header is the caller's).
+    pub fn write_status(&self, out: &mut LineStatus) {
+        let gauge = |v: &AtomicU64| u32::try_from(v.load(Relaxed)).unwrap_or(u32::MAX);
+        out.opcua_sessions = gauge(&self.opcua_sessions);
+        out.modbus_connections = gauge(&self.modbus_connections);
+        out.login_failures = self.login_failures.load(Relaxed);
+        out.access_denied = self.access_denied.load(Relaxed);
+        out.bad_arguments = self.bad_arguments.load(Relaxed);
+        out.invalid_state = self.invalid_state.load(Relaxed);
+        out.failed_calls = self.failed_calls.load(Relaxed);
+        out.modbus_exceptions = self.modbus_exceptions.load(Relaxed);
+        out.modbus_bad_frames = self.modbus_bad_frames.load(Relaxed);
+        out.modbus_refused_connections = self.modbus_refused_connections.load(Relaxed);
+        out.picks_sent = self.picks_sent.load(Relaxed);
+        out.recipes_loaded = self.recipes_loaded.load(Relaxed);
+        out.recipes_refused = self.recipes_refused.load(Relaxed);
     }
 }

@@ -5,7 +5,7 @@
 
 use std::net::SocketAddr;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+use std::sync::atomic::Ordering::Relaxed;
 
 use ipc_types::{CoreCommand, CoreState};
 use tokio_modbus::server::Service;
@@ -25,13 +25,12 @@ pub const MAX_CONNECTIONS: usize = 64;
 struct PlcService {
     view: Arc<RigView>,
     counters: Arc<LineCounters>,
-    open: Arc<AtomicUsize>,
     builtin_robot: bool,
 }
 
 impl Drop for PlcService {
     fn drop(&mut self) {
-        self.open.fetch_sub(1, Relaxed);
+        self.counters.modbus_connections.fetch_sub(1, Relaxed);
     }
 }
 
@@ -105,18 +104,12 @@ pub async fn serve(
         .await
         .map_err(|e| anyhow::anyhow!("--modbus {addr}: cannot listen: {e}"))?;
     let server = Server::new(listener);
-    let open = Arc::new(AtomicUsize::new(0));
     let (refused, bad_frames) = (counters.clone(), counters.clone());
     let on_connected = move |stream, peer| {
-        let service = if open.fetch_add(1, Relaxed) < MAX_CONNECTIONS {
-            Some(PlcService {
-                view: view.clone(),
-                counters: counters.clone(),
-                open: open.clone(),
-                builtin_robot,
-            })
+        let service = if counters.modbus_connections.fetch_add(1, Relaxed) < MAX_CONNECTIONS as u64 {
+            Some(PlcService { view: view.clone(), counters: counters.clone(), builtin_robot })
         } else {
-            open.fetch_sub(1, Relaxed);
+            counters.modbus_connections.fetch_sub(1, Relaxed);
             LineCounters::count(&refused.modbus_refused_connections);
             None
         };

@@ -19,12 +19,12 @@ use opcua::server::node_manager::memory::{SimpleNodeManager, simple_node_manager
 use opcua::server::{ANONYMOUS_USER_TOKEN_ID, ServerBuilder, ServerEndpoint, ServerHandle};
 use opcua::types::{
     DataTypeId, DataValue, DateTime, Error, MessageSecurityMode, NodeId, ObjectId, ObjectTypeId,
-    QualifiedName, StatusCode, UAString, UserTokenPolicy, UserTokenType, VariableTypeId, Variant,
+    QualifiedName, StatusCode, UAString, UserTokenPolicy, UserTokenType, VariableId, VariableTypeId, Variant,
 };
 use upm_users::Users;
 
 use crate::counters::LineCounters;
-use crate::rig_view::{PickRefusal, RigSnapshot, RigView};
+use crate::rig_view::{PickRefusal, PoseView, RigSnapshot, RigView};
 
 pub const NAMESPACE_URI: &str = "urn:upm:rig";
 /// The `Picked(UInt32 pose)` method's node id (its browse name is
@@ -48,6 +48,8 @@ pub struct OpcUaOptions {
     pub users: Users,
     /// The simulator's own robot picks: `Rig.Picked` is refused.
     pub builtin_robot: bool,
+    /// Where `LoadRecipe(NAME)` finds `NAME.toml`.
+    pub recipes_dir: PathBuf,
 }
 
 /// Anonymous sessions read; users of the file may call methods and write.
@@ -132,9 +134,11 @@ fn rig_values(s: &RigSnapshot, counters: &LineCounters) -> Vec<(String, DataType
         ("State".to_owned(), DataTypeId::String, Variant::from(s.state.as_str())),
         ("Health".to_owned(), DataTypeId::String, Variant::from(s.health.as_str())),
         ("Recipe".to_owned(), DataTypeId::String, Variant::from(s.recipe.as_str())),
+        ("RecipeError".to_owned(), DataTypeId::String, Variant::from(s.recipe_error.as_str())),
         ("Picked".to_owned(), DataTypeId::UInt64, Variant::from(s.picked)),
         ("Lost".to_owned(), DataTypeId::UInt64, Variant::from(s.lost)),
         ("PartsPerMinute".to_owned(), DataTypeId::Double, Variant::from(s.parts_per_minute)),
+        ("PoseCount".to_owned(), DataTypeId::UInt32, Variant::from(s.poses.len() as u32)),
     ];
     for (name, value) in counters.all() {
         v.push((format!("Line.{name}"), DataTypeId::UInt64, Variant::from(value)));
@@ -142,9 +146,11 @@ fn rig_values(s: &RigSnapshot, counters: &LineCounters) -> Vec<(String, DataType
     v
 }
 
-/// Pose `n`'s variables: (id under `Rig.Pick.n.`, type, value).
+/// Pose `n`'s variables: (id under `Rig.Pick.n.`, type, value). A pose
+/// the running recipe no longer has reads empty and never ready.
 fn pose_values(s: &RigSnapshot, n: usize) -> Vec<(&'static str, DataTypeId, Variant)> {
-    let Some(p) = s.poses.get(n) else { return Vec::new() };
+    const GONE: PoseView = PoseView { ready: false, class: -1, part_id: 0, x: 0.0, y: 0.0, theta: 0.0 };
+    let p = s.poses.get(n).unwrap_or(&GONE);
     vec![
         ("Ready", DataTypeId::Boolean, Variant::from(p.ready)),
         ("Class", DataTypeId::Int32, Variant::from(p.class)),
@@ -187,6 +193,8 @@ pub async fn serve(
             ("/", SecurityPolicy::Basic256Sha256, MessageSecurityMode::SignAndEncrypt, ids),
         )
         .discovery_urls(vec![url])
+        // For the open-session count `upm status` shows.
+        .diagnostics_enabled(true)
         .with_node_manager(simple_node_manager(
             NamespaceMetadata { namespace_uri: NAMESPACE_URI.to_owned(), ..Default::default() },
             "rig",
@@ -236,6 +244,47 @@ pub async fn serve(
                 &[("pose", DataTypeId::UInt32).into()],
             )
             .insert(&mut *space);
+        MethodBuilder::new(&nodes.id("Rig.LoadRecipe"), nodes.name("LoadRecipe"), "LoadRecipe")
+            .component_of(rig.clone())
+            .executable(true)
+            .user_executable(true)
+            .input_args(
+                &mut *space,
+                &nodes.id("Rig.LoadRecipe.InputArguments"),
+                &[("recipe", DataTypeId::String).into()],
+            )
+            .insert(&mut *space);
+    }
+    {
+        let (view, counters, dir) = (view.clone(), counters.clone(), opts.recipes_dir.clone());
+        nm.inner().add_method_callback(nodes.id("Rig.LoadRecipe"), move |args: &[Variant]| {
+            let name = match args {
+                [Variant::String(name)] => name.as_ref().to_owned(),
+                [] => {
+                    LineCounters::count(&counters.bad_arguments);
+                    return Err(StatusCode::BadArgumentsMissing);
+                }
+                [_] => {
+                    LineCounters::count(&counters.bad_arguments);
+                    return Err(StatusCode::BadTypeMismatch);
+                }
+                _ => {
+                    LineCounters::count(&counters.bad_arguments);
+                    return Err(StatusCode::BadTooManyArguments);
+                }
+            };
+            // Loading and the core's answer take milliseconds: off the async workers' queue.
+            match tokio::task::block_in_place(|| view.load_recipe(&name, &dir)) {
+                Ok(path) => {
+                    tracing::info!("Rig.LoadRecipe: the cell runs {path}");
+                    Ok(Vec::new())
+                }
+                Err(why) => {
+                    tracing::warn!("Rig.LoadRecipe({name:?}): {why}");
+                    Err(StatusCode::BadInvalidArgument)
+                }
+            }
+        });
     }
     {
         let (view, counters, builtin) = (view.clone(), counters.clone(), opts.builtin_robot);
@@ -289,6 +338,7 @@ pub async fn serve(
     }
     let subscriptions = handle.subscriptions().clone();
     let token = handle.token().clone();
+    let info = handle.info().clone();
     let updater = tokio::spawn(async move {
         let mut tick = tokio::time::interval(UPDATE_PERIOD);
         tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
@@ -299,6 +349,14 @@ pub async fn serve(
                 () = token.cancelled() => break,
             }
             let s = view.snapshot();
+            let sessions = info
+                .diagnostics
+                .get(VariableId::Server_ServerDiagnostics_ServerDiagnosticsSummary_CurrentSessionCount)
+                .and_then(|v| match v.value {
+                    Some(Variant::UInt32(n)) => Some(u64::from(n)),
+                    _ => None,
+                });
+            counters.opcua_sessions.store(sessions.unwrap_or(0), std::sync::atomic::Ordering::Relaxed);
             // Pick poses appear with the cell's first status.
             if s.poses.len() > poses_made {
                 let mut space = nm.address_space().write();
@@ -324,7 +382,7 @@ pub async fn serve(
                 .into_iter()
                 .map(|(name, _, v)| (nodes.id(&format!("Rig.{name}")), DataValue::new_at(v, now)))
                 .collect();
-            for n in 0..s.poses.len().min(poses_made) {
+            for n in 0..poses_made {
                 for (name, _, v) in pose_values(&s, n) {
                     values.push((nodes.id(&format!("Rig.Pick.{n}.{name}")), DataValue::new_at(v, now)));
                 }

@@ -1,10 +1,13 @@
-//! The rig as the line sees it: the core's newest telemetry and the feed
-//! cell's newest status, read over iceoryx2 on a plain thread of the
-//! line's own (never an RT thread), and the operator's commands passed on
-//! to the core. The servers read a [`RigSnapshot`]; nothing they do makes
-//! the core wait (iceoryx2 overwrites what the line has not read).
+//! The rig as the line sees it: the core's newest telemetry, the feed
+//! cell's newest status and its running recipe, read over iceoryx2 on a
+//! plain thread of the line's own (never an RT thread); the operator's
+//! commands, the robot's picks and changeovers passed on to the core; the
+//! line's own counters published for `upm status`. The servers read a
+//! [`RigSnapshot`]; nothing they do makes the core wait (iceoryx2
+//! overwrites what the line has not read).
 
 use std::collections::VecDeque;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, Sender, SyncSender, channel, sync_channel};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
@@ -14,9 +17,12 @@ use iceoryx2::prelude::*;
 use ipc_types::ports::{Pub, Sub};
 use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{
-    CoreCommand, CoreState, FeedStatus, MAX_PICK_POSES, PickCommand, Telemetry, ValidationLimits,
-    monotonic_now_ns, service_names,
+    CoreCommand, CoreState, FeedStatus, LineStatus, MAX_PICK_POSES, PickCommand, RecipeCommand, RejectedKind,
+    Rejection, RigInfo, Telemetry, ValidationLimits, monotonic_now_ns, service_names,
 };
+use upm_recipe::Recipe;
+
+use crate::counters::LineCounters;
 
 /// The core is taken as gone when its telemetry is older than this.
 const TELEMETRY_STALE: Duration = Duration::from_secs(2);
@@ -24,6 +30,10 @@ const TELEMETRY_STALE: Duration = Duration::from_secs(2);
 const RATE_WINDOW_S: f64 = 300.0;
 /// How often the view thread looks for new messages.
 const POLL: Duration = Duration::from_millis(5);
+/// How often the line publishes its counters.
+const STATUS_PERIOD: Duration = Duration::from_millis(200);
+/// How long a changeover waits for the core's answer.
+const CHANGEOVER_WAIT: Duration = Duration::from_millis(1500);
 
 /// One pick pose as a robot reads it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,7 +53,14 @@ pub struct PoseView {
 pub struct RigSnapshot {
     pub state: CoreState,
     pub health: String,
+    /// The running recipe's name, and its file (as the core announced it;
+    /// empty before it did, or without a cell).
     pub recipe: String,
+    pub recipe_path: String,
+    /// Why the last `LoadRecipe` was refused; empty after one that worked.
+    pub recipe_error: String,
+    /// The plate's half extent (m), from the core's `RigInfo`.
+    pub plate_half_extent: Option<[f64; 2]>,
     pub picked: u64,
     pub lost: u64,
     /// Picks per minute over the last five minutes of the cell's clock.
@@ -60,11 +77,14 @@ pub struct RigSnapshot {
 }
 
 impl RigSnapshot {
-    fn new(recipe: &str) -> Self {
+    fn new() -> Self {
         Self {
             state: CoreState::Idle,
             health: "no core yet".into(),
-            recipe: recipe.into(),
+            recipe: String::new(),
+            recipe_path: String::new(),
+            recipe_error: String::new(),
+            plate_half_extent: None,
             picked: 0,
             lost: 0,
             parts_per_minute: 0.0,
@@ -78,12 +98,14 @@ impl RigSnapshot {
 }
 
 /// What the servers ask of the rig.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Ask {
     /// A `CoreCommand` code.
     Core(u32),
     /// The robot took `part_id` from `pose`.
     Pick { pose: u32, part_id: u32 },
+    /// Switch to the recipe at this absolute path (checked).
+    Recipe(String),
 }
 
 /// An order for the view thread, and where its outcome goes.
@@ -106,18 +128,20 @@ pub enum PickRefusal {
 #[derive(Debug)]
 pub struct RigView {
     snapshot: Arc<Mutex<RigSnapshot>>,
+    counters: Arc<LineCounters>,
     orders: Mutex<Sender<Order>>,
     stop: Arc<AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
 
 impl RigView {
-    /// Watch the rig on `prefix`; `recipe` is what `Rig.Recipe` shows.
-    pub fn start(prefix: &str, recipe: &str) -> anyhow::Result<Self> {
-        let snapshot = Arc::new(Mutex::new(RigSnapshot::new(recipe)));
+    /// Watch the rig on `prefix`, publishing `counters` as `LineStatus`.
+    pub fn start(prefix: &str, counters: Arc<LineCounters>) -> anyhow::Result<Self> {
+        let snapshot = Arc::new(Mutex::new(RigSnapshot::new()));
         let stop = Arc::new(AtomicBool::new(false));
         let (tx, rx) = channel();
-        let (snap, halt, prefix) = (snapshot.clone(), stop.clone(), prefix.to_owned());
+        let (snap, halt, prefix, count) =
+            (snapshot.clone(), stop.clone(), prefix.to_owned(), counters.clone());
         // iceoryx2's ports stay on the thread that opened them.
         let (opened, outcome) = sync_channel(1);
         let thread =
@@ -125,7 +149,7 @@ impl RigView {
                 match Ports::open(&prefix) {
                     Ok(ports) => {
                         let _ = opened.send(Ok(()));
-                        view_loop(ports, &snap, &rx, &halt);
+                        view_loop(ports, &snap, &rx, &halt, &count);
                     }
                     Err(e) => {
                         let _ = opened.send(Err(e));
@@ -133,7 +157,7 @@ impl RigView {
                 }
             })?;
         outcome.recv().map_err(|_| anyhow::anyhow!("the line's view thread died at start"))??;
-        Ok(Self { snapshot, orders: Mutex::new(tx), stop, thread: Some(thread) })
+        Ok(Self { snapshot, counters, orders: Mutex::new(tx), stop, thread: Some(thread) })
     }
 
     /// The newest snapshot.
@@ -143,7 +167,7 @@ impl RigView {
 
     /// Send `command` (`CoreCommand::START`, `STOP`, `RESUME`) to the core.
     pub fn command(&self, command: u32) -> Result<(), String> {
-        self.ask(Ask::Core(command))
+        self.ask(Ask::Core(command), Duration::from_secs(1))
     }
 
     /// The robot took the part ready at `pose`: checked against the
@@ -164,15 +188,56 @@ impl RigView {
             snap.sent[pose as usize] = part_id;
             part_id
         };
-        self.ask(Ask::Pick { pose, part_id }).map_err(PickRefusal::Failed)
+        self.ask(Ask::Pick { pose, part_id }, Duration::from_secs(1)).map_err(PickRefusal::Failed)
     }
 
-    fn ask(&self, ask: Ask) -> Result<(), String> {
+    /// Switch the cell to recipe `name`: a name of `recipes_dir`
+    /// (`NAME.toml` there) or a path. Checked here against the plate and
+    /// the running recipe, then by the core; Ok once the core runs it,
+    /// with its file. The refusal is one line; the running recipe stays.
+    pub fn load_recipe(&self, name: &str, recipes_dir: &Path) -> Result<String, String> {
+        let outcome = self.check_recipe(name, recipes_dir).and_then(|path| {
+            self.ask(Ask::Recipe(path.clone()), CHANGEOVER_WAIT + Duration::from_millis(500)).map(|()| path)
+        });
+        let counter =
+            if outcome.is_ok() { &self.counters.recipes_loaded } else { &self.counters.recipes_refused };
+        LineCounters::count(counter);
+        lock(&self.snapshot).recipe_error = outcome.as_ref().err().cloned().unwrap_or_default();
+        outcome
+    }
+
+    /// The absolute path of recipe `name`, if the running cell may switch to it.
+    fn check_recipe(&self, name: &str, recipes_dir: &Path) -> Result<String, String> {
+        let (running, plate) = {
+            let snap = lock(&self.snapshot);
+            (snap.recipe_path.clone(), snap.plate_half_extent)
+        };
+        if running.is_empty() {
+            return Err("the rig runs no feed cell (no recipe announced on upm/recipe/active)".into());
+        }
+        let plate = plate.ok_or("the core has not described the rig yet (upm/rig_info)")?;
+        if name.trim().is_empty() {
+            return Err("no recipe named".into());
+        }
+        let file = if name.contains('/') || name.ends_with(".toml") {
+            Path::new(name).to_path_buf()
+        } else {
+            recipes_dir.join(format!("{name}.toml"))
+        };
+        let path =
+            std::fs::canonicalize(&file).map_err(|e| format!("recipe {name:?}: {}: {e}", file.display()))?;
+        let next = Recipe::load(&path, plate).map_err(|e| e.to_string())?;
+        let now = Recipe::load(Path::new(&running), plate).map_err(|e| format!("the running recipe: {e}"))?;
+        now.check_changeover(&next).map_err(|e| format!("{}: {e}", path.display()))?;
+        let path = path.to_str().ok_or_else(|| format!("{}: not UTF-8", path.display()))?.to_owned();
+        RecipeCommand::new(&path, 0, 0).map_err(|e| e.to_string())?;
+        Ok(path)
+    }
+
+    fn ask(&self, ask: Ask, wait: Duration) -> Result<(), String> {
         let (done, outcome) = sync_channel(1);
         lock(&self.orders).send((ask, done)).map_err(|_| "the line's view thread has stopped".to_owned())?;
-        outcome
-            .recv_timeout(Duration::from_secs(1))
-            .map_err(|_| "the line's view thread did not answer".to_owned())?
+        outcome.recv_timeout(wait).map_err(|_| "the line's view thread did not answer".to_owned())?
     }
 }
 
@@ -194,6 +259,11 @@ struct Ports {
     feed: Sub<FeedStatus>,
     command: Pub<CoreCommand>,
     pick: Pub<PickCommand>,
+    recipe: Pub<RecipeCommand>,
+    recipe_active: Sub<RecipeCommand>,
+    rejections: Sub<Rejection>,
+    rig_info: Sub<RigInfo>,
+    status: Pub<LineStatus>,
     notifier: WakeNotifier,
     _node: Node<ipc::Service>,
 }
@@ -206,6 +276,11 @@ impl Ports {
             feed: ipc_types::ports::subscriber(&node, service_names::FEED)?,
             command: ipc_types::ports::publisher(&node, service_names::CORE_COMMAND)?,
             pick: ipc_types::ports::publisher(&node, service_names::PICK)?,
+            recipe: ipc_types::ports::publisher(&node, service_names::RECIPE)?,
+            recipe_active: ipc_types::ports::subscriber(&node, service_names::RECIPE_ACTIVE)?,
+            rejections: ipc_types::ports::subscriber(&node, service_names::REJECTION)?,
+            rig_info: ipc_types::ports::subscriber(&node, service_names::RIG_INFO)?,
+            status: ipc_types::ports::publisher(&node, service_names::LINE)?,
             notifier: WakeNotifier::new(&node, WakeEvent::Inbox)?,
             _node: node,
         })
@@ -236,23 +311,83 @@ impl Rate {
     }
 }
 
-fn view_loop(mut ports: Ports, snapshot: &Mutex<RigSnapshot>, orders: &Receiver<Order>, stop: &AtomicBool) {
-    let mut seq = 0;
+/// A changeover sent, waiting for the core to announce it or refuse it.
+struct Changeover {
+    seq: u64,
+    done: SyncSender<Result<(), String>>,
+    deadline: Instant,
+}
+
+fn view_loop(
+    mut ports: Ports,
+    snapshot: &Mutex<RigSnapshot>,
+    orders: &Receiver<Order>,
+    stop: &AtomicBool,
+    counters: &LineCounters,
+) {
+    // One sequence per service: a recorder counts a gap as lost messages.
+    let (mut core_seq, mut pick_seq, mut recipe_seq, mut status_seq) = (0, 0, 0, 0);
     let mut rate = Rate::default();
     let mut last_telemetry: Option<Instant> = None;
+    let mut changeover: Option<Changeover> = None;
+    let mut status = LineStatus::new();
+    status.line_pid = std::process::id();
+    let mut next_status = Instant::now();
     while !stop.load(Ordering::Relaxed) {
         while let Ok((ask, done)) = orders.try_recv() {
-            seq += 1;
             let now = monotonic_now_ns();
             let sent = match ask {
-                Ask::Core(command) => ports.command.send_copy(CoreCommand::new(command, seq, now)),
+                Ask::Core(command) => {
+                    core_seq += 1;
+                    ports.command.send_copy(CoreCommand::new(command, core_seq, now))
+                }
                 Ask::Pick { pose, part_id } => {
-                    ports.pick.send_copy(PickCommand::new(pose, part_id, seq, now))
+                    pick_seq += 1;
+                    let sent = ports.pick.send_copy(PickCommand::new(pose, part_id, pick_seq, now));
+                    if sent.is_ok() {
+                        LineCounters::count(&counters.picks_sent);
+                    }
+                    sent
+                }
+                Ask::Recipe(path) => {
+                    if changeover.is_some() {
+                        let _ = done.send(Err("another changeover is under way".into()));
+                        continue;
+                    }
+                    let command = match RecipeCommand::new(&path, recipe_seq + 1, now) {
+                        Ok(c) => c,
+                        Err(e) => {
+                            let _ = done.send(Err(e.to_string()));
+                            continue;
+                        }
+                    };
+                    recipe_seq += 1;
+                    match ports.recipe.send_copy(command) {
+                        Ok(_) => {
+                            ports.notifier.notify();
+                            let deadline = Instant::now() + CHANGEOVER_WAIT;
+                            changeover = Some(Changeover { seq: recipe_seq, done, deadline });
+                            continue;
+                        }
+                        Err(e) => Err(e),
+                    }
                 }
             };
             let sent =
                 sent.map(|_| ports.notifier.notify()).map_err(|e| format!("sending to the core: {e:?}"));
             let _ = done.send(sent);
+        }
+        let answer = watch_changeover(&ports, snapshot, changeover.as_ref().map(|c| c.seq));
+        if let Some(c) = changeover.take_if(|c| answer.is_some() || Instant::now() >= c.deadline) {
+            let _ =
+                c.done.send(answer.unwrap_or_else(|| Err("the core did not answer the changeover".into())));
+        }
+        if Instant::now() >= next_status {
+            next_status += STATUS_PERIOD;
+            status_seq += 1;
+            (status.seq, status.stamp_ns) = (status_seq, monotonic_now_ns());
+            counters.write_status(&mut status);
+            let _ = ports.status.send_copy(status);
         }
         // The line checks messages whole; where a part may lie is the core's business.
         let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
@@ -307,6 +442,43 @@ fn view_loop(mut ports: Ports, snapshot: &Mutex<RigSnapshot>, orders: &Receiver<
         }
         std::thread::sleep(POLL);
     }
+}
+
+/// The running recipe and the plate, as the core announces them; the
+/// core's answer to changeover `pending`, if it came.
+fn watch_changeover(
+    ports: &Ports,
+    snapshot: &Mutex<RigSnapshot>,
+    pending: Option<u64>,
+) -> Option<Result<(), String>> {
+    let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
+    let mut answer = None;
+    while let Ok(Some(s)) = ports.rig_info.receive() {
+        if s.payload().validate(&limits).is_ok() {
+            lock(snapshot).plate_half_extent = Some(s.payload().plate_half_extent);
+        }
+    }
+    while let Ok(Some(s)) = ports.recipe_active.receive() {
+        let Ok(path) = s.payload().path() else { continue };
+        let mut snap = lock(snapshot);
+        snap.recipe_path = path.to_owned();
+        snap.recipe = recipe_name(path);
+        if pending == Some(s.payload().seq) {
+            answer = Some(Ok(()));
+        }
+    }
+    while let Ok(Some(s)) = ports.rejections.receive() {
+        let r = s.payload();
+        if pending == Some(r.seq) && r.kind() == Some(RejectedKind::RecipeCommand) {
+            answer = Some(Err(format!("the core refused it: {}", r.detail_str())));
+        }
+    }
+    answer
+}
+
+/// What `Rig.Recipe` shows: the recipe file's name without `.toml`.
+fn recipe_name(path: &str) -> String {
+    Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
 #[cfg(test)]

@@ -46,4 +46,12 @@ pub trait Planner: Send {
     fn learning_counts(&self) -> Option<adapt_counts::AdaptCounts> {
         None
     }
+    /// The feed cell now runs the recipe at `path` (the core announces it
+    /// on `upm/recipe/active`, at start and after each changeover).
+    /// Ok(true): this planner switched to it; Ok(false): it runs no recipe,
+    /// or already this one; Err: why it cannot follow (it keeps its own).
+    fn recipe_changed(&mut self, path: &str) -> Result<bool, String> {
+        let _ = path;
+        Ok(false)
+    }
 }

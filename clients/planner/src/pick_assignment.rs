@@ -70,6 +70,17 @@ impl PickAssignment {
         }
     }
 
+    /// New poses and queue spots (a changeover): every part is sent anew
+    /// from the next frame on; the counts go on.
+    pub fn changeover(&mut self, poses: Vec<PickPose>, spots: Vec<[f64; 2]>) {
+        self.pose_holder = vec![None; poses.len()];
+        self.spot_holder = vec![None; spots.len()];
+        (self.poses, self.spots) = (poses, spots);
+        for p in &mut self.parts {
+            (p.target, p.presented) = (Target::Stay, false);
+        }
+    }
+
     /// One frame's parts: (id, class, position), ids unique, classes known.
     /// Parts missing from it have left: their pose and spot are freed.
     /// Then waiting parts take free poses, or else spots.

@@ -125,6 +125,7 @@ struct Body {
 #[derive(Debug)]
 pub struct PresentPlanner {
     p: PresentParams,
+    recipe: Recipe,
     robot: Robot,
     classes: Vec<ClassInfo>,
     assignment: PickAssignment,
@@ -175,24 +176,10 @@ impl PresentPlanner {
                 order: Some(c.outline.symmetry_order()).filter(|&n| n > 0),
             })
             .collect();
-        let reach_of = |class: u32| classes.iter().find(|c| c.id == class).map_or(0.0, |c| c.reach);
-        let zones: Vec<PoseZone> = recipe
-            .picks
-            .iter()
-            .map(|q| PoseZone { position: q.position, reach: reach_of(q.class) })
-            .collect();
-        let largest = classes.iter().map(|c| c.reach).fold(0.0, f64::max);
-        let spots = queue_spots(
-            &zones,
-            Some(recipe.infeed.region),
-            largest,
-            recipe.robot.clearance,
-            p.gap,
-            p.plate_half_extent,
-            MAX_PARTS,
-        );
+        let spots = spots_for(&p, recipe, &classes);
         Self {
             assignment: PickAssignment::new(recipe.picks.clone(), spots, p.stuck_s),
+            recipe: recipe.clone(),
             robot: recipe.robot,
             classes,
             bodies: Vec::with_capacity(MAX_PARTS),
@@ -362,6 +349,24 @@ impl PresentPlanner {
 }
 
 /// Arbitrary (huge) poses may overflow to a non-finite force; ask none then.
+/// Where parts wait for a pose of `recipe`: clear of its poses and its
+/// infeed.
+fn spots_for(p: &PresentParams, recipe: &Recipe, classes: &[ClassInfo]) -> Vec<[f64; 2]> {
+    let reach_of = |class: u32| classes.iter().find(|c| c.id == class).map_or(0.0, |c| c.reach);
+    let zones: Vec<PoseZone> =
+        recipe.picks.iter().map(|q| PoseZone { position: q.position, reach: reach_of(q.class) }).collect();
+    let largest = classes.iter().map(|c| c.reach).fold(0.0, f64::max);
+    queue_spots(
+        &zones,
+        Some(recipe.infeed.region),
+        largest,
+        recipe.robot.clearance,
+        p.gap,
+        p.plate_half_extent,
+        MAX_PARTS,
+    )
+}
+
 fn finite(f: [f64; 2]) -> [f64; 2] {
     if f.iter().all(|x| x.is_finite()) { f } else { [0.0; 2] }
 }
@@ -369,6 +374,19 @@ fn finite(f: [f64; 2]) -> [f64; 2] {
 impl Planner for PresentPlanner {
     fn name(&self) -> &'static str {
         "present"
+    }
+
+    fn recipe_changed(&mut self, path: &str) -> Result<bool, String> {
+        let next = Recipe::load(Path::new(path), self.p.plate_half_extent).map_err(|e| e.to_string())?;
+        if next == self.recipe {
+            return Ok(false);
+        }
+        self.recipe.check_changeover(&next).map_err(|e| format!("{path}: {e}"))?;
+        let spots = spots_for(&self.p, &next, &self.classes);
+        self.assignment.changeover(next.picks.clone(), spots);
+        self.robot = next.robot;
+        self.recipe = next;
+        Ok(true)
     }
 
     fn plan(&mut self, parts: &PartStates, t: f64, out: &mut ForceRequest) -> bool {

@@ -9,7 +9,7 @@ use iceoryx2::prelude::*;
 use ipc_types::discovery::CoreWatch;
 use ipc_types::rig_node::rig_node;
 use ipc_types::wake_event::{WakeEvent, WakeNotifier};
-use ipc_types::{ForceRequest, PartStates, monotonic_now_ns, service_names};
+use ipc_types::{ForceRequest, PartStates, RecipeCommand, monotonic_now_ns, service_names};
 
 use crate::Planner;
 
@@ -30,6 +30,7 @@ pub fn run_planner(
     )?;
     let parts = ipc_types::ports::subscriber::<PartStates>(&node, service_names::PART_STATES)?;
     let requests = ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST)?;
+    let recipes = ipc_types::ports::subscriber::<RecipeCommand>(&node, service_names::RECIPE_ACTIVE)?;
     let mut wake = WakeNotifier::new(&node, WakeEvent::Inbox)?;
     let start = monotonic_now_ns();
     let end = duration.map(|d| start + d.as_nanos() as u64);
@@ -40,6 +41,9 @@ pub fn run_planner(
     loop {
         if let Some(news) = core.poll() {
             eprintln!("upm-planner: {news}");
+        }
+        while let Some(r) = recipes.receive().map_err(|e| anyhow::anyhow!("receiving recipes: {e:?}"))? {
+            follow_recipe(planner, r.payload());
         }
         let mut newest = None;
         while let Some(s) = parts.receive().map_err(|e| anyhow::anyhow!("receiving part states: {e:?}"))? {
@@ -65,5 +69,19 @@ pub fn run_planner(
             Ok(()) => {}
             Err(NodeWaitFailure::Interrupt | NodeWaitFailure::TerminationRequest) => return Ok(sent),
         }
+    }
+}
+
+/// Switch `planner` to the recipe the core now runs; a planner that
+/// cannot follow says why (it keeps its own recipe).
+fn follow_recipe(planner: &mut dyn Planner, command: &RecipeCommand) {
+    let outcome = match command.path() {
+        Ok(path) => planner.recipe_changed(path).map(|switched| (switched, path)),
+        Err(e) => Err(e.to_string()),
+    };
+    match outcome {
+        Ok((true, path)) => eprintln!("upm-planner: recipe changed to {path}"),
+        Ok((false, _)) => {}
+        Err(why) => eprintln!("upm-planner: WARNING: cannot follow the core's recipe: {why}"),
     }
 }

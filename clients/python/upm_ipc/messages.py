@@ -248,6 +248,7 @@ REJECT_REASONS = (
     "not_a_flag", "constrains_nothing", "too_many_curls", "deadline_before_stamp", "unknown_center",
     "k_out_of_range", "no_part_states", "unknown_part", "unsolvable", "motion_limits",
     "actuator_limits", "overflow", "receive_error", "unknown_command", "bad_shape", "bad_path",
+    "bad_recipe",
 )
 DETAIL_BYTES = 120
 

@@ -800,24 +800,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Status { json, prefix, config, timeout } => {
             let prefix = rig_prefix(prefix, config)?;
-            if !(timeout.is_finite() && timeout > 0.0 && timeout < 3600.0) {
-                anyhow::bail!("--timeout must be a positive number of seconds below 3600, got {timeout}");
-            }
-            let t =
-                upm_commands::status::read_telemetry(&prefix, std::time::Duration::from_secs_f64(timeout))?;
-            // Published at the camera's rate when the core runs a cell.
-            let feed = upm_commands::status::read_feed(&prefix, std::time::Duration::from_millis(300))?;
-            if json {
-                let mut v = upm_commands::status::to_json(&t);
-                v["prefix"] = serde_json::json!(prefix);
-                v["feed"] = feed.as_ref().map_or(serde_json::Value::Null, upm_commands::status::feed_json);
-                println!("{}", serde_json::to_string_pretty(&v)?);
-            } else {
-                println!("rig {prefix}\n{}", upm_commands::status::to_text(&t));
-                if let Some(f) = &feed {
-                    println!("{}", upm_commands::status::feed_text(f));
-                }
-            }
+            println!("{}", upm_commands::status::report(&prefix, timeout, json)?);
             Ok(())
         }
         Command::Validate { file, cycles, seed, plot } => {
@@ -868,9 +851,12 @@ fn line_args(
         // Absolute: the line starts in another directory.
         args.extend(["--users".to_owned(), std::path::absolute(&u)?.display().to_string()]);
     }
-    // The recipe's name, as `recipes/NAME.toml` is named; none without a cell.
-    let name = std::path::Path::new(recipe).file_stem().map(|s| s.to_string_lossy().into_owned());
-    args.extend(["--recipe".to_owned(), name.unwrap_or_default()]);
+    // `LoadRecipe(NAME)` looks beside the running recipe (absolute: the
+    // line starts in another directory).
+    if let Some(dir) = std::path::Path::new(recipe).parent().filter(|_| !recipe.is_empty()) {
+        let dir = if dir.as_os_str().is_empty() { std::path::Path::new(".") } else { dir };
+        args.extend(["--recipes".to_owned(), std::path::absolute(dir)?.display().to_string()]);
+    }
     let robot = if external_robot { "external" } else { "builtin" };
     args.extend(["--robot".to_owned(), robot.to_owned()]);
     Ok(Some(args))

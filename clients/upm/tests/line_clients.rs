@@ -98,15 +98,43 @@ fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
             .expect("plc"),
         "plc_modbus.py",
     );
+    // A recipe of other parts: a changeover cannot switch to it.
+    let bad_recipe = dir.join("bigger-discs.toml");
+    let default = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../recipes/default.toml"))
+        .expect("default recipe");
+    std::fs::write(&bad_recipe, default.replace("radius = 0.015", "radius = 0.02")).expect("write");
     let url = format!("opc.tcp://127.0.0.1:{opcua}/");
     let robot = json_of(
         &Command::new(&py_opcua)
             .arg(client("robot_opcua.py"))
             .args([url.as_str(), "robot", "pick-pass-1", "100"])
             .arg(dir.join("run/pki"))
+            .arg("two-poses")
+            .arg(&bad_recipe)
             .output()
             .expect("robot"),
         "robot_opcua.py",
+    );
+    // `upm status` shows what the line refused, and the recipe running.
+    let o = upm().args(["status", "--json", "--prefix", &prefix]).output().expect("status");
+    assert!(o.status.success(), "upm status: {}", String::from_utf8_lossy(&o.stderr));
+    let status: Value = serde_json::from_slice(&o.stdout).expect("status json");
+    let line = &status["line"];
+    assert!(line["refused"]["login_failures"].as_u64().is_some_and(|n| n >= 1), "{line}");
+    assert!(line["refused"]["access_denied"].as_u64().is_some_and(|n| n >= 3), "{line}");
+    assert!(line["refused"]["bad_arguments"].as_u64().is_some_and(|n| n >= 6), "{line}");
+    assert!(line["refused"]["invalid_state"].as_u64().is_some_and(|n| n >= 1), "{line}");
+    assert!(line["refused"]["modbus_exceptions"].as_u64().is_some_and(|n| n >= 6), "{line}");
+    assert_eq!(
+        (line["recipes_loaded"].as_u64(), line["recipes_refused"].as_u64()),
+        (Some(1), Some(2)),
+        "{line}"
+    );
+    // The robot's picks, and one the PLC may have acknowledged.
+    assert!(line["picks_sent"].as_u64() >= robot["picks_good"].as_u64(), "{line}");
+    assert!(
+        status["feed"]["recipe"].as_str().is_some_and(|r| r.ends_with("/recipes/two-poses.toml")),
+        "{status}"
     );
     let o = rig.wait_with_output().expect("wait");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -155,11 +183,9 @@ fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
     assert_eq!(robot["poses"].as_array().map(Vec::len), Some(4), "{robot}");
     assert_eq!(robot["poses"][2]["X"], 0.85, "{robot}");
     assert!(robot["subscription_notifications"].as_u64().is_some_and(|n| n >= 2), "{robot}");
-    assert_eq!(
-        (robot["anonymous_stop"].as_str(), robot["anonymous_picked"].as_str()),
-        (Some("BadUserAccessDenied"), Some("BadUserAccessDenied")),
-        "{robot}"
-    );
+    for k in ["anonymous_stop", "anonymous_picked", "anonymous_load"] {
+        assert_eq!(robot[k], "BadUserAccessDenied", "{k}: {robot}");
+    }
     assert_eq!(robot["wrong_password"], "BadUserAccessDenied", "{robot}");
     // Basic256Sha256 SignAndEncrypt: refused until the operator trusts the
     // robot's certificate, then a user session like any other.
@@ -179,6 +205,12 @@ fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
         ("two_poses", "BadTooManyArguments"),
         ("stop_with_argument", "BadTooManyArguments"),
         ("not_ready_pose", "BadInvalidState"),
+        ("load_unknown", "BadInvalidArgument"),
+        ("load_other_parts", "BadInvalidArgument"),
+        ("load_int", "BadTypeMismatch"),
+        ("load_nothing", "BadArgumentsMissing"),
+        ("load", "Good"),
+        ("recipe_error_after_load", ""),
         ("stop", "Good"),
         ("start", "Good"),
         ("resume", "Good"),
@@ -190,9 +222,27 @@ fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
         (Some("idle"), Some("running")),
         "{robot}"
     );
+    // A changeover: refused with the reason and the running recipe kept,
+    // then done; the poses move and the robot goes on picking.
+    let error = |k: &str| robot[k].as_str().unwrap_or_default().to_owned();
+    assert!(error("load_unknown_error").contains("no-such-recipe"), "{robot}");
+    assert!(error("load_other_parts_error").contains("class[0]"), "{robot}");
+    assert_eq!(
+        (robot["recipe_after_refusals"].as_str(), robot["recipe_after_load"].as_str()),
+        (Some("default"), Some("two-poses")),
+        "{robot}"
+    );
+    assert_eq!(robot["pose_count_after_load"], 2, "{robot}");
+    assert_eq!(robot["pose0_after_load"], serde_json::json!([0.7, 0.15]), "{robot}");
+    assert_eq!(robot["pose3_ready_after_load"], false, "a pose the recipe no longer has: {robot}");
+    assert_eq!(
+        (robot["Line.RecipesLoaded"].as_u64(), robot["Line.RecipesRefused"].as_u64()),
+        (Some(1), Some(2))
+    );
     assert!(robot["picks_other"].as_object().is_some_and(|m| m.is_empty()), "{robot}");
+    let before = robot["picks_before_changeover"].as_u64().unwrap_or(0);
     let good = robot["picks_good"].as_u64().unwrap_or(0);
-    assert!(good >= 1, "the robot picked nothing in 100 s: {robot}");
+    assert!(before >= 1 && good > before, "picks before and after the changeover: {robot}");
     assert!(robot["Line.LoginFailures"].as_u64().is_some_and(|n| n >= 1), "{robot}");
     assert!(robot["Line.AccessDenied"].as_u64().is_some_and(|n| n >= 2), "{robot}");
     // Every pick the line accepted, the simulator carried out; it picked

@@ -284,8 +284,8 @@ fn foxglove_client_receives_part_states_live() {
 /// The JSON schema of a `/json` topic or `upm/latency`, as the recorder makes it.
 fn schema_of_topic(topic: &str) -> Option<Value> {
     use ipc_types::{
-        CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, PartStates, PickCommand,
-        Rejection, RigInfo, Schedule, Telemetry, service_names as s,
+        CoreCommand, ExplicitSchedule, FeedStatus, ForceRequest, FrameHeader, LineStatus, PartStates,
+        PickCommand, RecipeCommand, Rejection, RigInfo, Schedule, Telemetry, service_names as s,
     };
     use upm_recorder::decoded::{latencies, schema, schema_of};
     if topic == upm_recorder::LATENCY_TOPIC {
@@ -302,6 +302,8 @@ fn schema_of_topic(topic: &str) -> Option<Value> {
         s::RIG_INFO => schema::<RigInfo>(),
         s::FEED => schema::<FeedStatus>(),
         s::PICK => schema::<PickCommand>(),
+        s::RECIPE | s::RECIPE_ACTIVE => schema::<RecipeCommand>(),
+        s::LINE => schema::<LineStatus>(),
         s::CAMERA_FRAME => schema::<FrameHeader>(),
         _ => return None,
     })
