@@ -210,7 +210,9 @@ async fn robot(url: String, pki: PathBuf, pick_s: f64, stop: Arc<AtomicBool>) ->
     }
     let (rig, picked) = (id("Rig"), id("Rig.PickedMethod"));
     let mut poses = vec![(false, 0u32); log.poses as usize];
-    let mut taken: Vec<u32> = vec![0; log.poses as usize];
+    // The part last called for at each pose; a refused one is tried again
+    // after 100 ms while it reads ready.
+    let (mut taken, mut retry_at) = (vec![0u32; poses.len()], vec![Instant::now(); poses.len()]);
     let mut free_at = Instant::now();
     while !stop.load(Ordering::Relaxed) {
         let wait = free_at.saturating_duration_since(Instant::now()).max(Duration::from_millis(20));
@@ -232,10 +234,9 @@ async fn robot(url: String, pki: PathBuf, pick_s: f64, stop: Arc<AtomicBool>) ->
         if !rx.is_empty() || Instant::now() < free_at {
             continue;
         }
-        let Some(n) = (0..poses.len()).find(|&n| poses[n].0 && poses[n].1 != 0 && taken[n] != poses[n].1)
-        else {
-            continue;
-        };
+        let now = Instant::now();
+        let want = |n: usize| poses[n].0 && poses[n].1 != 0 && taken[n] != poses[n].1 && now >= retry_at[n];
+        let Some(n) = (0..poses.len()).find(|&n| want(n)) else { continue };
         taken[n] = poses[n].1;
         let args = Some(vec![Variant::UInt32(n as u32)]);
         let t0 = Instant::now();
@@ -246,8 +247,11 @@ async fn robot(url: String, pki: PathBuf, pick_s: f64, stop: Arc<AtomicBool>) ->
                 log.rtt_ms.push(rtt);
                 free_at = Instant::now() + Duration::from_secs_f64(pick_s);
             }
-            Ok(s) => *log.refused.entry(format!("{s}")).or_default() += 1,
-            Err(e) => *log.refused.entry(format!("{}", e.status())).or_default() += 1,
+            other => {
+                let code = other.unwrap_or_else(|e| e.status());
+                *log.refused.entry(format!("{code}")).or_default() += 1;
+                (taken[n], retry_at[n]) = (0, Instant::now() + Duration::from_millis(100));
+            }
         }
     }
     close(session, event_loop).await;
@@ -453,9 +457,11 @@ fn ready_latency(a: &External) -> Value {
         .collect();
     let mut gaps: Vec<f64> = starts.windows(2).map(|w| ms(w[1] - w[0])).collect();
     gaps.sort_by(f64::total_cmp);
-    let recv = summary(from_recv);
+    from_recv.sort_by(f64::total_cmp);
+    let recv = summary(from_recv.clone());
     json!({
         "from_feed_received": recv, "from_status_stamp": summary(from_stamp),
+        "from_feed_received_each_ms": from_recv,
         "target_p99_ms": READY_TARGET_MS, "met": recv["p99_ms"].as_f64().map(|p| p <= READY_TARGET_MS),
         "ready_on_feed": a.feed.len(), "ready_at_robot": a.robot.ready_at.len(), "matched": matched,
         "revised_publishing_interval_ms": a.robot.revised_publishing_ms,
