@@ -257,6 +257,20 @@ pub async fn serve(
     }
     {
         let (view, counters, dir) = (view.clone(), counters.clone(), opts.recipes_dir.clone());
+        let (space, subscriptions) = (nm.clone(), handle.subscriptions().clone());
+        let ids = [nodes.id("Rig.Recipe"), nodes.id("Rig.RecipeError")];
+        // A client reading right after the call sees its outcome.
+        let show_recipe = move |s: &RigSnapshot| {
+            let now = DateTime::now();
+            let values = [
+                DataValue::new_at(Variant::from(s.recipe.as_str()), now),
+                DataValue::new_at(Variant::from(s.recipe_error.as_str()), now),
+            ];
+            let _ = space.set_values(
+                &subscriptions,
+                ids.iter().zip(values.iter()).map(|(id, v)| (id, None, v.clone())),
+            );
+        };
         nm.inner().add_method_callback(nodes.id("Rig.LoadRecipe"), move |args: &[Variant]| {
             let name = match args {
                 [Variant::String(name)] => name.as_ref().to_owned(),
@@ -274,7 +288,9 @@ pub async fn serve(
                 }
             };
             // Loading and the core's answer take milliseconds: off the async workers' queue.
-            match tokio::task::block_in_place(|| view.load_recipe(&name, &dir)) {
+            let outcome = tokio::task::block_in_place(|| view.load_recipe(&name, &dir));
+            show_recipe(&view.snapshot());
+            match outcome {
                 Ok(path) => {
                     tracing::info!("Rig.LoadRecipe: the cell runs {path}");
                     Ok(Vec::new())
