@@ -414,6 +414,7 @@ fn external_run(
     stop.store(true, Ordering::Relaxed);
     let robot = rt.block_on(robot)??;
     let feed = feed.join().map_err(|_| anyhow::anyhow!("the upm/feed watcher panicked"))?;
+    ipc_types::rig_node::remove_prefix_segment(&prefix); // the watcher's node held it
     Ok(External { metrics: metrics?, robot, feed, churn })
 }
 
