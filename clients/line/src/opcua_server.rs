@@ -193,6 +193,9 @@ pub async fn serve(
             ("/", SecurityPolicy::Basic256Sha256, MessageSecurityMode::SignAndEncrypt, ids),
         )
         .discovery_urls(vec![url])
+        // The server looks at its subscriptions on one timer (100 ms
+        // unless set): at the interval it grants, or `Ready` waits for it.
+        .subscription_poll_interval_ms(MIN_INTERVAL_MS as u64)
         // For the open-session count `upm status` shows.
         .diagnostics_enabled(true)
         .with_node_manager(simple_node_manager(

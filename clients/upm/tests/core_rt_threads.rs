@@ -97,7 +97,7 @@ fn rt_threads_allocate_nothing_with(mut params: CoreParams) {
         alloc_count::abort_on_rt_allocation(true);
     }
     let truth = sim.publish_ground_truth(10, templates);
-    let outputs = rt_core::SimulatorOutputs { truth: Some(truth), feed: None, picks: None };
+    let outputs = rt_core::SimulatorOutputs { truth: Some(truth), ..Default::default() };
     let report = run_core_with_truth(&params, sim, outputs, &options);
     stop.store(true, Ordering::Relaxed);
     feeder.join().expect("feeder");
