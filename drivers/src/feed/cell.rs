@@ -5,7 +5,7 @@ use core::fmt;
 
 use upm_recipe::{Outline, Recipe};
 
-use super::changeover::RecipeInbox;
+use super::changeover::{RecipeInbox, RecipeMailbox};
 use super::counts::{FeedCounts, PickRecord};
 use super::pick_mailbox::MailboxSlot;
 use super::robot_mode::RobotMode;
@@ -146,6 +146,33 @@ impl FeedCell {
         cell.schedule_first_arrival();
         sim.attach_cell(Box::new(cell));
         Ok(sim)
+    }
+
+    /// Open the cell around `sim` to changeovers; None without a cell.
+    pub fn accept_recipes(sim: &mut Simulator) -> Option<RecipeMailbox> {
+        let cell = sim.cell_mut()?.as_any_mut().downcast_mut::<Self>()?;
+        let (inbox, mailbox) = RecipeInbox::open();
+        cell.changeover = inbox;
+        Some(mailbox)
+    }
+
+    /// Swap in a posted recipe, if any. Allocation-free: the old recipe
+    /// takes the new one's place in the buffer. Parts on the plate stay;
+    /// what they were settling at is forgotten (the poses may have moved),
+    /// and picks posted for the old poses are dropped.
+    fn take_changeover(&mut self) {
+        let Some(next) = self.changeover.next() else { return };
+        core::mem::swap(&mut self.recipe, &mut next.recipe);
+        core::mem::swap(&mut self.cumulative_share, &mut next.cumulative_share);
+        self.pick_box = next.pick_box;
+        self.within_since.fill(f64::NAN);
+        self.next_pose = 0;
+        if let Some(mailbox) = self.mailbox.0.as_ref() {
+            for j in 0..ipc_types::MAX_PICK_POSES {
+                mailbox.take(j);
+            }
+        }
+        self.counts.changeovers += 1;
     }
 
     /// The cell around `sim`, if it has one.

@@ -9,9 +9,6 @@ use core::fmt;
 
 use upm_recipe::Recipe;
 
-use super::cell::FeedCell;
-use crate::sim::Simulator;
-
 /// A recipe and what the cell derives from it, ready to swap in.
 #[derive(Debug, Clone)]
 pub(super) struct Prepared {
@@ -58,6 +55,24 @@ impl fmt::Debug for RecipeMailbox {
 #[derive(Default)]
 pub(super) struct RecipeInbox(Option<triple_buffer::Output<Option<Prepared>>>);
 
+impl RecipeInbox {
+    /// A mailbox and the inbox it posts to.
+    pub(super) fn open() -> (Self, RecipeMailbox) {
+        let (input, output) = triple_buffer::triple_buffer(&None);
+        (Self(Some(output)), RecipeMailbox { input })
+    }
+
+    /// The recipe posted since the last call, if any. The caller swaps its
+    /// own into its place, so that it is freed by the poster.
+    pub(super) fn next(&mut self) -> Option<&mut Prepared> {
+        let inbox = self.0.as_mut()?;
+        if !inbox.update() {
+            return None;
+        }
+        inbox.output_buffer_mut().as_mut()
+    }
+}
+
 impl Clone for RecipeInbox {
     fn clone(&self) -> Self {
         Self(None)
@@ -67,38 +82,5 @@ impl Clone for RecipeInbox {
 impl fmt::Debug for RecipeInbox {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(if self.0.is_some() { "RecipeInbox(open)" } else { "RecipeInbox(none)" })
-    }
-}
-
-impl FeedCell {
-    /// Open the cell around `sim` to changeovers; None without a cell.
-    pub fn accept_recipes(sim: &mut Simulator) -> Option<RecipeMailbox> {
-        let cell = sim.cell_mut()?.as_any_mut().downcast_mut::<Self>()?;
-        let (input, output) = triple_buffer::triple_buffer(&None);
-        cell.changeover.0 = Some(output);
-        Some(RecipeMailbox { input })
-    }
-
-    /// Swap in a posted recipe, if any. Allocation-free: the old recipe
-    /// takes the new one's place in the buffer. Parts on the plate stay;
-    /// what they were settling at is forgotten (the poses may have moved),
-    /// and picks posted for the old poses are dropped.
-    pub(super) fn take_changeover(&mut self) {
-        let Some(inbox) = self.changeover.0.as_mut() else { return };
-        if !inbox.update() {
-            return;
-        }
-        let Some(next) = inbox.output_buffer_mut().as_mut() else { return };
-        core::mem::swap(&mut self.recipe, &mut next.recipe);
-        core::mem::swap(&mut self.cumulative_share, &mut next.cumulative_share);
-        self.pick_box = next.pick_box;
-        self.within_since.fill(f64::NAN);
-        self.next_pose = 0;
-        if let Some(mailbox) = self.mailbox.0.as_ref() {
-            for j in 0..ipc_types::MAX_PICK_POSES {
-                mailbox.take(j);
-            }
-        }
-        self.counts.changeovers += 1;
     }
 }
