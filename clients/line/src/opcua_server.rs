@@ -161,6 +161,25 @@ fn pose_values(s: &RigSnapshot, n: usize) -> Vec<(&'static str, DataTypeId, Vari
     ]
 }
 
+/// A method's one argument, as `of` takes it; a missing, extra or
+/// mistyped argument is refused with its status code and counted.
+fn one_argument<T>(
+    args: &[Variant],
+    counters: &LineCounters,
+    of: impl Fn(&Variant) -> Option<T>,
+) -> Result<T, StatusCode> {
+    let refused = match args {
+        [v] => match of(v) {
+            Some(t) => return Ok(t),
+            None => StatusCode::BadTypeMismatch,
+        },
+        [] => StatusCode::BadArgumentsMissing,
+        _ => StatusCode::BadTooManyArguments,
+    };
+    LineCounters::count(&counters.bad_arguments);
+    Err(refused)
+}
+
 /// Serve until `handle` is cancelled. Returns the handle at once (the
 /// server runs on the current tokio runtime).
 pub async fn serve(
@@ -275,21 +294,10 @@ pub async fn serve(
             );
         };
         nm.inner().add_method_callback(nodes.id("Rig.LoadRecipe"), move |args: &[Variant]| {
-            let name = match args {
-                [Variant::String(name)] => name.as_ref().to_owned(),
-                [] => {
-                    LineCounters::count(&counters.bad_arguments);
-                    return Err(StatusCode::BadArgumentsMissing);
-                }
-                [_] => {
-                    LineCounters::count(&counters.bad_arguments);
-                    return Err(StatusCode::BadTypeMismatch);
-                }
-                _ => {
-                    LineCounters::count(&counters.bad_arguments);
-                    return Err(StatusCode::BadTooManyArguments);
-                }
-            };
+            let name = one_argument(args, &counters, |v| match v {
+                Variant::String(name) => Some(name.as_ref().to_owned()),
+                _ => None,
+            })?;
             // Loading and the core's answer take milliseconds: off the async workers' queue.
             let outcome = tokio::task::block_in_place(|| view.load_recipe(&name, &dir));
             show_recipe(&view.snapshot());
@@ -308,21 +316,10 @@ pub async fn serve(
     {
         let (view, counters, builtin) = (view.clone(), counters.clone(), opts.builtin_robot);
         nm.inner().add_method_callback(nodes.id(PICKED_METHOD), move |args: &[Variant]| {
-            let pose = match args {
-                [Variant::UInt32(pose)] => *pose,
-                [] => {
-                    LineCounters::count(&counters.bad_arguments);
-                    return Err(StatusCode::BadArgumentsMissing);
-                }
-                [_] => {
-                    LineCounters::count(&counters.bad_arguments);
-                    return Err(StatusCode::BadTypeMismatch);
-                }
-                _ => {
-                    LineCounters::count(&counters.bad_arguments);
-                    return Err(StatusCode::BadTooManyArguments);
-                }
-            };
+            let pose = one_argument(args, &counters, |v| match v {
+                Variant::UInt32(pose) => Some(*pose),
+                _ => None,
+            })?;
             view.picked(pose, builtin).map(|()| Vec::new()).map_err(|refusal| {
                 let (counter, code) = match refusal {
                     PickRefusal::OutOfRange => (&counters.bad_arguments, StatusCode::BadOutOfRange),

@@ -5,7 +5,7 @@ use core::fmt;
 
 use upm_recipe::{Outline, Recipe};
 
-use super::changeover::{RecipeInbox, RecipeMailbox};
+use super::changeover::{RecipeInbox, RecipeMailbox, cumulative_shares};
 use super::counts::{FeedCounts, PickRecord};
 use super::pick_mailbox::MailboxSlot;
 use super::robot_mode::RobotMode;
@@ -105,15 +105,7 @@ impl FeedCell {
                 )));
             }
         }
-        let mut total = 0.0;
-        let cumulative_share = recipe
-            .classes
-            .iter()
-            .map(|c| {
-                total += c.share;
-                total
-            })
-            .collect();
+        let cumulative_share = cumulative_shares(recipe);
         let n = slot_class.len();
         let rng = SplitMix64::new(cfg.seed ^ 0xFEED_CE11_0000_0001);
         let cell = Self {

@@ -19,17 +19,22 @@ pub(super) struct Prepared {
 
 impl Prepared {
     pub(super) fn of(recipe: Recipe) -> Self {
-        let mut total = 0.0;
-        let cumulative_share = recipe
-            .classes
-            .iter()
-            .map(|c| {
-                total += c.share;
-                total
-            })
-            .collect();
-        Self { pick_box: recipe.pick_box(), cumulative_share, recipe }
+        Self { pick_box: recipe.pick_box(), cumulative_share: cumulative_shares(&recipe), recipe }
     }
+}
+
+/// Per class, the sum of the shares up to it: where a uniform draw over
+/// the total picks the arriving class.
+pub(super) fn cumulative_shares(recipe: &Recipe) -> Vec<f64> {
+    let mut total = 0.0;
+    recipe
+        .classes
+        .iter()
+        .map(|c| {
+            total += c.share;
+            total
+        })
+        .collect()
 }
 
 /// The io thread's end: where a changeover is posted.
