@@ -174,6 +174,8 @@ pub fn run_plan(
     let mut recorder = recorder.transpose()?;
     let mut line = match &plan.line {
         Some(args) => {
+            // upm-line is not linked into upm: refuse before the core starts.
+            programs::own_binary("upm-line")?;
             let mut l = client("upm-line", &None, "line.log")?;
             for a in args {
                 l = l.arg(a);
