@@ -440,6 +440,7 @@ pub fn replay_with_planner(path: &Path, planner: &str, out: &Path) -> anyhow::Re
         serve_port: None,
         config_text: rec.config_text.clone(),
         info,
+        segment: None,
     })?;
     let mut req = ForceRequest::new();
     let mut requests = 0;

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use clap::Parser;
@@ -35,6 +35,11 @@ pub struct RecorderArgs {
     /// (0: every one).
     #[arg(long, default_value_t = 100.0)]
     pub truth_hz: f64,
+    /// Continue in a new file (`NAME.001.mcap`, …) after this many minutes
+    /// (0: one file); each is a recording of its own, with the rig's TOML.
+    /// Long runs need it: a file's chunk index stays in memory until it ends.
+    #[arg(long, default_value_t = 0.0)]
+    pub segment_minutes: f64,
     /// key=value pairs for the recording's metadata (scenario, seed, …).
     #[arg(long = "info", value_parser = parse_info)]
     pub info: Vec<(String, String)>,
@@ -60,6 +65,13 @@ pub fn run_recorder_process(args: RecorderArgs) -> anyhow::Result<()> {
     };
     let duration =
         args.process.duration().map_err(|m| anyhow::anyhow!(ConfigError::invalid("--duration", m)))?;
+    if !((0.0..1e9).contains(&args.segment_minutes)) {
+        anyhow::bail!(ConfigError::invalid(
+            "--segment-minutes",
+            format!("must be 0 (one file) or a positive number of minutes below 1e9, got {}", args.segment_minutes)
+        ));
+    }
+    let segment = (args.segment_minutes > 0.0).then(|| Duration::from_secs_f64(args.segment_minutes * 60.0));
     let opts = RecorderOptions {
         prefix,
         log: LogOptions {
@@ -68,6 +80,7 @@ pub fn run_recorder_process(args: RecorderArgs) -> anyhow::Result<()> {
             serve_port: args.serve,
             config_text,
             info: args.info.into_iter().collect::<BTreeMap<_, _>>(),
+            segment,
         },
         frame_pixels: args.frame_pixels,
         truth_hz: args.truth_hz,

@@ -15,6 +15,6 @@ pub mod seq_gaps;
 pub use recorder::{Recorder, RecorderOptions};
 pub use rig_log::{
     CONFIG_ATTACHMENT, COUNTS_METADATA, JSON_SUFFIX, LATENCY_TOPIC, LogOptions, PROFILE, RAW_ENCODING,
-    RUN_METADATA, RigLog, SCENE_TOPIC,
+    RUN_METADATA, RigLog, SCENE_TOPIC, segment_path,
 };
 pub use scene::PlateView;

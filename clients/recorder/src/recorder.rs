@@ -202,7 +202,12 @@ impl Recorder {
                 n += 1;
             }
         }
-        self.log.view(self.log_ns());
+        let now = self.log_ns();
+        self.log.view(now);
+        if self.log.segment_due(now) {
+            let _ = self.counts();
+            self.log.next_segment(now)?;
+        }
         Ok(n)
     }
 

@@ -9,8 +9,9 @@
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::Duration;
 
 use anyhow::Context as _;
 use foxglove::messages::{SceneUpdate, Timestamp};
@@ -62,6 +63,96 @@ pub struct LogOptions {
     /// The run metadata's key/values (prefix, scenario, seed, clocks, …);
     /// the protocol version is added.
     pub info: BTreeMap<String, String>,
+    /// Start a new file after this long (None: one file). The writer keeps
+    /// each chunk's index entry in memory until its file ends, so a long
+    /// run's recorder grows unless its files do end.
+    pub segment: Option<Duration>,
+}
+
+/// The file of segment `n` (0: `first` itself; then `NAME.001.mcap`, …
+/// beside it).
+pub fn segment_path(first: &Path, n: u32) -> PathBuf {
+    if n == 0 {
+        return first.to_path_buf();
+    }
+    let stem = first.file_stem().map_or_else(|| "recording".into(), |s| s.to_string_lossy().into_owned());
+    let ext = first.extension().map_or_else(|| "mcap".into(), |s| s.to_string_lossy().into_owned());
+    first.with_file_name(format!("{stem}.{n:03}.{ext}"))
+}
+
+/// The MCAP file being written, and what the next segment needs.
+#[derive(Debug)]
+struct McapOut {
+    writer: McapWriterHandle<BufWriter<File>>,
+    first: PathBuf,
+    segment: u32,
+    /// Log time (Unix ns) the segment's first message may have; 0: not yet.
+    started_ns: u64,
+    every: Option<Duration>,
+    info: BTreeMap<String, String>,
+    config_text: Option<String>,
+}
+
+impl McapOut {
+    /// Segment `n`'s file, with the run metadata and the rig's TOML, so that
+    /// every segment is a recording of its own.
+    fn open(
+        ctx: &Arc<Context>,
+        first: &Path,
+        n: u32,
+        every: Option<Duration>,
+        info: &BTreeMap<String, String>,
+        config_text: Option<&str>,
+    ) -> anyhow::Result<Self> {
+        let path = segment_path(first, n);
+        // The writer keeps each chunk's index entry (≈ 0.8 kB) in memory
+        // until the file ends (hence segments): at 1 MiB a feed run's
+        // recorder grows 8 MB an hour (1 MB at 8 MiB, but an 8 MiB chunk's
+        // compression is one long burst on the clients' CPU).
+        let options = McapWriteOptions::new()
+            .compression(Some(McapCompression::Zstd))
+            .chunk_size(Some(CHUNK_BYTES))
+            .use_chunks(true)
+            .emit_statistics(true)
+            .emit_metadata_indexes(true)
+            .emit_attachment_indexes(true)
+            .profile(PROFILE);
+        let writer = ctx
+            .mcap_writer_with_options(options)
+            .create_new_buffered_file(&path)
+            .with_context(|| format!("creating {}", path.display()))?;
+        let mut run = info.clone();
+        run.insert("protocol_version".into(), ipc_types::PROTOCOL_VERSION.to_string());
+        if every.is_some() {
+            run.insert("segment".into(), n.to_string());
+        }
+        writer.write_metadata(RUN_METADATA, run)?;
+        if let Some(text) = config_text {
+            writer.attach(&McapAttachment {
+                log_time: 0,
+                create_time: 0,
+                name: CONFIG_ATTACHMENT.into(),
+                media_type: "application/toml".into(),
+                data: std::borrow::Cow::Borrowed(text.as_bytes()),
+            })?;
+        }
+        Ok(Self {
+            writer,
+            first: first.to_path_buf(),
+            segment: n,
+            started_ns: 0,
+            every,
+            info: info.clone(),
+            config_text: config_text.map(str::to_owned),
+        })
+    }
+
+    /// The counts so far into the file's metadata, then close it.
+    fn close(self, counts: BTreeMap<String, String>) -> anyhow::Result<()> {
+        self.writer.write_metadata(COUNTS_METADATA, counts)?;
+        self.writer.close()?;
+        Ok(())
+    }
 }
 
 /// One service: its raw and decoded channels and what was seen on it.
@@ -110,11 +201,11 @@ pub struct RigLog {
     scene_channel: Channel<SceneUpdate>,
     latency: Arc<RawChannel>,
     last_view_ns: u64,
-    mcap: Option<McapWriterHandle<BufWriter<File>>>,
+    mcap: Option<McapOut>,
     ws: Option<WebSocketServerHandle>,
     /// More key/values for the counts metadata.
     notes: BTreeMap<String, String>,
-    _ctx: Arc<Context>,
+    ctx: Arc<Context>,
 }
 
 impl RigLog {
@@ -151,37 +242,14 @@ impl RigLog {
             .schema(Schema::new("upm.Latency", "jsonschema", latency_schema))
             .build_raw()?;
         let mcap = match &opts.mcap {
-            Some(path) => {
-                // The writer keeps each chunk's index entry (≈ 0.8 kB) in
-                // memory until the file ends: at 1 MiB a feed run's
-                // recorder grows 8 MB an hour (1 MB at 8 MiB, but an 8 MiB
-                // chunk's compression is one long burst on the clients' CPU).
-                let options = McapWriteOptions::new()
-                    .compression(Some(McapCompression::Zstd))
-                    .chunk_size(Some(CHUNK_BYTES))
-                    .use_chunks(true)
-                    .emit_statistics(true)
-                    .emit_metadata_indexes(true)
-                    .emit_attachment_indexes(true)
-                    .profile(PROFILE);
-                let w = ctx
-                    .mcap_writer_with_options(options)
-                    .create_new_buffered_file(path)
-                    .with_context(|| format!("creating {}", path.display()))?;
-                let mut info = opts.info.clone();
-                info.insert("protocol_version".into(), ipc_types::PROTOCOL_VERSION.to_string());
-                w.write_metadata(RUN_METADATA, info)?;
-                if let Some(text) = &opts.config_text {
-                    w.attach(&McapAttachment {
-                        log_time: 0,
-                        create_time: 0,
-                        name: CONFIG_ATTACHMENT.into(),
-                        media_type: "application/toml".into(),
-                        data: std::borrow::Cow::Borrowed(text.as_bytes()),
-                    })?;
-                }
-                Some(w)
-            }
+            Some(path) => Some(McapOut::open(
+                &ctx,
+                path,
+                0,
+                opts.segment,
+                &opts.info,
+                opts.config_text.as_deref(),
+            )?),
             None => None,
         };
         let ws = match opts.serve_port {
@@ -204,7 +272,7 @@ impl RigLog {
             mcap,
             ws,
             notes: BTreeMap::new(),
-            _ctx: ctx,
+            ctx,
         })
     }
 
@@ -285,24 +353,59 @@ impl RigLog {
     /// the server. Returns the counts.
     pub fn finish(mut self) -> anyhow::Result<BTreeMap<String, (u64, Option<u64>)>> {
         let counts = self.counts();
-        if let Some(w) = self.mcap.take() {
-            let mut m: BTreeMap<String, String> = BTreeMap::new();
-            let mut lost_total = 0;
-            for (topic, (received, lost)) in &counts {
-                m.insert(format!("received {topic}"), received.to_string());
-                m.insert(format!("lost {topic}"), lost.map_or_else(|| "unknown".into(), |n| n.to_string()));
-                lost_total += lost.unwrap_or(0);
-            }
-            m.insert("lost_total".into(), lost_total.to_string());
+        if let Some(out) = self.mcap.take() {
+            let mut m = counts_metadata(&counts);
             m.extend(std::mem::take(&mut self.notes));
-            w.write_metadata(COUNTS_METADATA, m)?;
-            w.close()?;
+            out.close(m)?;
         }
         if let Some(ws) = self.ws.take() {
             ws.stop().wait_blocking();
         }
         Ok(counts)
     }
+
+    /// Whether this segment has run its length (the first call starts it).
+    pub fn segment_due(&mut self, log_ns: u64) -> bool {
+        let Some(out) = &mut self.mcap else { return false };
+        let Some(every) = out.every else { return false };
+        if out.started_ns == 0 {
+            out.started_ns = log_ns;
+        }
+        log_ns >= out.started_ns.saturating_add(every.as_nanos() as u64)
+    }
+
+    /// Close this segment with the counts so far (set the losses first,
+    /// [`RigLog::set_lost`]) and start the next with the run's metadata and
+    /// TOML. Nothing is logged in between (one thread logs), so no message
+    /// falls between two files.
+    pub fn next_segment(&mut self, log_ns: u64) -> anyhow::Result<()> {
+        let Some(out) = self.mcap.take() else { return Ok(()) };
+        let (first, n, every, info, config_text) =
+            (out.first.clone(), out.segment + 1, out.every, out.info.clone(), out.config_text.clone());
+        out.close(counts_metadata(&self.counts()))?;
+        let mut next = McapOut::open(&self.ctx, &first, n, every, &info, config_text.as_deref())?;
+        next.started_ns = log_ns;
+        self.mcap = Some(next);
+        Ok(())
+    }
+
+    /// The file being written now.
+    pub fn current_file(&self) -> Option<PathBuf> {
+        self.mcap.as_ref().map(|o| segment_path(&o.first, o.segment))
+    }
+}
+
+/// Messages received and lost per topic, as the counts metadata says them.
+fn counts_metadata(counts: &BTreeMap<String, (u64, Option<u64>)>) -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    let mut lost_total = 0;
+    for (topic, (received, lost)) in counts {
+        m.insert(format!("received {topic}"), received.to_string());
+        m.insert(format!("lost {topic}"), lost.map_or_else(|| "unknown".into(), |n| n.to_string()));
+        lost_total += lost.unwrap_or(0);
+    }
+    m.insert("lost_total".into(), lost_total.to_string());
+    m
 }
 
 #[cfg(test)]

@@ -583,6 +583,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             minutes,
             cases,
             seed,
+                segment_minutes: 0.0,
         } => {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {

@@ -62,6 +62,7 @@ fn rewrite(rec: &Recording, to: &Path, mut change: impl FnMut(usize, &mut Schedu
         serve_port: None,
         config_text: rec.config_text.clone(),
         info: rec.run.clone(),
+        segment: None,
     })
     .expect("open the copy");
     let mut schedules = 0;
@@ -414,5 +415,51 @@ fn a_stalled_recorder_loses_for_itself_and_counts_it_while_the_core_goes_on() {
     );
     // What was lost cannot be replayed, and the replay says why.
     refused(&file, "cannot replay bit for bit: the recorder lost core inputs (");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A long recording goes on in segments: each file is a recording of its
+/// own (run metadata with its number, the rig's TOML, its counts so far),
+/// and every message is in exactly one of them, in order.
+#[test]
+fn segments_split_a_recording_and_lose_nothing() {
+    let out = dir("segments");
+    let first = out.join("seg.mcap");
+    let mut log = RigLog::open(&LogOptions {
+        mcap: Some(first.clone()),
+        config_text: Some("[plate]\n".into()),
+        segment: Some(Duration::from_nanos(1000)),
+        ..LogOptions::default()
+    })
+    .expect("open");
+    let mut files = vec![first.clone()];
+    for seq in 1..=2500u64 {
+        let t = 1_000_000 + seq * 10;
+        log.log(PartStates::SERVICE, &common::part_states(seq, seq, &common::PAPER_PARTS), &[], t);
+        if log.segment_due(t) {
+            log.next_segment(t).expect("next segment");
+            files.push(log.current_file().expect("a file"));
+        }
+    }
+    log.finish().expect("finish");
+    assert!(files.len() >= 20, "{} segments", files.len());
+    assert_eq!(files[1], out.join("seg.001.mcap"));
+    let mut seen = Vec::new();
+    for (n, f) in files.iter().enumerate() {
+        let rec = Recording::open(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        assert_eq!(rec.run.get("segment"), Some(&n.to_string()), "{}", f.display());
+        assert_eq!(rec.config_text.as_deref(), Some("[plate]\n"));
+        let received: u64 = rec.counts[&format!("received {}", PartStates::SERVICE)].parse().expect("count");
+        rec.for_each_raw(|_, m| {
+            if m.topic == PartStates::SERVICE {
+                seen.push(m.log_time);
+            }
+            Ok(())
+        })
+        .expect("read");
+        assert_eq!(received, seen.len() as u64, "counts so far in {}", f.display());
+    }
+    let sent: Vec<u64> = (1..=2500u64).map(|seq| 1_000_000 + seq * 10).collect();
+    assert_eq!(seen, sent);
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -60,6 +60,9 @@ pub const RECORDING: &str = "run.mcap";
 
 /// Where vision's part poses come from in a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+/// A run's recording goes on in `run.001.mcap`, … after this long: a
+/// file's chunk index stays in the recorder's memory until the file ends.
+pub const SEGMENT_MINUTES: u32 = 10;
 pub enum CameraChoice {
     /// The simulator's ground truth with noise (vision's test double).
     Truth,
@@ -168,6 +171,7 @@ pub fn run_plan(
         }
         if let Some(port) = plan.monitor {
             r = r.arg("--serve").arg(&port.to_string());
+            r = r.arg("--segment-minutes").arg(&SEGMENT_MINUTES.to_string());
         }
         Ok(r)
     });
@@ -193,6 +197,11 @@ pub fn run_plan(
     core.start()?;
     if let Some(cpu) = plan.config.cpu_to_avoid() {
         // The observer and progress bar need no RT CPU (the core, started
+        for n in 1.. {
+            if std::fs::remove_file(upm_recorder::segment_path(&recording, n)).is_err() {
+                break;
+            }
+        }
         // above, has taken the full set with it).
         let _ = rt_core::rt_setup::keep_current_thread_off(cpu);
     }
