@@ -7,13 +7,13 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::Parser;
-use rig_config::{ConfigError, ProcessArgs};
+use rig_config::ProcessArgs;
 use tokio_util::sync::CancellationToken;
-use upm_users::Users;
+use upm_rig_client::server_start::{ServerStart, until_stopped};
 
 use crate::counters::LineCounters;
 use crate::opcua_server::{OpcUaOptions, serve as serve_opcua};
-use crate::rig_view::RigView;
+use upm_rig_client::rig_view::{RigView, ViewOptions};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -50,41 +50,20 @@ pub struct LineArgs {
     pub recipes: PathBuf,
 }
 
-/// The rig's prefix: given, or the only rig running (as `upm status`).
-fn prefix(process: &ProcessArgs) -> anyhow::Result<String> {
-    if process.prefix.is_some() || process.config.is_some() {
-        let file = process.file()?;
-        return Ok(process.prefix(&file)?);
-    }
-    let rigs = ipc_types::discovery::running_rigs().map_err(|e| anyhow::anyhow!("looking for rigs: {e}"))?;
-    match rigs.as_slice() {
-        [one] => Ok(one.name.clone()),
-        [] => anyhow::bail!("no rig is running: start one, or give --prefix"),
-        many => anyhow::bail!(
-            "{} rigs are running ({}): give --prefix",
-            many.len(),
-            many.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join(", ")
-        ),
-    }
-}
-
 /// Serve until SIGINT/SIGTERM or `--duration`.
 pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
-    let prefix = prefix(&args.process)?;
-    let duration =
-        args.process.duration().map_err(|m| anyhow::anyhow!(ConfigError::invalid("--duration", m)))?;
-    let users = match &args.users {
-        Some(path) => Users::load(path)?,
-        None => {
-            eprintln!("upm-line: no --users file: every OPC UA method call is refused");
-            Users::default()
-        }
-    };
+    let ServerStart { prefix, duration, users } = ServerStart::read(
+        &args.process,
+        args.users.as_deref(),
+        "upm-line",
+        "every OPC UA method call is refused",
+    )?;
     if args.opcua.is_none() && args.modbus.is_none() {
         anyhow::bail!("nothing to serve: give --opcua ADDR, --modbus ADDR or both");
     }
     let counters = Arc::new(LineCounters::default());
-    let view = Arc::new(RigView::start(&prefix, counters.clone())?);
+    let options = ViewOptions { node_name: "upm-line", part_states: false, keep_off_motor_cpu: false };
+    let view = Arc::new(RigView::start(&prefix, options, counters.clone())?);
     let builtin_robot = args.robot == "builtin";
     // Two workers: the line never needs more, and never runs on an RT thread.
     let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build()?;
@@ -121,13 +100,6 @@ pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
             args.opcua.map_or_else(|| "off".to_owned(), |a| format!("opc.tcp://{a}/")),
             shown(args.modbus)
         );
-        let mut term = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())?;
-        let until = async {
-            match duration {
-                Some(d) => tokio::time::sleep(d).await,
-                None => std::future::pending().await,
-            }
-        };
         let modbus_ended = async {
             match modbus.as_mut() {
                 Some(task) => task.await,
@@ -135,9 +107,7 @@ pub fn run_line_process(args: LineArgs) -> anyhow::Result<()> {
             }
         };
         let failed = tokio::select! {
-            _ = tokio::signal::ctrl_c() => None,
-            _ = term.recv() => None,
-            () = until => None,
+            r = until_stopped(duration) => r.err().map(anyhow::Error::from),
             r = modbus_ended => {
                 modbus = None;
                 Some(match r {

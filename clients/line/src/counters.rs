@@ -5,6 +5,7 @@
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 use ipc_types::LineStatus;
+use upm_rig_client::client_counters::ClientCounters;
 
 #[derive(Debug, Default)]
 pub struct LineCounters {
@@ -72,5 +73,23 @@ impl LineCounters {
         out.picks_sent = self.picks_sent.load(Relaxed);
         out.recipes_loaded = self.recipes_loaded.load(Relaxed);
         out.recipes_refused = self.recipes_refused.load(Relaxed);
+    }
+}
+
+impl ClientCounters for LineCounters {
+    fn pick_sent(&self) {
+        Self::count(&self.picks_sent);
+    }
+
+    fn recipe_outcome(&self, loaded: bool) {
+        Self::count(if loaded { &self.recipes_loaded } else { &self.recipes_refused });
+    }
+
+    fn publishes_line_status(&self) -> bool {
+        true
+    }
+
+    fn write_line_status(&self, out: &mut LineStatus) {
+        self.write_status(out);
     }
 }

@@ -4,7 +4,7 @@
 use ipc_types::MAX_PICK_POSES;
 use tokio_modbus::ExceptionCode;
 
-use crate::rig_view::RigSnapshot;
+use upm_rig_client::rig_view::RigSnapshot;
 
 /// Input registers 0.. : the rig.
 pub const RIG_BLOCK: u16 = 0;
@@ -78,8 +78,8 @@ pub fn input_registers(s: &RigSnapshot, addr: u16, count: u16) -> Result<Vec<u16
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rig_view::PoseView;
     use ipc_types::CoreState;
+    use upm_rig_client::rig_view::PoseView;
 
     fn snapshot() -> RigSnapshot {
         RigSnapshot {
@@ -100,6 +100,9 @@ mod tests {
             telemetry_seen: 1,
             feed_seen: 1,
             invalid_messages: 0,
+            telemetry: None,
+            feed: None,
+            parts: None,
         }
     }
 

@@ -14,7 +14,7 @@ use tokio_modbus::{ExceptionCode, Request, Response};
 
 use crate::counters::LineCounters;
 use crate::modbus_map::{PICK_ACK_REGISTER, RUN_COIL, input_registers};
-use crate::rig_view::{PickRefusal, RigView};
+use upm_rig_client::rig_view::{PickRefusal, RigView};
 
 /// Connections served at once; more are closed at accept (and counted):
 /// a client that never finishes a frame holds its connection.

@@ -24,7 +24,7 @@ use opcua::types::{
 use upm_users::Users;
 
 use crate::counters::LineCounters;
-use crate::rig_view::{PickRefusal, PoseView, RigSnapshot, RigView};
+use upm_rig_client::rig_view::{PickRefusal, PoseView, RigSnapshot, RigView};
 
 pub const NAMESPACE_URI: &str = "urn:upm:rig";
 /// The `Picked(UInt32 pose)` method's node id (its browse name is

@@ -1,10 +1,11 @@
-//! The rig as the line sees it: the core's newest telemetry, the feed
-//! cell's newest status and its running recipe, read over iceoryx2 on a
-//! plain thread of the line's own (never an RT thread); the operator's
-//! commands, the robot's picks and changeovers passed on to the core; the
-//! line's own counters published for `upm status`. The servers read a
-//! [`RigSnapshot`]; nothing they do makes the core wait (iceoryx2
-//! overwrites what the line has not read).
+//! The rig as a non-RT client sees it (the line interface, the operator
+//! page): the core's newest telemetry, the feed cell's newest status, its
+//! running recipe and, if asked, the parts vision sees, read over iceoryx2
+//! on a plain thread of the client's own (never an RT thread); the
+//! operator's commands, the robot's picks and changeovers passed on to the
+//! core; the client's own counters published for `upm status` where it
+//! has them. The servers read a [`RigSnapshot`]; nothing they do makes the
+//! core wait (iceoryx2 overwrites what the client has not read).
 
 use std::collections::VecDeque;
 use std::path::Path;
@@ -17,12 +18,12 @@ use iceoryx2::prelude::*;
 use ipc_types::ports::{Pub, Sub};
 use ipc_types::wake_event::{WakeEvent, WakeNotifier};
 use ipc_types::{
-    CoreCommand, CoreState, FeedStatus, LineStatus, MAX_PICK_POSES, PickCommand, RecipeCommand, RejectedKind,
-    Rejection, RigInfo, Telemetry, ValidationLimits, monotonic_now_ns, service_names,
+    CoreCommand, CoreState, FeedStatus, LineStatus, MAX_PICK_POSES, PartStates, PickCommand, RecipeCommand,
+    RejectedKind, Rejection, RigInfo, Telemetry, ValidationLimits, monotonic_now_ns, service_names,
 };
 use upm_recipe::Recipe;
 
-use crate::counters::LineCounters;
+use crate::client_counters::ClientCounters;
 
 /// The core is taken as gone when its telemetry is older than this.
 const TELEMETRY_STALE: Duration = Duration::from_secs(2);
@@ -30,7 +31,7 @@ const TELEMETRY_STALE: Duration = Duration::from_secs(2);
 const RATE_WINDOW_S: f64 = 300.0;
 /// How often the view thread looks for new messages.
 const POLL: Duration = Duration::from_millis(5);
-/// How often the line publishes its counters.
+/// How often a client publishes its counters.
 const STATUS_PERIOD: Duration = Duration::from_millis(200);
 /// How long a changeover waits for the core's answer.
 const CHANGEOVER_WAIT: Duration = Duration::from_millis(1500);
@@ -74,6 +75,12 @@ pub struct RigSnapshot {
     pub telemetry_seen: u64,
     pub feed_seen: u64,
     pub invalid_messages: u64,
+    /// The newest telemetry and feed status whole, as received.
+    pub telemetry: Option<Telemetry>,
+    pub feed: Option<FeedStatus>,
+    /// The newest part states ([`ViewOptions::part_states`] only); shared,
+    /// so a snapshot stays cheap to copy.
+    pub parts: Option<Arc<PartStates>>,
 }
 
 impl RigSnapshot {
@@ -93,6 +100,9 @@ impl RigSnapshot {
             telemetry_seen: 0,
             feed_seen: 0,
             invalid_messages: 0,
+            telemetry: None,
+            feed: None,
+            parts: None,
         }
     }
 }
@@ -120,23 +130,46 @@ pub enum PickRefusal {
     NotReady,
     /// The rig's own simulated robot picks: no one else may.
     BuiltinRobot,
-    /// The line could not pass it on.
+    /// The view could not pass it on.
     Failed(String),
 }
 
+/// What a client asks of its view.
+#[derive(Debug, Clone, Copy)]
+pub struct ViewOptions {
+    /// The view's iceoryx2 node name (`upm-line`, `upm-hmi`).
+    pub node_name: &'static str,
+    /// Also read the parts vision sees (`upm/part_states`), for a client
+    /// that draws them.
+    pub part_states: bool,
+    /// Once the core's telemetry names it, move every thread of this
+    /// process off the CPU the core's motor thread is pinned to.
+    pub keep_off_motor_cpu: bool,
+}
+
 /// The running view; dropping it stops its thread.
-#[derive(Debug)]
 pub struct RigView {
     snapshot: Arc<Mutex<RigSnapshot>>,
-    counters: Arc<LineCounters>,
+    counters: Arc<dyn ClientCounters>,
     orders: Mutex<Sender<Order>>,
     stop: Arc<AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
 
+impl std::fmt::Debug for RigView {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RigView").finish_non_exhaustive()
+    }
+}
+
 impl RigView {
-    /// Watch the rig on `prefix`, publishing `counters` as `LineStatus`.
-    pub fn start(prefix: &str, counters: Arc<LineCounters>) -> anyhow::Result<Self> {
+    /// Watch the rig on `prefix`; `counters` count what the view passes
+    /// on, and are published as `LineStatus` where they say so.
+    pub fn start(
+        prefix: &str,
+        options: ViewOptions,
+        counters: Arc<dyn ClientCounters>,
+    ) -> anyhow::Result<Self> {
         let snapshot = Arc::new(Mutex::new(RigSnapshot::new()));
         let stop = Arc::new(AtomicBool::new(false));
         let (tx, rx) = channel();
@@ -145,18 +178,18 @@ impl RigView {
         // iceoryx2's ports stay on the thread that opened them.
         let (opened, outcome) = sync_channel(1);
         let thread =
-            std::thread::Builder::new().name("upm-line-view".into()).spawn(move || {
-                match Ports::open(&prefix) {
+            std::thread::Builder::new().name(format!("{}-view", options.node_name)).spawn(move || {
+                match Ports::open(&prefix, &options, count.publishes_line_status()) {
                     Ok(ports) => {
                         let _ = opened.send(Ok(()));
-                        view_loop(ports, &snap, &rx, &halt, &count);
+                        view_loop(ports, &options, &snap, &rx, &halt, count.as_ref());
                     }
                     Err(e) => {
                         let _ = opened.send(Err(e));
                     }
                 }
             })?;
-        outcome.recv().map_err(|_| anyhow::anyhow!("the line's view thread died at start"))??;
+        outcome.recv().map_err(|_| anyhow::anyhow!("the rig's view thread died at start"))??;
         Ok(Self { snapshot, counters, orders: Mutex::new(tx), stop, thread: Some(thread) })
     }
 
@@ -199,9 +232,7 @@ impl RigView {
         let outcome = self.check_recipe(name, recipes_dir).and_then(|path| {
             self.ask(Ask::Recipe(path.clone()), CHANGEOVER_WAIT + Duration::from_millis(500)).map(|()| path)
         });
-        let counter =
-            if outcome.is_ok() { &self.counters.recipes_loaded } else { &self.counters.recipes_refused };
-        LineCounters::count(counter);
+        self.counters.recipe_outcome(outcome.is_ok());
         lock(&self.snapshot).recipe_error = outcome.as_ref().err().cloned().unwrap_or_default();
         outcome
     }
@@ -236,8 +267,8 @@ impl RigView {
 
     fn ask(&self, ask: Ask, wait: Duration) -> Result<(), String> {
         let (done, outcome) = sync_channel(1);
-        lock(&self.orders).send((ask, done)).map_err(|_| "the line's view thread has stopped".to_owned())?;
-        outcome.recv_timeout(wait).map_err(|_| "the line's view thread did not answer".to_owned())?
+        lock(&self.orders).send((ask, done)).map_err(|_| "the rig's view thread has stopped".to_owned())?;
+        outcome.recv_timeout(wait).map_err(|_| "the rig's view thread did not answer".to_owned())?
     }
 }
 
@@ -263,14 +294,17 @@ struct Ports {
     recipe_active: Sub<RecipeCommand>,
     rejections: Sub<Rejection>,
     rig_info: Sub<RigInfo>,
-    status: Pub<LineStatus>,
+    parts: Option<Sub<PartStates>>,
+    /// Only for a client that publishes its counters (the line).
+    status: Option<Pub<LineStatus>>,
     notifier: WakeNotifier,
     _node: Node<ipc::Service>,
 }
 
 impl Ports {
-    fn open(prefix: &str) -> anyhow::Result<Self> {
-        let node = ipc_types::rig_node::rig_node(prefix, Some("upm-line"), SignalHandlingMode::Disabled)?;
+    fn open(prefix: &str, options: &ViewOptions, publishes_status: bool) -> anyhow::Result<Self> {
+        let node =
+            ipc_types::rig_node::rig_node(prefix, Some(options.node_name), SignalHandlingMode::Disabled)?;
         Ok(Self {
             telemetry: ipc_types::ports::subscriber(&node, service_names::TELEMETRY)?,
             feed: ipc_types::ports::subscriber(&node, service_names::FEED)?,
@@ -280,7 +314,14 @@ impl Ports {
             recipe_active: ipc_types::ports::subscriber(&node, service_names::RECIPE_ACTIVE)?,
             rejections: ipc_types::ports::subscriber(&node, service_names::REJECTION)?,
             rig_info: ipc_types::ports::subscriber(&node, service_names::RIG_INFO)?,
-            status: ipc_types::ports::publisher(&node, service_names::LINE)?,
+            parts: match options.part_states {
+                true => Some(ipc_types::ports::subscriber(&node, service_names::PART_STATES)?),
+                false => None,
+            },
+            status: match publishes_status {
+                true => Some(ipc_types::ports::publisher(&node, service_names::LINE)?),
+                false => None,
+            },
             notifier: WakeNotifier::new(&node, WakeEvent::Inbox)?,
             _node: node,
         })
@@ -320,10 +361,11 @@ struct Changeover {
 
 fn view_loop(
     mut ports: Ports,
+    options: &ViewOptions,
     snapshot: &Mutex<RigSnapshot>,
     orders: &Receiver<Order>,
     stop: &AtomicBool,
-    counters: &LineCounters,
+    counters: &dyn ClientCounters,
 ) {
     // One sequence per service: a recorder counts a gap as lost messages.
     let (mut core_seq, mut pick_seq, mut recipe_seq, mut status_seq) = (0, 0, 0, 0);
@@ -333,6 +375,8 @@ fn view_loop(
     let mut status = LineStatus::new();
     status.line_pid = std::process::id();
     let mut next_status = Instant::now();
+    // The core whose motor CPU this process was kept off.
+    let mut placed_for_core = 0;
     while !stop.load(Ordering::Relaxed) {
         while let Ok((ask, done)) = orders.try_recv() {
             let now = monotonic_now_ns();
@@ -345,7 +389,7 @@ fn view_loop(
                     pick_seq += 1;
                     let sent = ports.pick.send_copy(PickCommand::new(pose, part_id, pick_seq, now));
                     if sent.is_ok() {
-                        LineCounters::count(&counters.picks_sent);
+                        counters.pick_sent();
                     }
                     sent
                 }
@@ -382,14 +426,14 @@ fn view_loop(
             let _ =
                 c.done.send(answer.unwrap_or_else(|| Err("the core did not answer the changeover".into())));
         }
-        if Instant::now() >= next_status {
+        if let Some(publisher) = ports.status.as_ref().filter(|_| Instant::now() >= next_status) {
             next_status += STATUS_PERIOD;
             status_seq += 1;
             (status.seq, status.stamp_ns) = (status_seq, monotonic_now_ns());
-            counters.write_status(&mut status);
-            let _ = ports.status.send_copy(status);
+            counters.write_line_status(&mut status);
+            let _ = publisher.send_copy(status);
         }
-        // The line checks messages whole; where a part may lie is the core's business.
+        // Messages are checked whole; where a part may lie is the core's business.
         let limits = ValidationLimits::new([f64::INFINITY; 2], monotonic_now_ns());
         let mut telemetry = None;
         let mut feed = None;
@@ -406,12 +450,31 @@ fn view_loop(
                 Err(_) => invalid += 1,
             }
         }
+        let mut parts = None;
+        while let Some(Ok(Some(s))) = ports.parts.as_ref().map(|p| p.receive()) {
+            match s.payload().validate(&limits) {
+                Ok(()) => parts = Some(Arc::new(*s.payload())),
+                Err(_) => invalid += 1,
+            }
+        }
+        if let Some(t) =
+            telemetry.as_ref().filter(|t| options.keep_off_motor_cpu && t.core_pid != placed_for_core)
+        {
+            placed_for_core = t.core_pid;
+            if let Some(cpu) = crate::motor_cpu::motor_cpu(t.core_pid) {
+                crate::motor_cpu::keep_process_off(cpu);
+            }
+        }
         {
             let mut snap = lock(snapshot);
             snap.invalid_messages += invalid;
+            if parts.is_some() {
+                snap.parts = parts;
+            }
             if let Some(t) = &telemetry {
                 last_telemetry = Some(Instant::now());
                 snap.telemetry_seen += 1;
+                snap.telemetry = Some(*t);
                 snap.state = t.core_state().unwrap_or(CoreState::Fault);
                 snap.health = match t.health() {
                     Some((source, cause)) if t.health_detail_str().is_empty() => format!("{source}: {cause}"),
@@ -424,6 +487,7 @@ fn view_loop(
             }
             if let Some(f) = &feed {
                 snap.feed_seen += 1;
+                snap.feed = Some(*f);
                 snap.picked = f.picked;
                 snap.lost = f.lost;
                 snap.parts_per_minute = rate.add(f.time_s, f.picked);
