@@ -46,6 +46,7 @@ fn one_run(
         record,
         monitor,
         line: None,
+        hmi: None,
     };
     // On a thread of its own: the launcher moves its thread off the motor's
     // CPU, and the next run checks its CPUs against this process's.

@@ -7,6 +7,7 @@ pub mod bench_ethercat;
 pub mod bench_feed;
 pub mod bench_fidelity;
 pub mod bench_fidelity_loop;
+pub mod bench_hmi;
 pub mod bench_ipc;
 pub mod bench_latency;
 pub mod bench_least_squares;

@@ -181,6 +181,7 @@ fn launched(
         record: false,
         monitor: None,
         line: None,
+        hmi: None,
     };
     let dir = std::path::Path::new("out/calibrate");
     let outcome = crate::launcher::run_plan(&plan, dir, true, &|_| serde_json::Value::Null);

@@ -137,7 +137,11 @@ pub enum Command {
         /// Serve Modbus TCP on this address (`upm line`), e.g. 127.0.0.1:5020.
         #[arg(long)]
         modbus: Option<String>,
-        /// The users file of `upm line` (`upm users add`).
+        /// Serve the operator page (`upm hmi`) on this address, e.g.
+        /// 127.0.0.1:8080.
+        #[arg(long)]
+        hmi: Option<String>,
+        /// The users file of `upm line` and `upm hmi` (`upm users add`).
         #[arg(long)]
         users: Option<PathBuf>,
         /// Who takes the feed cell's parts: the simulator's own robot, or
@@ -161,7 +165,7 @@ pub enum Command {
         /// latency: seconds per run.
         #[arg(long, default_value_t = 5.0)]
         seconds: f64,
-        /// latency: A/B rounds.
+        /// latency, hmi: A/B rounds.
         #[arg(long, default_value_t = 2)]
         rounds: usize,
         /// latency: draw upm vs cyclictest distributions into this SVG.
@@ -310,7 +314,15 @@ pub enum Command {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
-    /// The users file of the line interface.
+    /// The operator page on a running rig: the live plate, its counters
+    /// and its controls in a browser (runs `upm-hmi`; `upm hmi --help`
+    /// lists its flags: `--prefix P`, `--addr 127.0.0.1:8080`, `--users FILE`).
+    #[command(disable_help_flag = true)]
+    Hmi {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
+    /// The users file of the line interface and the operator page.
     Users {
         #[command(subcommand)]
         action: UsersAction,
@@ -410,6 +422,11 @@ pub enum BenchTarget {
     /// 200 clients connect and drop. Each run lasts 90 s (`--seconds`
     /// above 5 sets it; `--quick`: 55 s, and 20 clients in 20 s); `--seed`.
     Line,
+    /// The operator page: the core's motor and solver p99 with 10 pages
+    /// open against none, `upm run feed --hmi` in alternating pairs
+    /// (`--rounds`, default 2; each run 60 s, `--seconds` above 5 sets it;
+    /// `--quick`: one round of 20 s); `--seed`.
+    Hmi,
 }
 
 /// The rig a command talks to: `--prefix`, else the config's, else the
@@ -466,6 +483,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             monitor,
             opcua,
             modbus,
+            hmi,
             users,
             robot,
             json,
@@ -514,6 +532,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 );
             }
             eprintln!("upm run: service prefix {prefix}; watch it with `upm status --prefix {prefix}`");
+            // `--users` serves the line, the page or both.
+            let line_users = users.clone().filter(|_| hmi.is_none() || opcua.is_some() || modbus.is_some());
             let plan = upm_commands::launcher::RunPlan {
                 scenario: sc.name.clone(),
                 seed,
@@ -529,13 +549,17 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 line: line_args(
                     opcua,
                     modbus,
-                    users,
+                    line_users,
                     &sc.rig.feed.recipe,
                     robot == Some(RobotChoice::External),
                 )?,
+                hmi: hmi_args(hmi, users, &sc.rig.feed.recipe)?,
             };
             if let Some(port) = monitor {
                 eprintln!("upm run: live view on ws://127.0.0.1:{port} (Foxglove: open connection)");
+            }
+            if let Some(addr) = plan.hmi.as_ref().and_then(|a| a.get(1)) {
+                eprintln!("upm run: operator page on http://{addr}/");
             }
             let outcome = upm_commands::launcher::run_plan(&plan, &out, !quiet, &|t| sc.evaluate(&config, t));
             ipc_types::rig_node::remove_prefix_segment(&prefix);
@@ -559,6 +583,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 serve: Some(port),
                 frame_pixels: false,
                 truth_hz: 100.0,
+                segment_minutes: 0.0,
                 info: Vec::new(),
             };
             upm_recorder::args::run_recorder_process(args)
@@ -583,7 +608,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             minutes,
             cases,
             seed,
-                segment_minutes: 0.0,
         } => {
             let mut bad = 0;
             let (v, text): (serde_json::Value, fn(&serde_json::Value) -> String) = match (what, problems) {
@@ -670,6 +694,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     };
                     (upm_bench::bench_line::run(&b)?, upm_bench::bench_line::to_text)
                 }
+                (BenchTarget::Hmi, None) => {
+                    let b = upm_bench::bench_hmi::HmiBench {
+                        seconds: match (quick, seconds > 5.0) {
+                            (true, _) => upm_bench::bench_hmi::QUICK_SECONDS,
+                            (false, true) => seconds,
+                            (false, false) => upm_bench::bench_hmi::DEFAULT_SECONDS,
+                        },
+                        rounds: if quick { 1 } else { rounds },
+                        seed,
+                    };
+                    (upm_bench::bench_hmi::run(&b)?, upm_bench::bench_hmi::to_text)
+                }
                 (BenchTarget::Ethercat, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };
                     (upm_bench::bench_ethercat::run(s)?, upm_bench::bench_ethercat::to_text)
@@ -706,6 +742,11 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Line { args } => {
             let exe = upm_commands::launcher::programs::own_binary("upm-line")?;
+            let status = std::process::Command::new(&exe).args(&args).status()?;
+            std::process::exit(status.code().unwrap_or(1));
+        }
+        Command::Hmi { args } => {
+            let exe = upm_commands::launcher::programs::own_binary("upm-hmi")?;
             let status = std::process::Command::new(&exe).args(&args).status()?;
             std::process::exit(status.code().unwrap_or(1));
         }
@@ -838,7 +879,9 @@ fn line_args(
 ) -> anyhow::Result<Option<Vec<String>>> {
     if opcua.is_none() && modbus.is_none() {
         if users.is_some() {
-            anyhow::bail!("--users is the line interface's: give --opcua or --modbus too");
+            anyhow::bail!(
+                "--users is the line interface's and the page's: give --opcua, --modbus or --hmi too"
+            );
         }
         return Ok(None);
     }
@@ -852,13 +895,40 @@ fn line_args(
         // Absolute: the line starts in another directory.
         args.extend(["--users".to_owned(), std::path::absolute(&u)?.display().to_string()]);
     }
-    // `LoadRecipe(NAME)` looks beside the running recipe (absolute: the
-    // line starts in another directory).
-    if let Some(dir) = std::path::Path::new(recipe).parent().filter(|_| !recipe.is_empty()) {
-        let dir = if dir.as_os_str().is_empty() { std::path::Path::new(".") } else { dir };
-        args.extend(["--recipes".to_owned(), std::path::absolute(dir)?.display().to_string()]);
+    // `LoadRecipe(NAME)` looks beside the running recipe.
+    if let Some(dir) = recipes_dir(recipe)? {
+        args.extend(["--recipes".to_owned(), dir]);
     }
     let robot = if external_robot { "external" } else { "builtin" };
     args.extend(["--robot".to_owned(), robot.to_owned()]);
+    Ok(Some(args))
+}
+
+/// The recipes beside the running one (absolute: a client starts in
+/// another directory), for `--recipes`; None without a recipe.
+fn recipes_dir(recipe: &str) -> anyhow::Result<Option<String>> {
+    let Some(dir) = std::path::Path::new(recipe).parent().filter(|_| !recipe.is_empty()) else {
+        return Ok(None);
+    };
+    let dir = if dir.as_os_str().is_empty() { std::path::Path::new(".") } else { dir };
+    Ok(Some(std::path::absolute(dir)?.display().to_string()))
+}
+
+/// `upm-hmi`'s arguments for `upm run --hmi ADDR [--users FILE]`; None
+/// without `--hmi`.
+fn hmi_args(
+    hmi: Option<String>,
+    users: Option<PathBuf>,
+    recipe: &str,
+) -> anyhow::Result<Option<Vec<String>>> {
+    let Some(addr) = hmi else { return Ok(None) };
+    let mut args = vec!["--addr".to_owned(), addr];
+    if let Some(u) = users {
+        // Absolute: the page starts in another directory.
+        args.extend(["--users".to_owned(), std::path::absolute(&u)?.display().to_string()]);
+    }
+    if let Some(dir) = recipes_dir(recipe)? {
+        args.extend(["--recipes".to_owned(), dir]);
+    }
     Ok(Some(args))
 }

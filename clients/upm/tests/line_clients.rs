@@ -7,59 +7,22 @@
 
 mod common;
 
-use std::io::Write as _;
 use std::net::TcpStream;
-use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::{add_user, free_port, json_of, upm};
 use serde_json::Value;
-
-fn upm() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_upm"));
-    c.current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-    c
-}
 
 fn client(name: &str) -> String {
     format!("{}/../line/clients/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
-/// A free localhost port (the OS's choice, released at once).
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr()).map(|a| a.port()).expect("a port")
-}
-
-fn json_of(o: &std::process::Output, what: &str) -> Value {
-    assert!(
-        o.status.success(),
-        "{what}: {}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let text = String::from_utf8_lossy(&o.stdout);
-    serde_json::from_str(text.lines().last().unwrap_or("")).unwrap_or_else(|e| panic!("{what}: {e}: {text}"))
-}
-
-fn add_user(users: &Path, name: &str, password: &str) {
-    let mut c = upm()
-        .args(["users", "add"])
-        .arg(users)
-        .args([name, "--password-stdin"])
-        .stdin(Stdio::piped())
-        .spawn()
-        .expect("upm users add");
-    c.stdin.take().expect("stdin").write_all(format!("{password}\n").as_bytes()).expect("password");
-    assert!(c.wait().expect("wait").success(), "upm users add failed");
 }
 
 #[test]
 fn a_robot_on_opcua_and_a_plc_on_modbus_run_a_feed_rig() {
     let py_opcua = common::venv("upm-asyncua", "asyncua", "asyncua==2.1.0");
     let py_modbus = common::venv("upm-pymodbus", "pymodbus", "pymodbus==3.16.1");
-    let dir = std::env::temp_dir().join(format!("upm_line_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("dir");
+    let dir = common::fresh_dir("line");
     let users = dir.join("users.toml");
     add_user(&users, "robot", "pick-pass-1");
     let text = std::fs::read_to_string(&users).expect("users file");

@@ -53,16 +53,19 @@ pub struct RunPlan {
     /// Start the line interface (upm-line) with these arguments (its
     /// `--opcua`, `--modbus`, `--users`, …); None: no line.
     pub line: Option<Vec<String>>,
+    /// Start the operator page (upm-hmi) with these arguments (its
+    /// `--addr`, `--users`, …); None: no page.
+    pub hmi: Option<Vec<String>>,
 }
 
 /// The recording of a run, in the output directory.
 pub const RECORDING: &str = "run.mcap";
-
-/// Where vision's part poses come from in a run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 /// A run's recording goes on in `run.001.mcap`, … after this long: a
 /// file's chunk index stays in the recorder's memory until the file ends.
 pub const SEGMENT_MINUTES: u32 = 10;
+
+/// Where vision's part poses come from in a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum CameraChoice {
     /// The simulator's ground truth with noise (vision's test double).
     Truth,
@@ -168,40 +171,43 @@ pub fn run_plan(
             .arg(&format!("seed={}", plan.seed));
         if plan.record {
             r = r.arg("--out").arg(&recording.display().to_string());
+            r = r.arg("--segment-minutes").arg(&SEGMENT_MINUTES.to_string());
         }
         if let Some(port) = plan.monitor {
             r = r.arg("--serve").arg(&port.to_string());
-            r = r.arg("--segment-minutes").arg(&SEGMENT_MINUTES.to_string());
         }
         Ok(r)
     });
     let mut recorder = recorder.transpose()?;
-    let mut line = match &plan.line {
-        Some(args) => {
-            // upm-line is not linked into upm: refuse before the core starts.
-            programs::own_binary("upm-line")?;
-            let mut l = client("upm-line", &None, "line.log")?;
+    // The line and the page are not linked into upm: each is refused
+    // before the core starts if its binary is missing.
+    let server =
+        |name: &'static str, args: &Option<Vec<String>>, log: &str| -> anyhow::Result<Option<Supervised>> {
+            let Some(args) = args else { return Ok(None) };
+            programs::own_binary(name)?;
+            let mut s = client(name, &None, log)?;
             for a in args {
-                l = l.arg(a);
+                s = s.arg(a);
             }
-            Some(l.arg("--pki").arg(&out.join("pki").display().to_string()))
-        }
-        None => None,
-    };
+            Ok(Some(s))
+        };
+    let mut line = server("upm-line", &plan.line, "line.log")?
+        .map(|l| l.arg("--pki").arg(&out.join("pki").display().to_string()));
+    let mut hmi = server("upm-hmi", &plan.hmi, "hmi.log")?;
     if plan.record {
         // The recorder never overwrites a file; this run's output is ours.
         let _ = std::fs::remove_file(&recording);
+        for n in 1.. {
+            if std::fs::remove_file(upm_recorder::segment_path(&recording, n)).is_err() {
+                break;
+            }
+        }
     }
 
     let mut observer = Observer::new(&prefix, 20.0, crate::config::vision_publish_hz(&config))?;
     core.start()?;
     if let Some(cpu) = plan.config.cpu_to_avoid() {
         // The observer and progress bar need no RT CPU (the core, started
-        for n in 1.. {
-            if std::fs::remove_file(upm_recorder::segment_path(&recording, n)).is_err() {
-                break;
-            }
-        }
         // above, has taken the full set with it).
         let _ = rt_core::rt_setup::keep_current_thread_off(cpu);
     }
@@ -225,6 +231,9 @@ pub fn run_plan(
     }
     if let Some(l) = &mut line {
         l.start()?;
+    }
+    if let Some(h) = &mut hmi {
+        h.start()?;
     }
     vision.start()?;
     planner.start()?;
@@ -261,7 +270,9 @@ pub fn run_plan(
             break;
         }
         hung.check(observer.last_telemetry.as_ref(), observer.parts_seen, &mut vision, &mut planner, &say);
-        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut(), line.as_mut()].into_iter().flatten()
+        for c in [Some(&mut vision), Some(&mut planner), camera.as_mut(), line.as_mut(), hmi.as_mut()]
+            .into_iter()
+            .flatten()
         {
             if let Some(event) = c.restart_if_dead()? {
                 if c.crash_looping() {
@@ -299,6 +310,7 @@ pub fn run_plan(
         "camera": camera.as_ref().and_then(Supervised::pid),
         "recorder": recorder.as_ref().and_then(Supervised::pid),
         "line": line.as_ref().and_then(Supervised::pid),
+        "hmi": hmi.as_ref().and_then(Supervised::pid),
         "vision_cmd": plan.vision_cmd,
         "planner_cmd": plan.planner_cmd,
         "planner_exit": planner_exit.map(|s| s.to_string()),
@@ -316,6 +328,9 @@ pub fn run_plan(
     if let Some(l) = &mut line {
         l.stop(Duration::from_secs(3));
     }
+    if let Some(h) = &mut hmi {
+        h.stop(Duration::from_secs(3));
+    }
     let core_exit = core.stop(Duration::from_secs(5));
     // Last, so it has the core's final telemetry.
     let recorder_exit = recorder.as_mut().and_then(|r| r.stop(Duration::from_secs(10)));
@@ -325,6 +340,7 @@ pub fn run_plan(
         "camera": camera.as_ref().map(client_json),
         "recorder": recorder.as_ref().map(client_json),
         "line": line.as_ref().map(client_json),
+        "hmi": hmi.as_ref().map(client_json),
     });
     let recording_json = if plan.record {
         crate::recording::summary_json(&recording, recorder_exit.is_some_and(|s| s.success()))

@@ -90,3 +90,52 @@ pub fn run_ok(cmd: &mut std::process::Command) {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// `upm` as under test, run from the repository's root.
+pub fn upm() -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_upm"));
+    c.current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    c
+}
+
+/// A free localhost port (the OS's choice, released at once).
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr()).map(|a| a.port()).expect("a port")
+}
+
+/// Add user `name` with `password` to the users file `users`
+/// (`upm users add … --password-stdin`).
+pub fn add_user(users: &std::path::Path, name: &str, password: &str) {
+    use std::io::Write as _;
+    let mut c = upm()
+        .args(["users", "add"])
+        .arg(users)
+        .args([name, "--password-stdin"])
+        .stdin(std::process::Stdio::piped())
+        .spawn()
+        .expect("upm users add");
+    c.stdin.take().expect("stdin").write_all(format!("{password}\n").as_bytes()).expect("password");
+    assert!(c.wait().expect("wait").success(), "upm users add failed");
+}
+
+/// The JSON object on the last line of a successful command's stdout;
+/// panics with its output otherwise.
+pub fn json_of(o: &std::process::Output, what: &str) -> serde_json::Value {
+    assert!(
+        o.status.success(),
+        "{what}: {}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    serde_json::from_str(text.lines().last().unwrap_or("")).unwrap_or_else(|e| panic!("{what}: {e}: {text}"))
+}
+
+/// An empty directory of this test process's own under the system's
+/// temporary directory (`upm_TAG_PID`), emptied if it was left behind.
+pub fn fresh_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("upm_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a fresh temporary directory");
+    dir
+}
