@@ -68,7 +68,10 @@ pub fn run_recorder_process(args: RecorderArgs) -> anyhow::Result<()> {
     if !((0.0..1e9).contains(&args.segment_minutes)) {
         anyhow::bail!(ConfigError::invalid(
             "--segment-minutes",
-            format!("must be 0 (one file) or a positive number of minutes below 1e9, got {}", args.segment_minutes)
+            format!(
+                "must be 0 (one file) or a positive number of minutes below 1e9, got {}",
+                args.segment_minutes
+            )
         ));
     }
     let segment = (args.segment_minutes > 0.0).then(|| Duration::from_secs_f64(args.segment_minutes * 60.0));

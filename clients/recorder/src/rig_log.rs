@@ -242,14 +242,9 @@ impl RigLog {
             .schema(Schema::new("upm.Latency", "jsonschema", latency_schema))
             .build_raw()?;
         let mcap = match &opts.mcap {
-            Some(path) => Some(McapOut::open(
-                &ctx,
-                path,
-                0,
-                opts.segment,
-                &opts.info,
-                opts.config_text.as_deref(),
-            )?),
+            Some(path) => {
+                Some(McapOut::open(&ctx, path, 0, opts.segment, &opts.info, opts.config_text.as_deref())?)
+            }
             None => None,
         };
         let ws = match opts.serve_port {

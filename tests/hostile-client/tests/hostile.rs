@@ -69,7 +69,6 @@ fn subscriber<T: core::fmt::Debug + ZeroCopySend>(
 }
 
 struct Client {
-    core: Core,
     parts: Pub<PartStates>,
     requests: Pub<ForceRequest>,
     explicit: Pub<ExplicitSchedule>,
@@ -91,6 +90,9 @@ struct Client {
     parts_stamp: u64,
     request_stamp: u64,
     _node: Node<ipc::Service>,
+    /// Last: fields drop in order, and the core's drop removes the prefix's
+    /// files, which the ports and node above would otherwise outlive.
+    core: Core,
 }
 
 const PAPER: [(u32, [f64; 2]); 2] = [(1, [0.5, 0.0]), (2, [-0.75, 0.25])];
