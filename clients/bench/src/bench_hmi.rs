@@ -35,6 +35,9 @@ pub struct HmiBench {
 struct Received {
     messages: AtomicU64,
     bytes: AtomicU64,
+    /// Pages the server closed (it does when the run ends).
+    closed: AtomicU64,
+    /// Pages that could not connect, or whose connection broke.
     failed: AtomicU64,
 }
 
@@ -65,6 +68,11 @@ fn open_pages(
                         Ok(tungstenite::Message::Text(t)) => {
                             received.messages.fetch_add(1, Ordering::Relaxed);
                             received.bytes.fetch_add(t.len() as u64, Ordering::Relaxed);
+                        }
+                        Ok(tungstenite::Message::Close(_))
+                        | Err(tungstenite::Error::ConnectionClosed | tungstenite::Error::AlreadyClosed) => {
+                            received.closed.fetch_add(1, Ordering::Relaxed);
+                            return;
                         }
                         Ok(_) => {}
                         Err(tungstenite::Error::Io(e)) if e.kind() == std::io::ErrorKind::WouldBlock => {}
@@ -132,6 +140,7 @@ fn one_run(
         "hmi_restarts": m["clients"]["hmi"]["restarts"],
         "updates_received": received.messages.load(Ordering::Relaxed),
         "bytes_received": received.bytes.load(Ordering::Relaxed),
+        "pages_closed_by_server": received.closed.load(Ordering::Relaxed),
         "pages_failed": received.failed.load(Ordering::Relaxed),
     }))
 }
