@@ -171,16 +171,27 @@ impl Recording {
 
 /// What metrics.json says about a run's recording.
 pub fn summary_json(path: &Path, recorder_exit_ok: bool) -> Value {
-    let bytes = std::fs::metadata(path).map_or(0, |m| m.len());
-    match Recording::open(path) {
-        Ok(r) => json!({
-            "file": path.display().to_string(),
-            "bytes": bytes,
-            "messages": r.message_count,
-            "lost": r.lost_total(),
-            "recorder_exit_ok": recorder_exit_ok,
-        }),
-        Err(e) => json!({ "file": path.display().to_string(), "bytes": bytes, "error": e.to_string(),
-                          "recorder_exit_ok": recorder_exit_ok }),
+    // The recorder's segments follow the first file (`run.001.mcap`, …);
+    // the last one's counts cover the whole run.
+    let mut files = vec![path.to_path_buf()];
+    files.extend((1..).map(|n| upm_recorder::segment_path(path, n)).take_while(|p| p.is_file()));
+    let bytes: u64 = files.iter().map(|f| std::fs::metadata(f).map_or(0, |m| m.len())).sum();
+    let (mut messages, mut lost) = (0, 0);
+    for f in &files {
+        match Recording::open(f) {
+            Ok(r) => (messages, lost) = (messages + r.message_count, r.lost_total()),
+            Err(e) => {
+                return json!({ "file": path.display().to_string(), "bytes": bytes, "error": e.to_string(),
+                               "recorder_exit_ok": recorder_exit_ok });
+            }
+        }
     }
+    json!({
+        "file": path.display().to_string(),
+        "segments": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
+        "bytes": bytes,
+        "messages": messages,
+        "lost": lost,
+        "recorder_exit_ok": recorder_exit_ok,
+    })
 }

@@ -461,5 +461,18 @@ fn segments_split_a_recording_and_lose_nothing() {
     }
     let sent: Vec<u64> = (1..=2500u64).map(|seq| 1_000_000 + seq * 10).collect();
     assert_eq!(seen, sent);
+    // What metrics.json says of them.
+    let summary = upm_commands::recording::summary_json(&first, true);
+    let listed: Vec<PathBuf> = summary["segments"]
+        .as_array()
+        .expect("segments")
+        .iter()
+        .filter_map(|f| f.as_str().map(PathBuf::from))
+        .collect();
+    assert_eq!(listed, files, "{summary}");
+    let bytes: u64 = files.iter().map(|f| std::fs::metadata(f).map_or(0, |m| m.len())).sum();
+    assert_eq!(summary["bytes"], bytes, "{summary}");
+    assert_eq!(summary["lost"], 0, "{summary}");
+    assert!(summary["messages"].as_u64().is_some_and(|n| n >= 2500), "{summary}");
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -12,9 +12,12 @@ pub fn summary(m: &Value, out: &Path, recorded: bool) -> String {
     let core = &m["core"];
     let ticks = num(&core["ticks"]);
     let overruns = if ticks > 0.0 { 100.0 * num(&core["overruns"]) / ticks } else { 0.0 };
-    let mut files = vec!["metrics.json", "trails.svg", "latency/", "logs/"];
+    let mut files: Vec<String> = ["metrics.json", "trails.svg", "latency/", "logs/"].map(String::from).into();
     if recorded {
-        files.push(super::RECORDING);
+        match m["recording"]["segments"].as_array().map_or(0, Vec::len) {
+            0 | 1 => files.push(super::RECORDING.into()),
+            n => files.push(format!("{} and {} more segments", super::RECORDING, n - 1)),
+        }
     }
     format!(
         "{} seed {}: {}\nholds {}, overruns {overruns:.2} %, rejected: requests {}, part states {}; restarts: \
@@ -93,6 +96,10 @@ mod tests {
              motor wake-up p99 40 µs, solve p99 0.81 ms\n\
              files in out/run: metrics.json, trails.svg, latency/, logs/, run.mcap"
         );
+        let mut long = m.clone();
+        long["recording"] =
+            json!({ "segments": ["out/run/run.mcap", "out/run/run.001.mcap", "out/run/run.002.mcap"] });
+        assert!(summary(&long, Path::new("out/run"), true).ends_with("logs/, run.mcap and 2 more segments"));
     }
 
     #[test]
