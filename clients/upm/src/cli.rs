@@ -682,29 +682,29 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 (BenchTarget::Line, None) => {
                     // `--seconds` keeps its default of 5 for the latency benches.
                     let s = match (quick, seconds > 5.0) {
-                        (true, _) => upm_bench::bench_line::QUICK_SECONDS,
+                        (true, _) => upm_bench_cell::bench_line::QUICK_SECONDS,
                         (false, true) => seconds,
-                        (false, false) => upm_bench::bench_line::DEFAULT_SECONDS,
+                        (false, false) => upm_bench_cell::bench_line::DEFAULT_SECONDS,
                     };
-                    let b = upm_bench::bench_line::LineBench {
+                    let b = upm_bench_cell::bench_line::LineBench {
                         seconds: s,
                         seed,
                         churn: if quick { 20 } else { 200 },
                         churn_seconds: if quick { 20.0 } else { s },
                     };
-                    (upm_bench::bench_line::run(&b)?, upm_bench::bench_line::to_text)
+                    (upm_bench_cell::bench_line::run(&b)?, upm_bench_cell::bench_line::to_text)
                 }
                 (BenchTarget::Hmi, None) => {
-                    let b = upm_bench::bench_hmi::HmiBench {
+                    let b = upm_bench_cell::bench_hmi::HmiBench {
                         seconds: match (quick, seconds > 5.0) {
-                            (true, _) => upm_bench::bench_hmi::QUICK_SECONDS,
+                            (true, _) => upm_bench_cell::bench_hmi::QUICK_SECONDS,
                             (false, true) => seconds,
-                            (false, false) => upm_bench::bench_hmi::DEFAULT_SECONDS,
+                            (false, false) => upm_bench_cell::bench_hmi::DEFAULT_SECONDS,
                         },
                         rounds: if quick { 1 } else { rounds },
                         seed,
                     };
-                    (upm_bench::bench_hmi::run(&b)?, upm_bench::bench_hmi::to_text)
+                    (upm_bench_cell::bench_hmi::run(&b)?, upm_bench_cell::bench_hmi::to_text)
                 }
                 (BenchTarget::Ethercat, None) => {
                     let s = if quick { seconds.min(1.0) } else { seconds };

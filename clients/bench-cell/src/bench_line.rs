@@ -520,7 +520,7 @@ pub fn run(b: &LineBench) -> anyhow::Result<Value> {
                   "no_line": {"motor_p99_us": own["motor_p99_us"], "overruns": own["overruns"]},
                   "clients": c.churn, "robot_picks_accepted": c.robot.rtt_ms.len(),
                   "line_restarts": c.metrics["clients"]["line"]["restarts"]},
-        "host": crate::host_facts::read_all(),
+        "host": upm_bench::host_facts::read_all(),
     });
     drop(rt);
     let _ = std::fs::remove_dir_all(&dir);
@@ -575,6 +575,6 @@ pub fn to_text(v: &Value) -> String {
         c["clients"]["modbus_failed"],
         c["clients"]["after"]["opcua_state"],
         c["clients"]["after"]["modbus_state"],
-        crate::host_facts::to_text(&v["host"])
+        upm_bench::host_facts::to_text(&v["host"])
     )
 }

@@ -199,7 +199,7 @@ pub fn run(b: &HmiBench) -> anyhow::Result<Value> {
         "runs": { "without": without, "with": with },
         "load_before": load_before,
         "load_after": load(),
-        "host": crate::host_facts::read_all(),
+        "host": upm_bench::host_facts::read_all(),
     }))
 }
 
@@ -240,6 +240,6 @@ pub fn to_text(v: &Value) -> String {
         updates.join(", "),
         v["load_before"],
         v["load_after"],
-        crate::host_facts::to_text(&v["host"])
+        upm_bench::host_facts::to_text(&v["host"])
     )
 }
