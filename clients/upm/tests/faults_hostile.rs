@@ -88,6 +88,8 @@ fn hostile_messages_are_rejected_counted_and_the_core_survives() {
         t = read_telemetry(&prefix, Duration::from_secs(2)).expect("telemetry");
     }
     drop(core);
+    // The ports and node first: they hold the prefix's files.
+    drop((parts, requests, node));
     common::remove_prefix(&prefix);
     assert_eq!(t.counters.rejected_parts, hostile_parts.len() as u64);
     // Every request is rejected: invalid, or (the last) without valid part states.
