@@ -248,10 +248,17 @@ pub(crate) fn max_playable_k(p: &MotionParams, center: [f64; 2]) -> f64 {
 }
 
 /// A closed, periodic plate motion built from a schedule.
+///
+/// The slots live on the heap, allocated once in [`PlateMotion::new`]: at
+/// about 170 kB a buffer, a motion held by value would fill a thread's
+/// stack (a lock-step core holds several).
 #[derive(Debug, Clone)]
 pub struct PlateMotion {
     params: MotionParams,
-    slots: [Slot; MAX_SLOTS],
+    slots: Box<[Slot]>,
+    /// Where [`PlateMotion::set_schedule`] builds, so a failed build keeps
+    /// the motion playing; swapped with `slots` on success.
+    spare: Box<[Slot]>,
     len: usize,
 }
 
@@ -259,7 +266,8 @@ impl PlateMotion {
     /// An empty motion (the plate holds at home) with validated parameters.
     pub fn new(params: MotionParams) -> Result<Self, ParamsError> {
         params.validate()?;
-        Ok(Self { params, slots: [Slot::default(); MAX_SLOTS], len: 0 })
+        let empty = || vec![Slot::default(); MAX_SLOTS].into_boxed_slice();
+        Ok(Self { params, slots: empty(), spare: empty(), len: 0 })
     }
 
     pub fn params(&self) -> &MotionParams {
@@ -267,14 +275,13 @@ impl PlateMotion {
     }
 
     /// Replace the schedule. On error the previous motion is kept. No heap
-    /// allocation (the new slots are built on the stack first).
+    /// allocation (the new slots are built in the spare buffer first).
     pub fn set_schedule(&mut self, entries: &[ScheduleEntry]) -> Result<(), MotionError> {
         if entries.len() > MAX_SLOTS {
             return Err(MotionError::TooManySlots { given: entries.len(), capacity: MAX_SLOTS });
         }
-        let mut built = [Slot::default(); MAX_SLOTS];
         for (j, e) in entries.iter().enumerate() {
-            built[j] = build_slot(&self.params, j, *e).map_err(|err| match err {
+            self.spare[j] = build_slot(&self.params, j, *e).map_err(|err| match err {
                 MotionError::FastPhaseInfeasible { slot, k, .. } => MotionError::FastPhaseInfeasible {
                     slot,
                     k,
@@ -283,7 +290,7 @@ impl PlateMotion {
                 other => other,
             })?;
         }
-        self.slots[..entries.len()].copy_from_slice(&built[..entries.len()]);
+        core::mem::swap(&mut self.slots, &mut self.spare);
         self.len = entries.len();
         Ok(())
     }
