@@ -1,11 +1,10 @@
 //! Which part goes to which pick pose. A part keeps its pose until it
 //! leaves the plate (picked) or makes no progress for `stuck_s`; a pose is
 //! taken while a part holds it. A part whose class has no free pose waits
-//! at a queue spot of its own; a free pose goes to the waiting part of its
-//! class nearest to it. Measured against first come, first served (each
-//! part to its nearest free pose), this is about 1.5× the picks per
-//! minute, because a pose then waits for a short approach, not a part
-//! crossing the plate.
+//! at a queue spot of its own; free poses and waiting parts are paired
+//! closest first. Measured against first come, first served (each part to
+//! its nearest free pose), this is about 1.5× the picks per minute: a pose
+//! waits for a short approach, not a part crossing the plate.
 
 use upm_recipe::PickPose;
 
@@ -120,17 +119,13 @@ impl PickAssignment {
                 });
             }
         }
-        for i in 0..self.poses.len() {
-            if self.pose_holder[i].is_none()
-                && let Some(k) = self.nearest_waiting(i, frame, t)
-            {
-                let id = self.parts[k].id;
-                self.free(id);
-                self.pose_holder[i] = Some(id);
-                let q = &mut self.parts[k];
-                (q.target, q.presented, q.best_error, q.progress_t) =
-                    (Target::Pose(i), false, f64::INFINITY, t);
-            }
+        // The closest (free pose, waiting part) pair first, until no pair is left.
+        while let Some((i, k)) = self.closest_pair(frame, t) {
+            let id = self.parts[k].id;
+            self.free(id);
+            self.pose_holder[i] = Some(id);
+            let q = &mut self.parts[k];
+            (q.target, q.presented, q.best_error, q.progress_t) = (Target::Pose(i), false, f64::INFINITY, t);
         }
         // Spots after poses: a spot a part just left is free for the next.
         for k in 0..self.parts.len() {
@@ -204,23 +199,28 @@ impl PickAssignment {
         }
     }
 
-    /// The waiting part (no pose, not barred) of pose `i`'s class nearest
-    /// to it, the earliest arrived among equals: the shortest way to the
-    /// robot, so the pose is busy for the least time.
-    fn nearest_waiting(&self, i: usize, frame: &[(u32, u32, [f64; 2])], t: f64) -> Option<usize> {
-        let pose = &self.poses[i];
-        let waiting = |p: &Tracked| {
-            p.class == pose.class && !matches!(p.target, Target::Pose(_)) && t >= p.barred_until
-        };
-        let distance = |id: u32| {
-            let at = frame.iter().find(|f| f.0 == id)?.2;
-            Some((pose.position[0] - at[0]).hypot(pose.position[1] - at[1]))
-        };
-        (0..self.parts.len())
-            .filter(|&k| waiting(&self.parts[k]))
-            .filter_map(|k| Some((k, distance(self.parts[k].id)?)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(k, _)| k)
+    /// Of the free poses and the waiting parts (no pose, not barred) of
+    /// their class, the closest pair, the earliest arrived part among
+    /// equals: the shortest way to the robot, so a pose is busy for the
+    /// least time, and a part next to a pose gets that pose.
+    fn closest_pair(&self, frame: &[(u32, u32, [f64; 2])], t: f64) -> Option<(usize, usize)> {
+        let mut best: Option<(usize, usize, f64)> = None;
+        for (k, p) in self.parts.iter().enumerate() {
+            if matches!(p.target, Target::Pose(_)) || t < p.barred_until {
+                continue;
+            }
+            let Some(&(_, _, at)) = frame.iter().find(|f| f.0 == p.id) else { continue };
+            for (i, pose) in self.poses.iter().enumerate() {
+                if pose.class != p.class || self.pose_holder[i].is_some() {
+                    continue;
+                }
+                let d = (pose.position[0] - at[0]).hypot(pose.position[1] - at[1]);
+                if best.is_none_or(|(_, _, b)| d < b) {
+                    best = Some((i, k, d));
+                }
+            }
+        }
+        best.map(|(i, k, _)| (i, k))
     }
 }
 
@@ -237,22 +237,21 @@ mod tests {
     }
 
     #[test]
-    fn a_free_pose_goes_to_the_nearest_waiting_part_then_spots() {
+    fn poses_go_to_the_nearest_waiting_parts_then_spots() {
         let mut a = PickAssignment::new(poses(), vec![[0.5, 0.0], [0.5, 0.1]], 20.0);
-        // Part 3 arrives first and takes the first free pose.
+        // Part 3 takes the class-0 pose nearer to it.
         a.update(&[(3, 0, [0.0, -0.2])], 0.0);
-        assert_eq!(a.target(3), Some(Target::Pose(0)));
-        // Pose 1 goes to 1, the nearer to it of the two arriving together.
-        a.update(&[(3, 0, [0.0, -0.2]), (2, 0, [0.0, 0.0]), (1, 0, [0.0, -0.3]), (4, 1, [0.0, 0.0])], 0.1);
-        assert_eq!(a.target(1), Some(Target::Pose(1)));
+        assert_eq!(a.target(3), Some(Target::Pose(1)));
+        // Pose 0 goes to 1, nearer to it than 2, which came first.
+        a.update(&[(3, 0, [0.0, -0.2]), (2, 0, [-0.5, 0.25]), (1, 0, [0.0, 0.25]), (4, 1, [0.0, 0.0])], 0.1);
+        assert_eq!(a.target(1), Some(Target::Pose(0)));
         assert_eq!(a.target(2), Some(Target::Spot(0)));
         assert_eq!(a.target(4), Some(Target::Pose(2)));
-        // 3 is picked: of the waiting parts, 2 (arrived earlier, farther)
-        // and 5 (arrived now, nearer), 5 takes the pose; 2 keeps its spot.
+        // 3 is picked: 5, arrived now next to the pose, takes it; 2 keeps its spot.
         assert!(!a.progress(3, 0.0, true, 0.2));
-        let frame = [(1, 0, [0.0, -0.3]), (2, 0, [0.0, 0.0]), (4, 1, [0.0, 0.0]), (5, 0, [0.6, 0.2])];
+        let frame = [(1, 0, [0.0, 0.25]), (2, 0, [-0.5, 0.25]), (4, 1, [0.0, 0.0]), (5, 0, [0.6, -0.2])];
         a.update(&frame, 0.3);
-        assert_eq!(a.target(5), Some(Target::Pose(0)));
+        assert_eq!(a.target(5), Some(Target::Pose(1)));
         assert_eq!(a.target(2), Some(Target::Spot(0)));
         assert_eq!(a.counts(), AssignCounts { stuck: 0, picked: 1, lost: 0 });
     }

@@ -194,9 +194,9 @@ fn unknown_classes_and_repeated_ids_are_ignored_and_counted() {
 #[test]
 fn a_part_without_progress_gives_its_pose_up() {
     let (r, mut p) = (recipe(), planner());
-    // Part 1 is stuck against something; part 2 waits for a class-0 pose.
+    // Part 1 is stuck against something; part 3 waits for a class-0 pose.
     let q1 = r.picks[1].position;
-    let frame = states(&[(1, 0, [0.0, 0.2, 0.0]), (2, 0, [q1[0], q1[1], 0.0]), (3, 0, [0.2, 0.0, 0.0])]);
+    let frame = states(&[(1, 0, [0.2, 0.0, 0.0]), (2, 0, [q1[0], q1[1], 0.0]), (3, 0, [0.0, 0.2, 0.0])]);
     plan(&mut p, &frame, 0.0);
     let held = pose_of(&p, 1).expect("a pose");
     assert!(matches!(p.target(3), Some(Target::Spot(_))));

@@ -253,6 +253,13 @@ fn rejected_messages_are_recorded_with_the_reason_and_replayed_alike() {
         ipc_types::ports::publisher::<ForceRequest>(&node, service_names::FORCE_REQUEST).expect("pub");
     let mut wake = ipc_types::wake_event::WakeNotifier::new(&node, ipc_types::wake_event::WakeEvent::Inbox)
         .expect("wake");
+    // Part states alone first: a request must never reach the core before
+    // its first part states have (that would be one more rejection).
+    for _ in 0..5 {
+        parts.send_copy(common::part_states(1, monotonic_now_ns(), &common::PAPER_PARTS)).expect("send");
+        wake.notify();
+        std::thread::sleep(Duration::from_millis(20));
+    }
     let mut bad = 0;
     for seq in 1..=40u64 {
         let now = monotonic_now_ns();
