@@ -41,12 +41,26 @@ struct Received {
     failed: AtomicU64,
 }
 
-/// `clients` WebSocket readers of `url` until `stop`, each off `cpu`.
+/// A connection the other end dropped or reset.
+fn gone(e: &tungstenite::Error) -> bool {
+    use std::io::ErrorKind::{BrokenPipe, ConnectionAborted, ConnectionReset, UnexpectedEof};
+    match e {
+        tungstenite::Error::Io(e) => {
+            matches!(e.kind(), BrokenPipe | ConnectionAborted | ConnectionReset | UnexpectedEof)
+        }
+        tungstenite::Error::Protocol(tungstenite::error::ProtocolError::ResetWithoutClosingHandshake) => true,
+        _ => false,
+    }
+}
+
+/// `clients` WebSocket readers of `url` until `stop`, each off `cpu`; a
+/// page the server drops after `ending` counts as closed, not failed.
 fn open_pages(
     url: &str,
     clients: usize,
     cpu: Option<usize>,
     stop: &Arc<AtomicBool>,
+    ending: Instant,
 ) -> (Arc<Received>, Vec<std::thread::JoinHandle<()>>) {
     let received = Arc::new(Received::default());
     let threads = (0..clients)
@@ -77,6 +91,12 @@ fn open_pages(
                         Ok(_) => {}
                         Err(tungstenite::Error::Io(e)) if e.kind() == std::io::ErrorKind::WouldBlock => {}
                         Err(tungstenite::Error::Io(e)) if e.kind() == std::io::ErrorKind::TimedOut => {}
+                        // The server went away without a close frame: at the
+                        // run's end that is its stop, before it a failure.
+                        Err(e) if gone(&e) && Instant::now() >= ending => {
+                            received.closed.fetch_add(1, Ordering::Relaxed);
+                            return;
+                        }
                         Err(_) => {
                             received.failed.fetch_add(1, Ordering::Relaxed);
                             return;
@@ -121,7 +141,9 @@ fn one_run(
         std::thread::sleep(Duration::from_millis(100));
     }
     let stop = Arc::new(AtomicBool::new(false));
-    let (received, threads) = open_pages(&format!("ws://127.0.0.1:{port}/ws"), clients, cpu, &stop);
+    // The rig started before its page answered: it stops before `up + seconds`.
+    let ending = up + Duration::from_secs_f64(0.75 * b.seconds);
+    let (received, threads) = open_pages(&format!("ws://127.0.0.1:{port}/ws"), clients, cpu, &stop, ending);
     let o = child.wait_with_output()?;
     stop.store(true, Ordering::Relaxed);
     for t in threads {
